@@ -1,0 +1,184 @@
+//! `rigidref run`: simulate a scene and write its trace, with a progress bar and a summary.
+
+use anyhow::{bail, Context};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rigidref::scene::{DEFAULT_SCENE_NAME};
+use rigidref::trace::{TraceFormat, TraceHeader, TraceRecord, TraceWriter};
+use rigidref::world::World;
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+const SCENE_KEYS: &str = "\
+SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
+  sim_parameters[0] keys and their defaults when missing (the starter code's):
+    name              scene name                       (file name)
+    dt                frame step, s; h = dt/substeps   0.01
+    gravity           m/s², y is up                    [0, 0, 0]
+    mu                friction coefficient             0
+    substeps          integration steps per frame      1
+    check_collisions  detect and resolve contacts      true
+    stop_on_contact   stop at the first contact        false
+    pgs_iterations    PGS iterations per solve         100
+    damping           only 0 is accepted (the assignment defines no damping model)
+    show_contacts, is_running   user-interface keys; no effect here
+  Keys this project adds:
+    integrator        angular velocity update: \"spatial\" (the assignment's explicit
+                      spatial-frame scheme; default), \"body\" (the same equations in
+                      the body frame), \"implicit_gyroscopic\" (implicit Euler on the
+                      ω×Jω term, one Newton step: stable at high spin)
+  Any other key is reported as a warning and ignored.
+  bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
+    assignment root = parent of the scene's folder, then the scene's folder, then the
+    working directory), x0 (m), R0 (rows; default identity), v0 (m/s), omega0 (rad/s,
+    world frame); missing R0 is the identity, missing v0/omega0 are zero.
+
+TRACE (docs/trace-format.md): JSON Lines, a header line then one line per recorded step
+with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the same.";
+
+/// Arguments of `rigidref run`.
+#[derive(Args)]
+#[command(after_long_help = SCENE_KEYS)]
+pub struct RunArgs {
+    /// Scene file (the assignment's JSON format). Without one, the built-in default scene
+    /// (the project's Dzhanibekov-effect scene) runs.
+    pub scene: Option<PathBuf>,
+    /// Simulated time to run, s [default: 10].
+    #[arg(long, conflicts_with = "steps")]
+    pub time: Option<f64>,
+    /// Number of frames (steps of dt) to run.
+    #[arg(long)]
+    pub steps: Option<u64>,
+    /// Trace file; "-" writes to standard output [default: trace.jsonl, or trace.csv with --format csv].
+    #[arg(long, short)]
+    pub out: Option<PathBuf>,
+    /// Record every K-th frame (the first and the last are always recorded).
+    #[arg(long, default_value_t = 1)]
+    pub every: u64,
+    /// Trace encoding [default: from the --out extension, else jsonl].
+    #[arg(long, value_enum)]
+    pub format: Option<TraceFormat>,
+    /// Run with check_collisions = false, whatever the scene says.
+    #[arg(long)]
+    pub no_collisions: bool,
+    /// Print no progress bar and no summary.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Runs a scene. A run that fails midway keeps the trace written so far, flushed and valid.
+pub fn run(args: RunArgs) -> anyhow::Result<()> {
+    let mut scene = super::load_scene_or_default(args.scene.as_deref())?;
+    if args.no_collisions {
+        scene.params.check_collisions = false;
+    }
+    let dt = scene.params.dt;
+    let steps = match (args.steps, args.time) {
+        (Some(n), _) => n,
+        (None, time) => {
+            let time = time.unwrap_or(10.0);
+            if !(time.is_finite() && time > 0.0) {
+                bail!("--time must be a positive number of seconds, got {time}");
+            }
+            // Nearest whole number of frames; the 1e-9 guards 0.3/0.1 = 2.9999999999999996.
+            (time / dt + 1e-9).floor().max(1.0) as u64
+        }
+    };
+    if args.every == 0 {
+        bail!("--every must be at least 1");
+    }
+    if scene.params.check_collisions && scene.params.gravity != nalgebra::Vector3::zeros() {
+        eprintln!(
+            "warning: {}: check_collisions is on, but contact processing is not implemented yet (issue #3): bodies fall through the ground and each other",
+            scene.source
+        );
+    }
+    let format = args.format.unwrap_or(match &args.out {
+        Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) => TraceFormat::Csv,
+        _ => TraceFormat::Jsonl,
+    });
+    let out_path = args.out.clone().unwrap_or_else(|| {
+        PathBuf::from(if format == TraceFormat::Csv { "trace.csv" } else { "trace.jsonl" })
+    });
+    let out: Box<dyn Write> = if out_path.as_os_str() == "-" {
+        Box::new(std::io::stdout().lock())
+    } else {
+        Box::new(
+            std::fs::File::create(&out_path).with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
+        )
+    };
+    let source = if args.scene.is_some() { scene.source.clone() } else { DEFAULT_SCENE_NAME.to_string() };
+
+    let mut world = World::new(&scene);
+    let header = TraceHeader::for_world(&world, &source);
+    let mut writer = TraceWriter::new(out, format, &header).with_context(|| format!("{}: cannot write", out_path.display()))?;
+    let write_err = |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
+    writer.write(&TraceRecord::of_world(&world, Vec::new())).map_err(write_err)?;
+    let mut records = 1u64;
+
+    let start_energy = world.energy();
+    let start_momentum = world.momentum();
+    let started = Instant::now();
+    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
+    progress.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut progress_shown = false;
+
+    for k in 1..=steps {
+        if let Err(failure) = world.step() {
+            writer.flush().map_err(write_err)?;
+            progress.finish_and_clear();
+            bail!(
+                "{}: the run stopped: {failure}; the trace up to step {} is in {}",
+                scene.source,
+                world.step,
+                out_path.display()
+            );
+        }
+        if k % args.every == 0 || k == steps {
+            writer.write(&TraceRecord::of_world(&world, Vec::new())).map_err(write_err)?;
+            records += 1;
+        }
+        if !args.quiet && !progress_shown && started.elapsed() > Duration::from_secs(1) {
+            // Only runs longer than about a second get a bar; indicatif hides it when stderr
+            // is not a terminal.
+            progress.set_draw_target(ProgressDrawTarget::stderr());
+            progress_shown = true;
+        }
+        if progress_shown && k % 64 == 0 {
+            progress.set_position(k);
+        }
+    }
+    writer.flush().map_err(write_err)?;
+    progress.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+
+    if !args.quiet {
+        let end_energy = world.energy();
+        let end_momentum = world.momentum();
+        let total_mass: f64 = world.bodies.iter().map(|b| b.mass).sum();
+        // Gravity's impulse over the run is exactly M g t; what is left is drift.
+        let momentum_drift = (end_momentum.linear - start_momentum.linear - world.params.gravity * (total_mass * world.time())).norm();
+        // Uniform gravity exerts no torque about the system's centre of mass.
+        let angular_drift = (end_momentum.angular_com - start_momentum.angular_com).norm();
+        let de = end_energy.total - start_energy.total;
+        let relative = |d: f64, scale: f64| if scale > 0.0 { format!(" ({:+.3e} relative)", d / scale) } else { String::new() };
+        let p = &world.params;
+        eprintln!("scene          {} ({source})", p.name);
+        eprintln!("bodies         {}", world.bodies.len());
+        eprintln!("steps          {steps} × {} substeps, h = {} s, t = {} s, integrator {}", p.substeps, p.h(), world.time(), p.integrator.name());
+        eprintln!("wall time      {wall:.3} s ({:.0} steps/s)", steps as f64 / wall.max(1e-9));
+        eprintln!(
+            "energy         {:.6e} J → {:.6e} J, drift {de:+.3e} J{}",
+            start_energy.total,
+            end_energy.total,
+            relative(de, start_energy.total.abs())
+        );
+        eprintln!("momentum drift |Δp − M g t| = {momentum_drift:.3e} kg·m/s, |ΔL_com| = {angular_drift:.3e} kg·m²/s{}", relative(angular_drift, start_momentum.angular_com.norm()));
+        eprintln!("trace          {} ({records} records, {format:?})", out_path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,4 @@
+//! Independent references that checks compare the simulator against. Nothing in the simulator
+//! calls these; they share no integration code with it.
+
+pub mod euler;

@@ -1,0 +1,137 @@
+//! The JSON shapes of the 3D assignment's scene and body files, and the one reader that turns
+//! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
+
+use super::values::{Count, Inertia, NonNegative, Positive, Rotation, Vec3, ZeroDamping};
+use super::{SceneError, SimParameters};
+use crate::body::AngularIntegrator;
+use nalgebra::{Matrix3, Vector3};
+use serde::Deserialize;
+
+/// Keys the starter's user interface reads that do not affect the simulation; accepted silently.
+const UI_ONLY_KEYS: &[&str] = &["show_contacts", "is_running"];
+
+/// `{"sim_parameters": [...], "bodies": [...]}`.
+#[derive(Deserialize)]
+pub(super) struct SceneJson {
+    pub sim_parameters: Vec<SimParametersJson>,
+    pub bodies: Vec<BodyJson>,
+}
+
+#[derive(Deserialize)]
+pub(super) struct SimParametersJson {
+    name: Option<String>,
+    dt: Option<Positive>,
+    gravity: Option<Vec3>,
+    mu: Option<NonNegative>,
+    substeps: Option<Count>,
+    check_collisions: Option<bool>,
+    stop_on_contact: Option<bool>,
+    #[allow(dead_code)] // UI only, read so that it is not reported as unknown
+    show_contacts: Option<bool>,
+    #[allow(dead_code)]
+    is_running: Option<bool>,
+    #[allow(dead_code)] // validated to be 0
+    damping: Option<ZeroDamping>,
+    pgs_iterations: Option<Count>,
+    integrator: Option<AngularIntegrator>,
+}
+
+impl SimParametersJson {
+    /// Applies the starter's defaults (docs/scene-format.md §"Simulation parameters").
+    pub fn resolve(&self, default_name: &str) -> SimParameters {
+        SimParameters {
+            name: self.name.clone().unwrap_or_else(|| default_name.to_string()),
+            dt: self.dt.map_or(0.01, |x| x.0),
+            gravity: self.gravity.map_or(Vector3::zeros(), |g| g.0),
+            mu: self.mu.map_or(0.0, |x| x.0),
+            substeps: self.substeps.map_or(1, |x| x.0),
+            check_collisions: self.check_collisions.unwrap_or(true),
+            stop_on_contact: self.stop_on_contact.unwrap_or(false),
+            pgs_iterations: self.pgs_iterations.map_or(100, |x| x.0),
+            integrator: self.integrator.unwrap_or_default(),
+        }
+    }
+}
+
+/// One entry of `bodies`.
+#[derive(Deserialize)]
+pub(super) struct BodyJson {
+    pub name: String,
+    pub file_root: String,
+    pub x0: Vec3,
+    #[serde(rename = "R0")]
+    pub r0: Option<Rotation>,
+    pub v0: Option<Vec3>,
+    pub omega0: Option<Vec3>,
+}
+
+/// A body file: `{"mesh_file", "mass", "J"}`.
+#[derive(Deserialize)]
+struct BodyFileJson {
+    mesh_file: Option<String>,
+    mass: Positive,
+    #[serde(rename = "J")]
+    inertia: Inertia,
+}
+
+/// Deserialises `text`, naming `source` in errors and warning about keys nobody reads.
+pub(super) fn from_str<T: for<'de> Deserialize<'de>>(
+    text: &str,
+    source: &str,
+    warnings: &mut Vec<String>,
+) -> Result<T, SceneError> {
+    let mut unknown = Vec::new();
+    let mut de = serde_json::Deserializer::from_str(text);
+    let mut record_unknown = |path: serde_ignored::Path<'_>| unknown.push(path.to_string());
+    let ignored = serde_ignored::Deserializer::new(&mut de, &mut record_unknown);
+    let value: T = serde_path_to_error::deserialize(ignored).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let message = inner.to_string();
+        // serde_json appends " at line L column C"; we put the position in front instead.
+        let message = message.split(" at line ").next().unwrap_or(&message);
+        let location = if inner.line() > 0 { format!("{source}:{}:{}", inner.line(), inner.column()) } else { source.to_string() };
+        if path.is_empty() || path == "." {
+            SceneError(format!("{location}: {message}"))
+        } else {
+            SceneError(format!("{location}: {path}: {message}"))
+        }
+    })?;
+    de.end().map_err(|e| SceneError(format!("{source}:{}:{}: trailing characters after the JSON value", e.line(), e.column())))?;
+    for key in unknown {
+        if !UI_ONLY_KEYS.iter().any(|k| key.ends_with(k)) {
+            warnings.push(format!("{source}: unknown key `{key}` ignored"));
+        }
+    }
+    Ok(value)
+}
+
+/// Reads a body file: mass (kg) and inertia about the centre of mass (kg·m²). Warns when
+/// `mesh_file` names a different file than `ROOT.obj` (the starter reads `ROOT.obj`) and when
+/// the principal moments violate the triangle inequality (no mass distribution has them).
+pub(super) fn parse_body_file(
+    text: &str,
+    source: &str,
+    file_root: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(f64, Matrix3<f64>), SceneError> {
+    let body: BodyFileJson = from_str(text, source, warnings)?;
+    let expected_mesh = format!("{}.obj", file_root.rsplit('/').next().unwrap_or(file_root));
+    if let Some(mesh_file) = &body.mesh_file {
+        let named = mesh_file.rsplit('/').next().unwrap_or(mesh_file);
+        if named != expected_mesh {
+            warnings.push(format!(
+                "{source}: mesh_file is {mesh_file:?} but the mesh read is {expected_mesh} (the starter reads file_root + \".obj\")"
+            ));
+        }
+    }
+    let moments = body.inertia.0.symmetric_eigenvalues();
+    let (a, b, c) = (moments[0], moments[1], moments[2]);
+    let slack = 1e-9 * (a + b + c);
+    if a + b + slack < c || a + c + slack < b || b + c + slack < a {
+        warnings.push(format!(
+            "{source}: principal moments {a:.6}, {b:.6}, {c:.6} violate the triangle inequality: no mass distribution has this inertia"
+        ));
+    }
+    Ok((body.mass.0, body.inertia.0))
+}
