@@ -192,6 +192,16 @@ impl TriMesh {
         }
     }
 
+    /// True when no vertex lies more than `tolerance` (m) in front of any triangle's plane.
+    pub fn is_convex(&self, tolerance: f64) -> bool {
+        self.triangles.iter().all(|t| {
+            let [a, b, c] = t.map(|i| self.vertices[i]);
+            let normal = (b - a).cross(&(c - a));
+            let length = normal.norm();
+            length == 0.0 || self.vertices.iter().all(|v| normal.dot(&(v - a)) <= tolerance * length)
+        })
+    }
+
     /// The largest distance of a vertex from the mesh origin, m.
     pub fn bounding_radius(&self) -> f64 {
         self.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max)

@@ -45,7 +45,7 @@ pub struct RunArgs {
     /// (the project's Dzhanibekov-effect scene) runs.
     pub scene: Option<PathBuf>,
     /// Simulated time to run, s [default: 10].
-    #[arg(long, conflicts_with = "steps")]
+    #[arg(long, conflicts_with = "steps", allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Number of frames (steps of dt) to run.
     #[arg(long)]

@@ -1,7 +1,7 @@
 //! The JSON shapes of the 3D assignment's scene and body files, and the one reader that turns
 //! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
 
-use super::values::{Count, Inertia, NonNegative, Positive, Rotation, Vec3, ZeroDamping};
+use super::values::{Count, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping};
 use super::{SceneError, SimParameters};
 use crate::body::AngularIntegrator;
 use nalgebra::{Matrix3, Vector3};
@@ -60,7 +60,7 @@ pub(super) struct BodyJson {
     pub file_root: String,
     pub x0: Vec3,
     #[serde(rename = "R0")]
-    pub r0: Option<Rotation>,
+    pub r0: Option<Orientation>,
     pub v0: Option<Vec3>,
     pub omega0: Option<Vec3>,
 }
@@ -85,7 +85,8 @@ pub(super) fn from_str<T: for<'de> Deserialize<'de>>(
     let mut record_unknown = |path: serde_ignored::Path<'_>| unknown.push(path.to_string());
     let ignored = serde_ignored::Deserializer::new(&mut de, &mut record_unknown);
     let value: T = serde_path_to_error::deserialize(ignored).map_err(|e| {
-        let path = e.path().to_string();
+        // serde_path_to_error writes "?" for a segment it could not name (inside a syntax error).
+        let path = e.path().to_string().trim_end_matches(".?").trim_end_matches('?').to_string();
         let inner = e.into_inner();
         let message = inner.to_string();
         // serde_json appends " at line L column C"; we put the position in front instead.

@@ -180,6 +180,22 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str, files: &dyn Bod
         })?;
         let (mass, inertia) = json::parse_body_file(&texts.json.0, &texts.json.1, &body.file_root, &mut warnings)?;
         let mesh = load_body_mesh(&texts.obj.0, &texts.obj.1, &mut warnings)?;
+        let r0 = match body.r0 {
+            None => Matrix3::identity(),
+            Some(o) if o.proper => o.matrix,
+            Some(o) => {
+                let what = format!("{source}: body {index} ({:?}): R0 has determinant −1 (a reflection)", body.name);
+                let mirror = mirror_symmetry(&mesh, &inertia).ok_or_else(|| {
+                    SceneError(format!("{what}, and the body is not mirror-symmetric, so no rotation places it as given"))
+                })?;
+                let rotation = crate::rotation::nearest_rotation(&(o.matrix * mirror));
+                warnings.push(format!(
+                    "{what}; the body is symmetric under the body-frame reflection diag({}, {}, {}), so the rotation R0·S places the same shape with the same inertia and is used instead",
+                    mirror[(0, 0)], mirror[(1, 1)], mirror[(2, 2)]
+                ));
+                rotation
+            }
+        };
         bodies.push(BodyDescription {
             name: body.name.clone(),
             source: texts.json.1.clone(),
@@ -187,12 +203,51 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str, files: &dyn Bod
             inertia,
             mesh: Arc::new(mesh),
             x0: body.x0.0,
-            r0: body.r0.map_or(Matrix3::identity(), |r| r.0),
+            r0,
             v0: body.v0.map_or(Vector3::zeros(), |v| v.0),
             omega0: body.omega0.map_or(Vector3::zeros(), |v| v.0),
         });
     }
     Ok(Scene { source: source.to_string(), params, bodies, warnings })
+}
+
+/// A body-frame coordinate reflection S (diag with one −1) that maps the mesh onto itself and
+/// leaves the inertia unchanged (S J S = J, to 1e-6 of the largest entry), if there is one.
+/// Vertices must map to vertices within 1e-5 of the mesh's radius (the assignment's sphere is
+/// symmetric to 2.9e-6 of its radius: its coordinates were rounded to six digits), and either
+/// triangles to triangles or the mesh be convex (a convex solid is the hull of its vertices, so
+/// a different triangulation of a flat face, as in the assignment's brick, is the same solid).
+/// docs/scene-format.md §"R0 and reflections".
+pub fn mirror_symmetry(mesh: &TriMesh, inertia: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let tolerance = 1e-5 * mesh.bounding_radius();
+    let mut triangles: Vec<[usize; 3]> = mesh.triangles.iter().map(|t| sorted(*t)).collect();
+    triangles.sort_unstable();
+    (0..3).find_map(|axis| {
+        let mut diagonal = Vector3::repeat(1.0);
+        diagonal[axis] = -1.0;
+        let s = Matrix3::from_diagonal(&diagonal);
+        if (s * inertia * s - inertia).amax() > 1e-6 * inertia.amax() {
+            return None;
+        }
+        // Where each vertex goes under S.
+        let image: Option<Vec<usize>> = mesh
+            .vertices
+            .iter()
+            .map(|v| {
+                let target = s * v;
+                mesh.vertices.iter().position(|w| (w - target).norm() <= tolerance)
+            })
+            .collect();
+        let image = image?;
+        let mut mapped: Vec<[usize; 3]> = mesh.triangles.iter().map(|t| sorted(t.map(|i| image[i]))).collect();
+        mapped.sort_unstable();
+        (mapped == triangles || mesh.is_convex(tolerance)).then_some(s)
+    })
+}
+
+fn sorted(mut t: [usize; 3]) -> [usize; 3] {
+    t.sort_unstable();
+    t
 }
 
 /// Reads and checks a body mesh: it must bound a solid, and its centre of mass should be at its

@@ -88,31 +88,37 @@ impl<'de> Deserialize<'de> for ZeroDamping {
     }
 }
 
-/// A rotation matrix: orthonormal with determinant +1, each within [`Rotation::TOLERANCE`].
-/// The accepted matrix is projected to the nearest exact rotation.
+/// An orthonormal matrix (‖RᵀR − I‖ ≤ [`Orientation::TOLERANCE`]) with determinant +1 (a rotation)
+/// or −1 (a reflection; the assignment's scene2, scene5 and scene6 use one, see
+/// docs/scene-format.md §"R0 and reflections"). The matrix is projected to exact orthonormality.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rotation(pub Matrix3<f64>);
+pub struct Orientation {
+    /// The orthonormal matrix.
+    pub matrix: Matrix3<f64>,
+    /// True when det = +1.
+    pub proper: bool,
+}
 
-impl Rotation {
-    /// How far from a rotation a scene's `R0` may be (‖RᵀR − I‖_F and |det R − 1|).
+impl Orientation {
+    /// How far from orthonormal a scene's `R0` may be (‖RᵀR − I‖_F, and |det| − 1).
     pub const TOLERANCE: f64 = 1e-6;
 }
 
-impl<'de> Deserialize<'de> for Rotation {
+impl<'de> Deserialize<'de> for Orientation {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let r = matrix3(d)?;
         let err = crate::rotation::orthonormality_error(&r);
-        if err > Rotation::TOLERANCE {
+        if err > Orientation::TOLERANCE {
             return Err(D::Error::custom(format!(
                 "not a rotation: ‖RᵀR − I‖ = {err:.3e} (at most {:e} allowed)",
-                Rotation::TOLERANCE
+                Orientation::TOLERANCE
             )));
         }
         let det = r.determinant();
-        if (det - 1.0).abs() > Rotation::TOLERANCE {
-            return Err(D::Error::custom(format!("not a rotation: det = {det} (a reflection when −1)")));
+        if (det.abs() - 1.0).abs() > Orientation::TOLERANCE {
+            return Err(D::Error::custom(format!("not a rotation: det = {det}")));
         }
-        Ok(Rotation(crate::rotation::nearest_rotation(&r)))
+        Ok(Orientation { matrix: crate::rotation::nearest_rotation(&r), proper: det > 0.0 })
     }
 }
 
