@@ -127,7 +127,8 @@ impl RigidBody {
             }
             AngularIntegrator::ImplicitGyroscopic => {
                 let r = self.rotation;
-                let omega_body = implicit_gyroscopic_step(&self.inertia_body, &(r.transpose() * self.omega), h);
+                let omega_body =
+                    implicit_gyroscopic_step(&self.inertia_body, &(r.transpose() * self.omega), h);
                 r * (omega_body + self.inertia_body_inv * (r.transpose() * self.torque) * h)
             }
         };
@@ -154,17 +155,18 @@ impl RigidBody {
         self.rotation.transpose() * self.omega
     }
 
-    /// The first state component that is not finite, by name, if any.
+    /// The first state component that is not finite, by name, if any. Velocities are checked
+    /// first because a step updates them first: a blow-up shows there before it reaches x and R.
     pub fn first_non_finite(&self) -> Option<&'static str> {
         let finite = |v: &Vector3<f64>| v.iter().all(|c| c.is_finite());
-        if !finite(&self.x) {
-            Some("position x")
-        } else if !self.rotation.iter().all(|c| c.is_finite()) {
-            Some("rotation R")
-        } else if !finite(&self.v) {
+        if !finite(&self.v) {
             Some("velocity v")
         } else if !finite(&self.omega) {
             Some("angular velocity omega")
+        } else if !finite(&self.x) {
+            Some("position x")
+        } else if !self.rotation.iter().all(|c| c.is_finite()) {
+            Some("rotation R")
         } else {
             None
         }
@@ -177,7 +179,11 @@ impl RigidBody {
 /// ∂f/∂ω = J₀ + h([ω₀]× J₀ − [J₀ω₀]×), i.e. ω = ω₀ − (∂f/∂ω)⁻¹ h ω₀ × J₀ω₀.
 /// If the Jacobian is singular (only for absurd h|ω|) the result is NaN, which stops the run with
 /// the body and quantity named. docs/dynamics.md §"Implicit gyroscopic term".
-pub fn implicit_gyroscopic_step(inertia_body: &Matrix3<f64>, omega_body: &Vector3<f64>, h: f64) -> Vector3<f64> {
+pub fn implicit_gyroscopic_step(
+    inertia_body: &Matrix3<f64>,
+    omega_body: &Vector3<f64>,
+    h: f64,
+) -> Vector3<f64> {
     let momentum = inertia_body * omega_body;
     let residual = omega_body.cross(&momentum) * h;
     let jacobian = inertia_body + (skew(omega_body) * inertia_body - skew(&momentum)) * h;

@@ -49,19 +49,31 @@ pub fn body_energy(body: &RigidBody, gravity: &Vector3<f64>) -> Energy {
     let kinetic_linear = 0.5 * body.mass * body.v.norm_squared();
     let kinetic_angular = 0.5 * body.omega.dot(&(body.inertia_world * body.omega));
     let potential = -body.mass * gravity.dot(&body.x);
-    Energy { kinetic_linear, kinetic_angular, potential, total: kinetic_linear + kinetic_angular + potential }
+    Energy {
+        kinetic_linear,
+        kinetic_angular,
+        potential,
+        total: kinetic_linear + kinetic_angular + potential,
+    }
 }
 
 /// Momentum of one body; `angular_com` is about the body's own centre of mass (J ω).
 pub fn body_momentum(body: &RigidBody) -> Momentum {
     let linear = body.v * body.mass;
     let spin = body.inertia_world * body.omega;
-    Momentum { linear, angular: body.x.cross(&linear) + spin, angular_com: spin }
+    Momentum {
+        linear,
+        angular: body.x.cross(&linear) + spin,
+        angular_com: spin,
+    }
 }
 
 /// Total energy of the system, J.
 pub fn system_energy(bodies: &[RigidBody], gravity: &Vector3<f64>) -> Energy {
-    bodies.iter().map(|b| body_energy(b, gravity)).fold(Energy::default(), |a, e| a + e)
+    bodies
+        .iter()
+        .map(|b| body_energy(b, gravity))
+        .fold(Energy::default(), |a, e| a + e)
 }
 
 /// Total momentum; `angular_com` is about the system's centre of mass c = Σ m x / Σ m.
@@ -113,7 +125,12 @@ mod tests {
     #[test]
     fn energy_and_momentum_of_one_body_by_hand() {
         let mesh = Arc::new(TriMesh::cuboid(Vector3::repeat(-0.5), Vector3::repeat(0.5)));
-        let mut b = RigidBody::new("b", 2.0, Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)), mesh);
+        let mut b = RigidBody::new(
+            "b",
+            2.0,
+            Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)),
+            mesh,
+        );
         b.x = Vector3::new(1.0, 3.0, 0.0);
         b.v = Vector3::new(0.0, 0.0, 4.0);
         b.omega = Vector3::new(0.0, 1.0, 0.0);
@@ -132,10 +149,12 @@ mod tests {
 
     #[test]
     fn flip_period_of_a_sine_is_its_period() {
-        let samples: Vec<(f64, f64)> = (0..2000).map(|i| {
-            let t = i as f64 * 0.01;
-            (t, (t * std::f64::consts::TAU / 3.0 + 0.1).sin())
-        }).collect();
+        let samples: Vec<(f64, f64)> = (0..2000)
+            .map(|i| {
+                let t = i as f64 * 0.01;
+                (t, (t * std::f64::consts::TAU / 3.0 + 0.1).sin())
+            })
+            .collect();
         let changes = sign_changes(&samples);
         assert_eq!(changes.len(), 13);
         // Linear interpolation of a sine sampled 300 times a period errs by ~1e-6 s at a zero.

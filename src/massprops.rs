@@ -78,7 +78,13 @@ mod tests {
         // tolerance is round-off after a shift of ~100 m over a body of ~1 m.
         assert!((props.mass - m).abs() < 1e-12 * m);
         assert!((props.center_of_mass - (lo + Vector3::new(w, h, d) / 2.0)).norm() < 1e-12);
-        let expected = Matrix3::from_diagonal(&Vector3::new(h * h + d * d, w * w + d * d, w * w + h * h)) * (m / 12.0);
-        assert!((props.inertia - expected).norm() < 1e-11 * expected.norm(), "{}", props.inertia);
+        let expected =
+            Matrix3::from_diagonal(&Vector3::new(h * h + d * d, w * w + d * d, w * w + h * h))
+                * (m / 12.0);
+        assert!(
+            (props.inertia - expected).norm() < 1e-11 * expected.norm(),
+            "{}",
+            props.inertia
+        );
     }
 }

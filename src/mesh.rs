@@ -48,7 +48,11 @@ impl TriMesh {
 
     /// Parses OBJ text; `origin` names the source in error messages.
     pub fn parse_obj(text: &str, origin: &str) -> Result<TriMesh, MeshError> {
-        let options = tobj::LoadOptions { triangulate: true, single_index: false, ..Default::default() };
+        let options = tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ..Default::default()
+        };
         let mut reader = std::io::BufReader::new(text.as_bytes());
         let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
             Ok((Vec::new(), Default::default()))
@@ -60,17 +64,23 @@ impl TriMesh {
             n => {
                 return Err(MeshError(format!(
                     "{origin}: the OBJ file has {n} objects or groups; a body mesh must be one object"
-                )))
+                )));
             }
         }
         let mesh = &models[0].mesh;
         let vertices: Vec<Vector3<f64>> = mesh
             .positions
             .chunks_exact(3)
-            .map(|p| Vector3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+            .map(|p| Vector3::new(p[0], p[1], p[2]))
             .collect();
-        if let Some(i) = vertices.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
-            return Err(MeshError(format!("{origin}: vertex {} is not finite", i + 1)));
+        if let Some(i) = vertices
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            return Err(MeshError(format!(
+                "{origin}: vertex {} is not finite",
+                i + 1
+            )));
         }
         let triangles: Vec<[usize; 3]> = mesh
             .indices
@@ -80,10 +90,20 @@ impl TriMesh {
         if triangles.is_empty() {
             return Err(MeshError(format!("{origin}: the OBJ file has no faces")));
         }
-        if let Some(t) = triangles.iter().find(|t| t.iter().any(|&i| i >= vertices.len())) {
-            return Err(MeshError(format!("{origin}: a face refers to vertex {} of {}", t.iter().max().unwrap() + 1, vertices.len())));
+        if let Some(t) = triangles
+            .iter()
+            .find(|t| t.iter().any(|&i| i >= vertices.len()))
+        {
+            return Err(MeshError(format!(
+                "{origin}: a face refers to vertex {} of {}",
+                t.iter().max().unwrap() + 1,
+                vertices.len()
+            )));
         }
-        Ok(TriMesh { vertices, triangles })
+        Ok(TriMesh {
+            vertices,
+            triangles,
+        })
     }
 
     /// Writes the mesh as OBJ text, vertices with round-trip precision.
@@ -108,7 +128,8 @@ impl TriMesh {
         for t in &self.triangles {
             let [a, b, c] = t.map(|i| self.vertices[i]);
             let doubled_area = (b - a).cross(&(c - a)).norm();
-            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || doubled_area <= 1e-12 * scale * scale {
+            if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] || doubled_area <= 1e-12 * scale * scale
+            {
                 report.degenerate_triangles += 1;
             }
             report.signed_volume += a.dot(&b.cross(&c)) / 6.0;
@@ -136,10 +157,16 @@ impl TriMesh {
         let topo = self.topology();
         let mut problems = Vec::new();
         if topo.boundary_edges > 0 {
-            problems.push(format!("open surface ({} boundary edges)", topo.boundary_edges));
+            problems.push(format!(
+                "open surface ({} boundary edges)",
+                topo.boundary_edges
+            ));
         }
         if topo.non_manifold_edges > 0 {
-            problems.push(format!("{} edges shared by more than two triangles", topo.non_manifold_edges));
+            problems.push(format!(
+                "{} edges shared by more than two triangles",
+                topo.non_manifold_edges
+            ));
         }
         if topo.inconsistent_edges > 0 {
             problems.push(format!(
@@ -148,7 +175,10 @@ impl TriMesh {
             ));
         }
         if !problems.is_empty() {
-            return Err(MeshError(format!("{origin}: mesh does not bound a solid: {}", problems.join("; "))));
+            return Err(MeshError(format!(
+                "{origin}: mesh does not bound a solid: {}",
+                problems.join("; ")
+            )));
         }
         let scale = self.bounding_radius();
         if topo.signed_volume <= 1e-12 * scale * scale * scale {
@@ -185,9 +215,18 @@ impl TriMesh {
         TriMesh {
             vertices: (0..8).map(corner).collect(),
             triangles: vec![
-                [0, 2, 1], [1, 2, 3], [4, 5, 6], [5, 7, 6], // −z, +z
-                [0, 1, 4], [1, 5, 4], [2, 6, 3], [3, 6, 7], // −y, +y
-                [0, 4, 2], [2, 4, 6], [1, 3, 5], [3, 7, 5], // −x, +x
+                [0, 2, 1],
+                [1, 2, 3],
+                [4, 5, 6],
+                [5, 7, 6], // −z, +z
+                [0, 1, 4],
+                [1, 5, 4],
+                [2, 6, 3],
+                [3, 6, 7], // −y, +y
+                [0, 4, 2],
+                [2, 4, 6],
+                [1, 3, 5],
+                [3, 7, 5], // −x, +x
             ],
         }
     }
@@ -198,7 +237,11 @@ impl TriMesh {
             let [a, b, c] = t.map(|i| self.vertices[i]);
             let normal = (b - a).cross(&(c - a));
             let length = normal.norm();
-            length == 0.0 || self.vertices.iter().all(|v| normal.dot(&(v - a)) <= tolerance * length)
+            length == 0.0
+                || self
+                    .vertices
+                    .iter()
+                    .all(|v| normal.dot(&(v - a)) <= tolerance * length)
         })
     }
 
@@ -209,7 +252,10 @@ impl TriMesh {
 
     /// The same mesh moved by `offset` (m).
     pub fn translated(&self, offset: &Vector3<f64>) -> TriMesh {
-        TriMesh { vertices: self.vertices.iter().map(|v| v + offset).collect(), triangles: self.triangles.clone() }
+        TriMesh {
+            vertices: self.vertices.iter().map(|v| v + offset).collect(),
+            triangles: self.triangles.clone(),
+        }
     }
 }
 
@@ -223,7 +269,10 @@ mod tests {
     fn closed_outward_tetrahedron_is_a_solid() {
         let mesh = TriMesh::parse_obj(TETRA, "tetra").unwrap();
         let topo = mesh.topology();
-        assert_eq!(topo.boundary_edges + topo.inconsistent_edges + topo.non_manifold_edges, 0);
+        assert_eq!(
+            topo.boundary_edges + topo.inconsistent_edges + topo.non_manifold_edges,
+            0
+        );
         assert!((topo.signed_volume - 1.0 / 6.0).abs() < 1e-15);
         assert!(mesh.check_solid("tetra").unwrap().is_empty());
     }
@@ -231,21 +280,31 @@ mod tests {
     #[test]
     fn open_flipped_and_inverted_meshes_are_rejected_with_the_reason() {
         let open = TETRA.replace("f 2 3 4\n", "");
-        let err = TriMesh::parse_obj(&open, "open.obj").unwrap().check_solid("open.obj").unwrap_err();
+        let err = TriMesh::parse_obj(&open, "open.obj")
+            .unwrap()
+            .check_solid("open.obj")
+            .unwrap_err();
         assert!(err.0.contains("open surface (3 boundary edges)"), "{err}");
 
         let flipped = TETRA.replace("f 2 3 4", "f 2 4 3");
-        let err = TriMesh::parse_obj(&flipped, "flip.obj").unwrap().check_solid("flip.obj").unwrap_err();
+        let err = TriMesh::parse_obj(&flipped, "flip.obj")
+            .unwrap()
+            .check_solid("flip.obj")
+            .unwrap_err();
         assert!(err.0.contains("inconsistently oriented"), "{err}");
 
         let inverted = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n";
-        let err = TriMesh::parse_obj(inverted, "inv.obj").unwrap().check_solid("inv.obj").unwrap_err();
+        let err = TriMesh::parse_obj(inverted, "inv.obj")
+            .unwrap()
+            .check_solid("inv.obj")
+            .unwrap_err();
         assert!(err.0.contains("inside out"), "{err}");
     }
 
     #[test]
     fn faces_referring_to_missing_vertices_are_an_error_not_a_panic() {
-        let err = TriMesh::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", "bad.obj").unwrap_err();
+        let err =
+            TriMesh::parse_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", "bad.obj").unwrap_err();
         assert!(err.0.starts_with("bad.obj:"), "{err}");
     }
 }

@@ -66,7 +66,8 @@ mod tests {
     fn exp_so3_matches_axis_angle_and_is_continuous_at_the_series_switch() {
         let axis = Vector3::new(1.0, 2.0, -0.5).normalize();
         for &angle in &[0.0, 1e-9, 0.99e-4, 1.01e-4, 0.3, 2.0, 3.1] {
-            let expected = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle);
+            let expected =
+                nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle);
             let got = exp_so3(&(axis * angle));
             // Both are computed in f64 from the same axis and angle; 1e-15 allows a few ulps.
             assert!((got - expected.matrix()).norm() < 1e-15, "angle {angle}");

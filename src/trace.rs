@@ -117,7 +117,14 @@ impl TraceHeader {
             substeps: world.params.substeps,
             gravity: world.params.gravity.into(),
             integrator: world.params.integrator.name().into(),
-            bodies: world.bodies.iter().map(|b| TraceBodyInfo { name: b.name.clone(), mass: b.mass }).collect(),
+            bodies: world
+                .bodies
+                .iter()
+                .map(|b| TraceBodyInfo {
+                    name: b.name.clone(),
+                    mass: b.mass,
+                })
+                .collect(),
         }
     }
 }
@@ -159,6 +166,7 @@ pub enum TraceFormat {
     Csv,
 }
 
+#[allow(clippy::large_enum_variant)] // one per trace; the size is irrelevant
 enum Sink {
     Jsonl(BufWriter<Box<dyn Write>>),
     Csv(csv::Writer<Box<dyn Write>>),
@@ -172,7 +180,11 @@ pub struct TraceWriter {
 
 impl TraceWriter {
     /// Starts a trace on `out`, writing the header (JSON Lines) or the column names (CSV).
-    pub fn new(out: Box<dyn Write>, format: TraceFormat, header: &TraceHeader) -> std::io::Result<TraceWriter> {
+    pub fn new(
+        out: Box<dyn Write>,
+        format: TraceFormat,
+        header: &TraceHeader,
+    ) -> std::io::Result<TraceWriter> {
         let sink = match format {
             TraceFormat::Jsonl => {
                 let mut w = BufWriter::new(out);
@@ -268,11 +280,16 @@ pub struct Trace {
 /// Reads a JSON Lines trace; errors name the line.
 pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let mut lines = reader.lines().enumerate();
-    let (_, first) = lines.next().ok_or_else(|| format!("{source}: empty trace"))?;
+    let (_, first) = lines
+        .next()
+        .ok_or_else(|| format!("{source}: empty trace"))?;
     let first = first.map_err(|e| format!("{source}: {e}"))?;
-    let header: TraceHeader = serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
+    let header: TraceHeader =
+        serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
     if header.format != FORMAT_NAME || header.version != FORMAT_VERSION {
-        return Err(format!("{source}:1: not a {FORMAT_NAME} version {FORMAT_VERSION} trace"));
+        return Err(format!(
+            "{source}:1: not a {FORMAT_NAME} version {FORMAT_VERSION} trace"
+        ));
     }
     let mut records = Vec::new();
     for (i, line) in lines {

@@ -10,7 +10,7 @@
 //! 5. check that every state component is finite.
 
 use crate::body::RigidBody;
-use crate::diagnostics::{system_energy, system_momentum, Energy, Momentum};
+use crate::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::scene::{Scene, SimParameters};
 
 /// A simulation in progress.
@@ -26,7 +26,9 @@ pub struct World {
 
 /// A state component became NaN or infinite; the run must stop.
 #[derive(Debug, thiserror::Error)]
-#[error("non-finite {quantity} in body {body_index} ({body_name:?}) at step {step}, substep {substep} (t = {time} s)")]
+#[error(
+    "non-finite {quantity} in body {body_index} ({body_name:?}) at step {step}, substep {substep} (t = {time} s)"
+)]
 pub struct NonFinite {
     /// The frame in which it happened (1-based: the frame being computed).
     pub step: u64,
@@ -58,7 +60,11 @@ impl World {
                 b
             })
             .collect();
-        World { params: scene.params.clone(), bodies, step: 0 }
+        World {
+            params: scene.params.clone(),
+            bodies,
+            step: 0,
+        }
     }
 
     /// Simulated time, s: `step · dt` (not a running sum, so it has no round-off drift).

@@ -2,11 +2,15 @@
 
 mod common;
 
-use rigidref::trace::{csv_columns, read_trace, FORMAT_NAME};
+use rigidref::trace::{FORMAT_NAME, csv_columns, read_trace};
 use std::process::Command;
 
 fn rigidref(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    Command::new(common::rigidref_bin()).args(args).current_dir(dir).output().unwrap()
+    Command::new(common::rigidref_bin())
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
 }
 
 /// `cargo run --release` with no arguments runs the embedded scene and writes trace.jsonl.
@@ -16,10 +20,22 @@ fn run_without_a_scene_uses_the_embedded_default() {
     let out = rigidref(&["--steps", "50"], tmp.path());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    for row in ["scene", "bodies", "steps", "wall time", "energy", "momentum drift", "trace"] {
+    for row in [
+        "scene",
+        "bodies",
+        "steps",
+        "wall time",
+        "energy",
+        "momentum drift",
+        "trace",
+    ] {
         assert!(stderr.contains(row), "summary lacks {row}: {stderr}");
     }
-    let trace = read_trace(std::io::BufReader::new(std::fs::File::open(tmp.path().join("trace.jsonl")).unwrap()), "t").unwrap();
+    let trace = read_trace(
+        std::io::BufReader::new(std::fs::File::open(tmp.path().join("trace.jsonl")).unwrap()),
+        "t",
+    )
+    .unwrap();
     assert_eq!(trace.header.format, FORMAT_NAME);
     assert_eq!(trace.header.source, "scenes/dzhanibekov.json");
     assert_eq!(trace.records.len(), 51);
@@ -30,17 +46,46 @@ fn run_without_a_scene_uses_the_embedded_default() {
 #[test]
 fn trace_lines_have_the_documented_keys() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = rigidref(&["run", "--steps", "3", "--quiet", "--out", "-"], tmp.path());
+    let out = rigidref(
+        &["run", "--steps", "3", "--quiet", "--out", "-"],
+        tmp.path(),
+    );
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
-    let lines: Vec<serde_json::Value> = text.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
     let keys = |v: &serde_json::Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
-    assert_eq!(keys(&lines[0]), ["format", "version", "dimension", "scene", "source", "dt", "substeps", "gravity", "integrator", "bodies"]);
+    assert_eq!(
+        keys(&lines[0]),
+        [
+            "format",
+            "version",
+            "dimension",
+            "scene",
+            "source",
+            "dt",
+            "substeps",
+            "gravity",
+            "integrator",
+            "bodies"
+        ]
+    );
     assert_eq!(keys(&lines[0]["bodies"][0]), ["name", "mass"]);
-    assert_eq!(keys(&lines[1]), ["step", "t", "bodies", "energy", "momentum", "contacts"]);
+    assert_eq!(
+        keys(&lines[1]),
+        ["step", "t", "bodies", "energy", "momentum", "contacts"]
+    );
     assert_eq!(keys(&lines[1]["bodies"][0]), ["x", "R", "v", "omega"]);
-    assert_eq!(keys(&lines[1]["energy"]), ["kinetic_linear", "kinetic_angular", "potential", "total"]);
-    assert_eq!(keys(&lines[1]["momentum"]), ["linear", "angular", "angular_com"]);
+    assert_eq!(
+        keys(&lines[1]["energy"]),
+        ["kinetic_linear", "kinetic_angular", "potential", "total"]
+    );
+    assert_eq!(
+        keys(&lines[1]["momentum"]),
+        ["linear", "angular", "angular_com"]
+    );
     assert_eq!(lines.len(), 5);
 }
 
@@ -48,9 +93,18 @@ fn trace_lines_have_the_documented_keys() {
 #[test]
 fn every_records_first_multiples_and_last() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = rigidref(&["run", "--steps", "25", "--every", "10", "--quiet", "--out", "t.jsonl"], tmp.path());
+    let out = rigidref(
+        &[
+            "run", "--steps", "25", "--every", "10", "--quiet", "--out", "t.jsonl",
+        ],
+        tmp.path(),
+    );
     assert!(out.status.success());
-    let trace = read_trace(std::io::BufReader::new(std::fs::File::open(tmp.path().join("t.jsonl")).unwrap()), "t").unwrap();
+    let trace = read_trace(
+        std::io::BufReader::new(std::fs::File::open(tmp.path().join("t.jsonl")).unwrap()),
+        "t",
+    )
+    .unwrap();
     let steps: Vec<u64> = trace.records.iter().map(|r| r.step).collect();
     assert_eq!(steps, [0, 10, 20, 25]);
 }
@@ -60,16 +114,36 @@ fn every_records_first_multiples_and_last() {
 #[test]
 fn csv_trace_is_a_flat_numeric_table_matching_the_jsonl_trace() {
     let tmp = tempfile::tempdir().unwrap();
-    assert!(rigidref(&["run", "--steps", "20", "--quiet", "--out", "t.csv"], tmp.path()).status.success());
-    assert!(rigidref(&["run", "--steps", "20", "--quiet", "--out", "t.jsonl"], tmp.path()).status.success());
+    assert!(
+        rigidref(
+            &["run", "--steps", "20", "--quiet", "--out", "t.csv"],
+            tmp.path()
+        )
+        .status
+        .success()
+    );
+    assert!(
+        rigidref(
+            &["run", "--steps", "20", "--quiet", "--out", "t.jsonl"],
+            tmp.path()
+        )
+        .status
+        .success()
+    );
     let text = std::fs::read_to_string(tmp.path().join("t.csv")).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(header, csv_columns(1));
-    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect()).collect();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .collect();
     assert_eq!(rows.len(), 21);
     assert!(rows.iter().all(|r| r.len() == header.len()));
-    let trace = read_trace(std::io::BufReader::new(std::fs::File::open(tmp.path().join("t.jsonl")).unwrap()), "t").unwrap();
+    let trace = read_trace(
+        std::io::BufReader::new(std::fs::File::open(tmp.path().join("t.jsonl")).unwrap()),
+        "t",
+    )
+    .unwrap();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     for (row, record) in rows.iter().zip(&trace.records) {
         assert_eq!(row[col("b0_y")], record.bodies[0].x[1]);
@@ -87,7 +161,14 @@ fn same_inputs_give_a_bitwise_identical_trace() {
     let scene = common::project_root().join("scenes/tumbling_brick.json");
     let scene = scene.to_str().unwrap();
     for name in ["a.jsonl", "b.jsonl"] {
-        assert!(rigidref(&["run", scene, "--time", "3", "--quiet", "--out", name], tmp.path()).status.success());
+        assert!(
+            rigidref(
+                &["run", scene, "--time", "3", "--quiet", "--out", name],
+                tmp.path()
+            )
+            .status
+            .success()
+        );
     }
     let a = std::fs::read(tmp.path().join("a.jsonl")).unwrap();
     let b = std::fs::read(tmp.path().join("b.jsonl")).unwrap();
@@ -104,7 +185,17 @@ fn canonical_scenes_load_cleanly_and_run() {
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "json") {
-            let out = rigidref(&["run", path.to_str().unwrap(), "--time", "2", "--out", "t.jsonl"], tmp.path());
+            let out = rigidref(
+                &[
+                    "run",
+                    path.to_str().unwrap(),
+                    "--time",
+                    "2",
+                    "--out",
+                    "t.jsonl",
+                ],
+                tmp.path(),
+            );
             let stderr = String::from_utf8_lossy(&out.stderr);
             assert!(out.status.success(), "{}: {stderr}", path.display());
             assert!(!stderr.contains("warning"), "{}: {stderr}", path.display());
@@ -121,7 +212,10 @@ fn scene_command_prints_the_resolved_parameters() {
     let out = rigidref(&["scene"], tmp.path());
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success());
-    assert!(stdout.contains("pgs_iterations   100") && stdout.contains("integrator       spatial"), "{stdout}");
+    assert!(
+        stdout.contains("pgs_iterations   100") && stdout.contains("integrator       spatial"),
+        "{stdout}"
+    );
 }
 
 /// `run --help` documents the scene keys this project adds.
@@ -130,5 +224,10 @@ fn run_help_documents_the_project_scene_keys() {
     let tmp = tempfile::tempdir().unwrap();
     let out = rigidref(&["run", "--help"], tmp.path());
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("integrator") && stdout.contains("implicit_gyroscopic") && stdout.contains("file_root"), "{stdout}");
+    assert!(
+        stdout.contains("integrator")
+            && stdout.contains("implicit_gyroscopic")
+            && stdout.contains("file_root"),
+        "{stdout}"
+    );
 }

@@ -7,7 +7,7 @@ mod common;
 
 use rigidref::diagnostics::{flip_period, sign_changes};
 use rigidref::reference::euler::torque_free_rk4;
-use rigidref::scene::{load_scene, Scene};
+use rigidref::scene::{Scene, load_scene};
 use rigidref::world::World;
 
 /// Index of the intermediate principal axis of a (near-)diagonal body inertia.
@@ -36,11 +36,12 @@ fn flips(scene: &Scene, seconds: f64) -> (Vec<f64>, Vec<f64>) {
     let omega0_body = body.r0.transpose() * body.omega0;
     let h_ref = scene.params.h() / 100.0;
     let per_frame = (scene.params.dt / h_ref).round() as usize;
-    let reference: Vec<(f64, f64)> = torque_free_rk4(&body.inertia, &omega0_body, h_ref, frames * per_frame)
-        .into_iter()
-        .step_by(per_frame)
-        .map(|(t, w)| (t, w[axis]))
-        .collect();
+    let reference: Vec<(f64, f64)> =
+        torque_free_rk4(&body.inertia, &omega0_body, h_ref, frames * per_frame)
+            .into_iter()
+            .step_by(per_frame)
+            .map(|(t, w)| (t, w[axis]))
+            .collect();
     (changes, sign_changes(&reference))
 }
 
@@ -48,8 +49,15 @@ fn flips(scene: &Scene, seconds: f64) -> (Vec<f64>, Vec<f64>) {
 /// agree with the reference to `tolerance` (relative).
 fn check(scene: &Scene, tolerance: f64) {
     let (changes, reference_changes) = flips(scene, 10.0);
-    assert!(changes.len() >= 2, "the spin should reverse repeatedly within 10 s: {changes:?}");
-    assert_eq!(changes.len(), reference_changes.len(), "{changes:?} vs {reference_changes:?}");
+    assert!(
+        changes.len() >= 2,
+        "the spin should reverse repeatedly within 10 s: {changes:?}"
+    );
+    assert_eq!(
+        changes.len(),
+        reference_changes.len(),
+        "{changes:?} vs {reference_changes:?}"
+    );
     let simulated = flip_period(&changes).unwrap();
     let reference = flip_period(&reference_changes).unwrap();
     let period_error = (simulated - reference).abs() / reference;
@@ -60,8 +68,14 @@ fn check(scene: &Scene, tolerance: f64) {
         scene.params.name,
         changes.len()
     );
-    assert!(first_error < tolerance, "first reversal time differs by {first_error:e}");
-    assert!(period_error < tolerance, "flip period differs by {period_error:e}");
+    assert!(
+        first_error < tolerance,
+        "first reversal time differs by {first_error:e}"
+    );
+    assert!(
+        period_error < tolerance,
+        "flip period differs by {period_error:e}"
+    );
 }
 
 /// The assignment's scene1 (thing mesh, ω0 = (0, 5, 0.01), h = 1 ms). The explicit scheme's
@@ -69,7 +83,9 @@ fn check(scene: &Scene, tolerance: f64) {
 /// 1% allows a factor of three.
 #[test]
 fn assignment_scene1_spin_reverses_repeatedly_with_the_reference_flip_period() {
-    let Some(dir) = common::rigid3d_assignment() else { return };
+    let Some(dir) = common::rigid3d_assignment() else {
+        return;
+    };
     let scene = load_scene(&dir.join("scenes/scene1.json")).unwrap();
     check(&scene, 0.01);
 }

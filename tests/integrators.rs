@@ -9,8 +9,11 @@ use rigidref::body::{AngularIntegrator, RigidBody};
 use rigidref::diagnostics::{body_energy, body_momentum};
 use rigidref::rotation::{exp_so3, orthonormality_error};
 
-const INTEGRATORS: [AngularIntegrator; 3] =
-    [AngularIntegrator::Spatial, AngularIntegrator::Body, AngularIntegrator::ImplicitGyroscopic];
+const INTEGRATORS: [AngularIntegrator; 3] = [
+    AngularIntegrator::Spatial,
+    AngularIntegrator::Body,
+    AngularIntegrator::ImplicitGyroscopic,
+];
 
 /// A random body: mass in [0.1, 1000] kg, principal moments that satisfy the triangle inequality
 /// (so a real mass distribution has them) in random axes, random orientation and velocities.

@@ -30,7 +30,9 @@ fn worst_relative_error(mass: f64, j: &[Vec<f64>], reference: &serde_json::Value
 /// `rigidref massprops` on each assignment OBJ at density 1000 reproduces its body JSON to 1e-9.
 #[test]
 fn massprops_reproduces_the_assignment_body_files() {
-    let Some(dir) = common::rigid3d_assignment() else { return };
+    let Some(dir) = common::rigid3d_assignment() else {
+        return;
+    };
     for name in ["brick", "cube", "sphere", "thing"] {
         let tmp = tempfile::tempdir().unwrap();
         let root = tmp.path().join(name);
@@ -40,10 +42,18 @@ fn massprops_reproduces_the_assignment_body_files() {
             .arg(dir.join(format!("data/{name}.obj")))
             .output()
             .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let ours = read_json(&root.with_extension("json"));
         let j: Vec<Vec<f64>> = serde_json::from_value(ours["J"].clone()).unwrap();
-        let worst = worst_relative_error(ours["mass"].as_f64().unwrap(), &j, &read_json(&dir.join(format!("data/{name}.json"))));
+        let worst = worst_relative_error(
+            ours["mass"].as_f64().unwrap(),
+            &j,
+            &read_json(&dir.join(format!("data/{name}.json"))),
+        );
         eprintln!("{name}: worst relative error {worst:.2e}");
         assert!(worst <= 1e-9, "{name}: {worst:e}");
         assert_eq!(ours["mesh_file"], format!("{name}.obj"));
@@ -62,8 +72,14 @@ fn canonical_body_files_are_the_massprops_of_their_source_meshes() {
     for name in ["slab", "block"] {
         let source = TriMesh::load_obj(&root.join(format!("scenes/src/{name}.obj"))).unwrap();
         let props = mass_properties(&source, 1000.0);
-        let j: Vec<Vec<f64>> = (0..3).map(|i| (0..3).map(|k| props.inertia[(i, k)]).collect()).collect();
-        let worst = worst_relative_error(props.mass, &j, &read_json(&root.join(format!("scenes/data/{name}.json"))));
+        let j: Vec<Vec<f64>> = (0..3)
+            .map(|i| (0..3).map(|k| props.inertia[(i, k)]).collect())
+            .collect();
+        let worst = worst_relative_error(
+            props.mass,
+            &j,
+            &read_json(&root.join(format!("scenes/data/{name}.json"))),
+        );
         assert!(worst <= 1e-12, "{name}: {worst:e}");
         let centred = TriMesh::load_obj(&root.join(format!("scenes/data/{name}.obj"))).unwrap();
         assert_eq!(centred, source.translated(&-props.center_of_mass));
@@ -75,10 +91,21 @@ fn canonical_body_files_are_the_massprops_of_their_source_meshes() {
 fn massprops_rejects_an_open_mesh_with_a_named_reason() {
     let tmp = tempfile::tempdir().unwrap();
     let path = tmp.path().join("open.obj");
-    std::fs::write(&path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n").unwrap();
-    let out = Command::new(common::rigidref_bin()).arg("massprops").arg(&path).output().unwrap();
+    std::fs::write(
+        &path,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n",
+    )
+    .unwrap();
+    let out = Command::new(common::rigidref_bin())
+        .arg("massprops")
+        .arg(&path)
+        .output()
+        .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr.contains("open.obj") && stderr.contains("open surface"), "{stderr}");
+    assert!(
+        stderr.contains("open.obj") && stderr.contains("open surface"),
+        "{stderr}"
+    );
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }

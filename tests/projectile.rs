@@ -11,7 +11,12 @@ use rigidref::world::World;
 #[test]
 fn projectile_matches_the_closed_form_of_symplectic_euler_to_round_off() {
     let scene = load_scene(&common::project_root().join("scenes/projectile.json")).unwrap();
-    let (x0, v0, g, h) = (scene.bodies[0].x0, scene.bodies[0].v0, scene.params.gravity, scene.params.h());
+    let (x0, v0, g, h) = (
+        scene.bodies[0].x0,
+        scene.bodies[0].v0,
+        scene.params.gravity,
+        scene.params.h(),
+    );
     let mut world = World::new(&scene);
     let mut worst = 0.0f64;
     for _ in 0..300 {
@@ -23,7 +28,13 @@ fn projectile_matches_the_closed_form_of_symplectic_euler_to_round_off() {
         // Round-off only: each of the n additions may lose half an ulp of |x| (~1e-16 · 20 m).
         let err = (b.x - x).norm().max((b.v - v).norm());
         worst = worst.max(err);
-        assert!((b.x - x).norm() < 1e-12 * n.max(1.0) * x.norm(), "step {}: {} vs {}", world.step, b.x, x);
+        assert!(
+            (b.x - x).norm() < 1e-12 * n.max(1.0) * x.norm(),
+            "step {}: {} vs {}",
+            world.step,
+            b.x,
+            x
+        );
         assert!((b.v - v).norm() < 1e-12 * n.max(1.0) * v.norm().max(1.0));
     }
     eprintln!("largest deviation from the discrete closed form over 300 steps: {worst:.2e}");
@@ -45,9 +56,14 @@ fn projectile_differs_from_the_parabola_by_half_g_h_t() {
         let exact = x0 + v0 * t + g * (0.5 * t * t);
         let error = world.bodies[0].x - exact;
         let predicted = g * (0.5 * scene.params.h() * t);
-        assert!((error - predicted).norm() < 1e-9, "substeps {substeps}: error {error} vs ½ g h t = {predicted}");
+        assert!(
+            (error - predicted).norm() < 1e-9,
+            "substeps {substeps}: error {error} vs ½ g h t = {predicted}"
+        );
         errors.push(error.norm());
     }
     eprintln!("|x − parabola| at t = 2 s for h = 10, 5, 2.5 ms: {errors:.3?}");
-    assert!((errors[0] / errors[1] - 2.0).abs() < 1e-6 && (errors[1] / errors[2] - 2.0).abs() < 1e-6);
+    assert!(
+        (errors[0] / errors[1] - 2.0).abs() < 1e-6 && (errors[1] / errors[2] - 2.0).abs() < 1e-6
+    );
 }

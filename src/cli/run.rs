@@ -1,9 +1,9 @@
 //! `rigidref run`: simulate a scene and write its trace, with a progress bar and a summary.
 
-use anyhow::{bail, Context};
+use anyhow::{Context, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use rigidref::scene::{DEFAULT_SCENE_NAME};
+use rigidref::scene::DEFAULT_SCENE_NAME;
 use rigidref::trace::{TraceFormat, TraceHeader, TraceRecord, TraceWriter};
 use rigidref::world::World;
 use std::io::Write;
@@ -99,31 +99,47 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         _ => TraceFormat::Jsonl,
     });
     let out_path = args.out.clone().unwrap_or_else(|| {
-        PathBuf::from(if format == TraceFormat::Csv { "trace.csv" } else { "trace.jsonl" })
+        PathBuf::from(if format == TraceFormat::Csv {
+            "trace.csv"
+        } else {
+            "trace.jsonl"
+        })
     });
     let out: Box<dyn Write> = if out_path.as_os_str() == "-" {
         Box::new(std::io::stdout().lock())
     } else {
         Box::new(
-            std::fs::File::create(&out_path).with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
+            std::fs::File::create(&out_path)
+                .with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
         )
     };
-    let source = if args.scene.is_some() { scene.source.clone() } else { DEFAULT_SCENE_NAME.to_string() };
+    let source = if args.scene.is_some() {
+        scene.source.clone()
+    } else {
+        DEFAULT_SCENE_NAME.to_string()
+    };
 
     let mut world = World::new(&scene);
     let header = TraceHeader::for_world(&world, &source);
-    let mut writer = TraceWriter::new(out, format, &header).with_context(|| format!("{}: cannot write", out_path.display()))?;
-    let write_err = |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
-    writer.write(&TraceRecord::of_world(&world, Vec::new())).map_err(write_err)?;
+    let mut writer = TraceWriter::new(out, format, &header)
+        .with_context(|| format!("{}: cannot write", out_path.display()))?;
+    let write_err =
+        |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
+    writer
+        .write(&TraceRecord::of_world(&world, Vec::new()))
+        .map_err(write_err)?;
     let mut records = 1u64;
+    let mut last_recorded = 0u64;
 
     let start_energy = world.energy();
     let start_momentum = world.momentum();
     let started = Instant::now();
     let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
     progress.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut progress_shown = false;
 
@@ -132,15 +148,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             writer.flush().map_err(write_err)?;
             progress.finish_and_clear();
             bail!(
-                "{}: the run stopped: {failure}; the trace up to step {} is in {}",
+                "{}: the run stopped: {failure}; the trace up to step {last_recorded} is in {}",
                 scene.source,
-                world.step,
                 out_path.display()
             );
         }
         if k % args.every == 0 || k == steps {
-            writer.write(&TraceRecord::of_world(&world, Vec::new())).map_err(write_err)?;
+            writer
+                .write(&TraceRecord::of_world(&world, Vec::new()))
+                .map_err(write_err)?;
             records += 1;
+            last_recorded = k;
         }
         if !args.quiet && !progress_shown && started.elapsed() > Duration::from_secs(1) {
             // Only runs longer than about a second get a bar; indicatif hides it when stderr
@@ -161,24 +179,48 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         let end_momentum = world.momentum();
         let total_mass: f64 = world.bodies.iter().map(|b| b.mass).sum();
         // Gravity's impulse over the run is exactly M g t; what is left is drift.
-        let momentum_drift = (end_momentum.linear - start_momentum.linear - world.params.gravity * (total_mass * world.time())).norm();
+        let momentum_drift = (end_momentum.linear
+            - start_momentum.linear
+            - world.params.gravity * (total_mass * world.time()))
+        .norm();
         // Uniform gravity exerts no torque about the system's centre of mass.
         let angular_drift = (end_momentum.angular_com - start_momentum.angular_com).norm();
         let de = end_energy.total - start_energy.total;
-        let relative = |d: f64, scale: f64| if scale > 0.0 { format!(" ({:+.3e} relative)", d / scale) } else { String::new() };
+        let relative = |d: f64, scale: f64| {
+            if scale > 0.0 {
+                format!(" ({:+.3e} relative)", d / scale)
+            } else {
+                String::new()
+            }
+        };
         let p = &world.params;
         eprintln!("scene          {} ({source})", p.name);
         eprintln!("bodies         {}", world.bodies.len());
-        eprintln!("steps          {steps} × {} substeps, h = {} s, t = {} s, integrator {}", p.substeps, p.h(), world.time(), p.integrator.name());
-        eprintln!("wall time      {wall:.3} s ({:.0} steps/s)", steps as f64 / wall.max(1e-9));
+        eprintln!(
+            "steps          {steps} × {} substeps, h = {} s, t = {} s, integrator {}",
+            p.substeps,
+            p.h(),
+            world.time(),
+            p.integrator.name()
+        );
+        eprintln!(
+            "wall time      {wall:.3} s ({:.0} steps/s)",
+            steps as f64 / wall.max(1e-9)
+        );
         eprintln!(
             "energy         {:.6e} J → {:.6e} J, drift {de:+.3e} J{}",
             start_energy.total,
             end_energy.total,
             relative(de, start_energy.total.abs())
         );
-        eprintln!("momentum drift |Δp − M g t| = {momentum_drift:.3e} kg·m/s, |ΔL_com| = {angular_drift:.3e} kg·m²/s{}", relative(angular_drift, start_momentum.angular_com.norm()));
-        eprintln!("trace          {} ({records} records, {format:?})", out_path.display());
+        eprintln!(
+            "momentum drift |Δp − M g t| = {momentum_drift:.3e} kg·m/s, |ΔL_com| = {angular_drift:.3e} kg·m²/s{}",
+            relative(angular_drift, start_momentum.angular_com.norm())
+        );
+        eprintln!(
+            "trace          {} ({records} records, {format:?})",
+            out_path.display()
+        );
     }
     Ok(())
 }

@@ -15,8 +15,16 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     let scene = super::load_scene_or_default(args.scene.as_deref())?;
     let p = &scene.params;
     println!("scene            {} ({})", p.name, scene.source);
-    println!("dt               {} s ({} substeps, h = {} s)", p.dt, p.substeps, p.h());
-    println!("gravity          [{}, {}, {}] m/s²", p.gravity.x, p.gravity.y, p.gravity.z);
+    println!(
+        "dt               {} s ({} substeps, h = {} s)",
+        p.dt,
+        p.substeps,
+        p.h()
+    );
+    println!(
+        "gravity          [{}, {}, {}] m/s²",
+        p.gravity.x, p.gravity.y, p.gravity.z
+    );
     println!("mu               {}", p.mu);
     println!("check_collisions {}", p.check_collisions);
     println!("stop_on_contact  {}", p.stop_on_contact);
@@ -26,13 +34,35 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
         let moments = b.inertia.symmetric_eigenvalues();
         println!("body {i}: {} ({})", b.name, b.source);
         println!("  mass           {} kg", b.mass);
-        println!("  principal J    {:.6}, {:.6}, {:.6} kg·m²", moments[0], moments[1], moments[2]);
-        println!("  mesh           {} vertices, {} triangles, radius {:.4} m", b.mesh.vertices.len(), b.mesh.triangles.len(), b.mesh.bounding_radius());
+        println!(
+            "  principal J    {:.6}, {:.6}, {:.6} kg·m²",
+            moments[0], moments[1], moments[2]
+        );
+        println!(
+            "  mesh           {} vertices, {} triangles, radius {:.4} m",
+            b.mesh.vertices.len(),
+            b.mesh.triangles.len(),
+            b.mesh.bounding_radius()
+        );
         println!("  x0             [{}, {}, {}] m", b.x0.x, b.x0.y, b.x0.z);
         println!("  v0             [{}, {}, {}] m/s", b.v0.x, b.v0.y, b.v0.z);
-        println!("  omega0         [{}, {}, {}] rad/s", b.omega0.x, b.omega0.y, b.omega0.z);
+        println!(
+            "  omega0         [{}, {}, {}] rad/s",
+            b.omega0.x, b.omega0.y, b.omega0.z
+        );
         let r = b.r0;
-        println!("  R0             [[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]]", r[(0,0)], r[(0,1)], r[(0,2)], r[(1,0)], r[(1,1)], r[(1,2)], r[(2,0)], r[(2,1)], r[(2,2)]);
+        println!(
+            "  R0             [[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]]",
+            r[(0, 0)],
+            r[(0, 1)],
+            r[(0, 2)],
+            r[(1, 0)],
+            r[(1, 1)],
+            r[(1, 2)],
+            r[(2, 0)],
+            r[(2, 1)],
+            r[(2, 2)]
+        );
     }
     Ok(())
 }

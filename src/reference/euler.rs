@@ -6,13 +6,22 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// Body-frame angular acceleration of a torque-free body, rad/s².
-fn angular_acceleration(inertia: &Matrix3<f64>, inertia_inv: &Matrix3<f64>, omega: &Vector3<f64>) -> Vector3<f64> {
+fn angular_acceleration(
+    inertia: &Matrix3<f64>,
+    inertia_inv: &Matrix3<f64>,
+    omega: &Vector3<f64>,
+) -> Vector3<f64> {
     -(inertia_inv * omega.cross(&(inertia * omega)))
 }
 
 /// Integrates from `omega0` (body frame, rad/s) for `steps` steps of `h` seconds and returns the
 /// samples (t, ω_b) including t = 0. `inertia` must be invertible.
-pub fn torque_free_rk4(inertia: &Matrix3<f64>, omega0: &Vector3<f64>, h: f64, steps: usize) -> Vec<(f64, Vector3<f64>)> {
+pub fn torque_free_rk4(
+    inertia: &Matrix3<f64>,
+    omega0: &Vector3<f64>,
+    h: f64,
+    steps: usize,
+) -> Vec<(f64, Vector3<f64>)> {
     let inertia_inv = inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
     let f = |w: &Vector3<f64>| angular_acceleration(inertia, &inertia_inv, w);
     let mut omega = *omega0;

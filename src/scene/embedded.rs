@@ -32,5 +32,10 @@ impl BodyFiles for Embedded {
 /// The embedded default scene.
 /// (It cannot fail in a released binary: tests/cli.rs runs it.)
 pub fn default_scene() -> Result<Scene, SceneError> {
-    super::parse_scene(SCENE, &format!("<embedded>/{DEFAULT_SCENE_NAME}"), "dzhanibekov", &Embedded)
+    super::parse_scene(
+        SCENE,
+        &format!("<embedded>/{DEFAULT_SCENE_NAME}"),
+        "dzhanibekov",
+        &Embedded,
+    )
 }

@@ -40,7 +40,10 @@ impl SimParametersJson {
     /// Applies the starter's defaults (docs/scene-format.md §"Simulation parameters").
     pub fn resolve(&self, default_name: &str) -> SimParameters {
         SimParameters {
-            name: self.name.clone().unwrap_or_else(|| default_name.to_string()),
+            name: self
+                .name
+                .clone()
+                .unwrap_or_else(|| default_name.to_string()),
             dt: self.dt.map_or(0.01, |x| x.0),
             gravity: self.gravity.map_or(Vector3::zeros(), |g| g.0),
             mu: self.mu.map_or(0.0, |x| x.0),
@@ -86,19 +89,34 @@ pub(super) fn from_str<T: for<'de> Deserialize<'de>>(
     let ignored = serde_ignored::Deserializer::new(&mut de, &mut record_unknown);
     let value: T = serde_path_to_error::deserialize(ignored).map_err(|e| {
         // serde_path_to_error writes "?" for a segment it could not name (inside a syntax error).
-        let path = e.path().to_string().trim_end_matches(".?").trim_end_matches('?').to_string();
+        let path = e
+            .path()
+            .to_string()
+            .trim_end_matches(".?")
+            .trim_end_matches('?')
+            .to_string();
         let inner = e.into_inner();
         let message = inner.to_string();
         // serde_json appends " at line L column C"; we put the position in front instead.
         let message = message.split(" at line ").next().unwrap_or(&message);
-        let location = if inner.line() > 0 { format!("{source}:{}:{}", inner.line(), inner.column()) } else { source.to_string() };
+        let location = if inner.line() > 0 {
+            format!("{source}:{}:{}", inner.line(), inner.column())
+        } else {
+            source.to_string()
+        };
         if path.is_empty() || path == "." {
             SceneError(format!("{location}: {message}"))
         } else {
             SceneError(format!("{location}: {path}: {message}"))
         }
     })?;
-    de.end().map_err(|e| SceneError(format!("{source}:{}:{}: trailing characters after the JSON value", e.line(), e.column())))?;
+    de.end().map_err(|e| {
+        SceneError(format!(
+            "{source}:{}:{}: trailing characters after the JSON value",
+            e.line(),
+            e.column()
+        ))
+    })?;
     for key in unknown {
         if !UI_ONLY_KEYS.iter().any(|k| key.ends_with(k)) {
             warnings.push(format!("{source}: unknown key `{key}` ignored"));

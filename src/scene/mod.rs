@@ -6,7 +6,7 @@ mod embedded;
 mod json;
 pub mod values;
 
-pub use embedded::{default_scene, DEFAULT_SCENE_NAME};
+pub use embedded::{DEFAULT_SCENE_NAME, default_scene};
 
 use crate::body::AngularIntegrator;
 use crate::mesh::TriMesh;
@@ -110,10 +110,22 @@ pub struct DiskBodyFiles {
 impl DiskBodyFiles {
     /// The search order for a scene at `scene_path`.
     pub fn for_scene(scene_path: &Path) -> DiskBodyFiles {
-        let scene_dir = scene_path.parent().map(Path::to_path_buf).unwrap_or_default();
-        let scene_dir = if scene_dir.as_os_str().is_empty() { PathBuf::from(".") } else { scene_dir };
+        let scene_dir = scene_path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let scene_dir = if scene_dir.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            scene_dir
+        };
         let mut search = Vec::new();
-        if let Some(root) = scene_dir.join("..").canonicalize().ok().or_else(|| scene_dir.parent().map(Path::to_path_buf)) {
+        if let Some(root) = scene_dir
+            .join("..")
+            .canonicalize()
+            .ok()
+            .or_else(|| scene_dir.parent().map(Path::to_path_buf))
+        {
             search.push(root);
         }
         search.push(scene_dir);
@@ -131,10 +143,15 @@ impl BodyFiles for DiskBodyFiles {
             if json.is_file() {
                 let obj = dir.join(format!("{file_root}.obj"));
                 let read = |p: &Path| {
-                    std::fs::read_to_string(p).map_err(|e| SceneError(format!("{}: cannot read: {e}", p.display())))
+                    std::fs::read_to_string(p)
+                        .map_err(|e| SceneError(format!("{}: cannot read: {e}", p.display())))
                 };
                 if !obj.is_file() {
-                    return Err(SceneError(format!("{}: mesh file not found (body file is {})", obj.display(), json.display())));
+                    return Err(SceneError(format!(
+                        "{}: mesh file not found (body file is {})",
+                        obj.display(),
+                        json.display()
+                    )));
                 }
                 return Ok(BodyFileTexts {
                     json: (read(&json)?, json.display().to_string()),
@@ -142,7 +159,10 @@ impl BodyFiles for DiskBodyFiles {
                 });
             }
         }
-        Err(SceneError(format!("body file {file_root}.json not found; tried {}", tried.join(", "))))
+        Err(SceneError(format!(
+            "body file {file_root}.json not found; tried {}",
+            tried.join(", ")
+        )))
     }
 }
 
@@ -151,17 +171,32 @@ impl BodyFiles for DiskBodyFiles {
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError(format!("{}: cannot read scene: {e}", path.display())))?;
-    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    parse_scene(&text, &path.display().to_string(), &stem, &DiskBodyFiles::for_scene(path))
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_scene(
+        &text,
+        &path.display().to_string(),
+        &stem,
+        &DiskBodyFiles::for_scene(path),
+    )
 }
 
 /// Parses scene text. `source` names it in messages, `default_name` is used when it has no
 /// `name`, and `files` finds the body files.
-pub fn parse_scene(text: &str, source: &str, default_name: &str, files: &dyn BodyFiles) -> Result<Scene, SceneError> {
+pub fn parse_scene(
+    text: &str,
+    source: &str,
+    default_name: &str,
+    files: &dyn BodyFiles,
+) -> Result<Scene, SceneError> {
     let mut warnings = Vec::new();
     let file: json::SceneJson = json::from_str(text, source, &mut warnings)?;
     let params = file.sim_parameters.first().ok_or_else(|| {
-        SceneError(format!("{source}: sim_parameters is empty; it needs one entry"))
+        SceneError(format!(
+            "{source}: sim_parameters is empty; it needs one entry"
+        ))
     })?;
     if file.sim_parameters.len() > 1 {
         warnings.push(format!(
@@ -178,13 +213,17 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str, files: &dyn Bod
         let texts = files.find(&body.file_root).map_err(|e| {
             SceneError(format!("{source}: body {index} ({:?}): {}", body.name, e.0))
         })?;
-        let (mass, inertia) = json::parse_body_file(&texts.json.0, &texts.json.1, &body.file_root, &mut warnings)?;
+        let (mass, inertia) =
+            json::parse_body_file(&texts.json.0, &texts.json.1, &body.file_root, &mut warnings)?;
         let mesh = load_body_mesh(&texts.obj.0, &texts.obj.1, &mut warnings)?;
         let r0 = match body.r0 {
             None => Matrix3::identity(),
             Some(o) if o.proper => o.matrix,
             Some(o) => {
-                let what = format!("{source}: body {index} ({:?}): R0 has determinant −1 (a reflection)", body.name);
+                let what = format!(
+                    "{source}: body {index} ({:?}): R0 has determinant −1 (a reflection)",
+                    body.name
+                );
                 let mirror = mirror_symmetry(&mesh, &inertia).ok_or_else(|| {
                     SceneError(format!("{what}, and the body is not mirror-symmetric, so no rotation places it as given"))
                 })?;
@@ -208,7 +247,12 @@ pub fn parse_scene(text: &str, source: &str, default_name: &str, files: &dyn Bod
             omega0: body.omega0.map_or(Vector3::zeros(), |v| v.0),
         });
     }
-    Ok(Scene { source: source.to_string(), params, bodies, warnings })
+    Ok(Scene {
+        source: source.to_string(),
+        params,
+        bodies,
+        warnings,
+    })
 }
 
 /// A body-frame coordinate reflection S (diag with one −1) that maps the mesh onto itself and
@@ -235,11 +279,17 @@ pub fn mirror_symmetry(mesh: &TriMesh, inertia: &Matrix3<f64>) -> Option<Matrix3
             .iter()
             .map(|v| {
                 let target = s * v;
-                mesh.vertices.iter().position(|w| (w - target).norm() <= tolerance)
+                mesh.vertices
+                    .iter()
+                    .position(|w| (w - target).norm() <= tolerance)
             })
             .collect();
         let image = image?;
-        let mut mapped: Vec<[usize; 3]> = mesh.triangles.iter().map(|t| sorted(t.map(|i| image[i]))).collect();
+        let mut mapped: Vec<[usize; 3]> = mesh
+            .triangles
+            .iter()
+            .map(|t| sorted(t.map(|i| image[i])))
+            .collect();
         mapped.sort_unstable();
         (mapped == triangles || mesh.is_convex(tolerance)).then_some(s)
     })
@@ -252,7 +302,11 @@ fn sorted(mut t: [usize; 3]) -> [usize; 3] {
 
 /// Reads and checks a body mesh: it must bound a solid, and its centre of mass should be at its
 /// origin (the body frame's origin is taken to be the centre of mass, as in the assignment).
-fn load_body_mesh(text: &str, source: &str, warnings: &mut Vec<String>) -> Result<TriMesh, SceneError> {
+fn load_body_mesh(
+    text: &str,
+    source: &str,
+    warnings: &mut Vec<String>,
+) -> Result<TriMesh, SceneError> {
     let mesh = TriMesh::parse_obj(text, source).map_err(|e| SceneError(e.0))?;
     warnings.extend(mesh.check_solid(source).map_err(|e| SceneError(e.0))?);
     let com = crate::massprops::mass_properties(&mesh, 1.0).center_of_mass;

@@ -37,7 +37,9 @@ impl<'de> Deserialize<'de> for Positive {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
         if !(x.is_finite() && x > 0.0) {
-            return Err(D::Error::custom(format!("must be a positive number, got {x}")));
+            return Err(D::Error::custom(format!(
+                "must be a positive number, got {x}"
+            )));
         }
         Ok(Positive(x))
     }
@@ -65,7 +67,9 @@ impl<'de> Deserialize<'de> for Count {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let x = f64::deserialize(d)?;
         if !(x.fract() == 0.0 && (1.0..=1e9).contains(&x)) {
-            return Err(D::Error::custom(format!("must be a whole number ≥ 1, got {x}")));
+            return Err(D::Error::custom(format!(
+                "must be a whole number ≥ 1, got {x}"
+            )));
         }
         Ok(Count(x as u32))
     }
@@ -118,7 +122,10 @@ impl<'de> Deserialize<'de> for Orientation {
         if (det.abs() - 1.0).abs() > Orientation::TOLERANCE {
             return Err(D::Error::custom(format!("not a rotation: det = {det}")));
         }
-        Ok(Orientation { matrix: crate::rotation::nearest_rotation(&r), proper: det > 0.0 })
+        Ok(Orientation {
+            matrix: crate::rotation::nearest_rotation(&r),
+            proper: det > 0.0,
+        })
     }
 }
 
@@ -154,7 +161,7 @@ pub fn check_inertia(j: &Matrix3<f64>) -> Result<(), String> {
     }
     let eigen = ((j + j.transpose()) * 0.5).symmetric_eigenvalues();
     let min = eigen.min();
-    if !(min > 1e-12 * scale) {
+    if min.is_nan() || min <= 1e-12 * scale {
         return Err(format!(
             "not positive definite: principal moments {:.6e}, {:.6e}, {:.6e}",
             eigen[0], eigen[1], eigen[2]

@@ -18,7 +18,10 @@ pub fn rigid3d_assignment() -> Option<PathBuf> {
     if dir.join("scenes").is_dir() {
         Some(dir)
     } else {
-        eprintln!("SKIPPED: {} is absent (it exists beside the project on developer and CI machines, not in a user's clone)", dir.display());
+        eprintln!(
+            "SKIPPED: {} is absent (it exists beside the project on developer and CI machines, not in a user's clone)",
+            dir.display()
+        );
         None
     }
 }

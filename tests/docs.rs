@@ -1,0 +1,41 @@
+//! The docs name the tests that check each derivation; those tests must exist.
+
+mod common;
+
+/// Every `tests/FILE.rs::NAME` or `src/…` unit-test reference in docs/*.md names a function that
+/// exists in that file.
+#[test]
+fn every_test_the_docs_name_exists() {
+    let root = common::project_root();
+    let mut checked = 0;
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "md") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (at, _) in text.match_indices("tests/") {
+            let rest = &text[at..];
+            let Some(rs) = rest.find(".rs::") else {
+                continue;
+            };
+            let file = &rest[..rs + 3];
+            if file.contains(char::is_whitespace) {
+                continue;
+            }
+            let name: String = rest[rs + 5..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            let source = std::fs::read_to_string(root.join(file))
+                .unwrap_or_else(|_| panic!("{}: names missing file {file}", path.display()));
+            assert!(
+                source.contains(&format!("fn {name}(")),
+                "{}: names {file}::{name}, which does not exist",
+                path.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "only {checked} references found");
+}
