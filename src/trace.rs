@@ -131,8 +131,11 @@ impl TraceHeader {
 
 impl TraceRecord {
     /// The world's current state.
-    pub fn of_world(world: &World, contacts: Vec<ContactRecord>) -> TraceRecord {
+    /// Its contacts are those of the frame's last substep that had any (see
+    /// [`contact_records`]).
+    pub fn of_world(world: &World) -> TraceRecord {
         let momentum = world.momentum();
+        let contacts = contact_records(world);
         TraceRecord {
             step: world.step,
             t: world.time(),
@@ -155,6 +158,26 @@ impl TraceRecord {
             contacts,
         }
     }
+}
+
+/// The contacts of the last substep of the world's last frame that had contacts, with their
+/// impulses (empty when the frame had none). docs/trace-format.md §"Contacts".
+pub fn contact_records(world: &World) -> Vec<ContactRecord> {
+    let Some(solve) = world.frame_contacts.last() else {
+        return Vec::new();
+    };
+    solve
+        .contacts
+        .iter()
+        .zip(&solve.lambda)
+        .map(|(c, l)| ContactRecord {
+            bodies: [c.body1 as i64, c.body2.map_or(-1, |b| b as i64)],
+            p: c.point.into(),
+            n: c.frame.n.into(),
+            depth: c.depth,
+            lambda: [l[0], l[1], l[2]],
+        })
+        .collect()
 }
 
 /// The two trace encodings.

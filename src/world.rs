@@ -4,14 +4,38 @@
 //!
 //! 1. zero the force accumulators and add gravity, f = m g;
 //! 2. step velocities (symplectic Euler, velocity half): [`RigidBody::step_velocity`];
-//! 3. contact processing: detect → assemble the contact problem → solve → apply impulses
-//!    (issue #3; until then bodies pass through each other and the ground);
+//! 3. contact processing, when `check_collisions` is on: detect ([`crate::collide`]) →
+//!    assemble the contact problem ([`crate::assemble`]) → solve ([`crate::solve::pgs`]) →
+//!    apply the velocity changes u⁺ = u + M⁻¹Jᵀλ;
 //! 4. step positions with the new velocities: [`RigidBody::step_position`];
 //! 5. check that every state component is finite.
 
+use crate::assemble::{ProblemSettings, assemble_problem};
 use crate::body::RigidBody;
+use crate::collide::{Contact, MeshCollider, detect_contacts};
 use crate::diagnostics::{Energy, Momentum, system_energy, system_momentum};
+use crate::problem::ContactProblem3;
+use crate::problem::json::{GeometryJson, ProblemFile, SolutionJson};
 use crate::scene::{Scene, SimParameters};
+use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+use crate::warm_start::WarmStart;
+use nalgebra::SVector;
+
+/// The contact solve of one substep, kept for the trace, `--dump-problems` and `rigidref
+/// contacts`.
+#[derive(Clone, Debug)]
+pub struct SubstepContacts {
+    /// The substep within its frame (0-based).
+    pub substep: u32,
+    /// The contacts collision detection found.
+    pub contacts: Vec<Contact>,
+    /// The problem assembled from them.
+    pub problem: ContactProblem3,
+    /// The impulses PGS returned, one per contact (n, t1, t2), N·s.
+    pub lambda: Vec<SVector<f64, 3>>,
+    /// What the solve did.
+    pub report: SolveReport,
+}
 
 /// A simulation in progress.
 #[derive(Clone, Debug)]
@@ -22,6 +46,38 @@ pub struct World {
     pub bodies: Vec<RigidBody>,
     /// Frames completed.
     pub step: u64,
+    /// The contact solves of the last frame, one per substep that had contacts.
+    pub frame_contacts: Vec<SubstepContacts>,
+    colliders: Vec<MeshCollider>,
+    warm_start: WarmStart,
+    workspace: PgsWorkspace<6, 3>,
+    contact_buffer: Vec<Contact>,
+}
+
+impl SubstepContacts {
+    /// The problem as a contact-problem file (docs/contact-problem-format.md), with the contacts'
+    /// geometry, where it came from (`scene`, frame `step`, step size `h`) and the PGS solution.
+    pub fn problem_file(&self, scene: &str, step: u64, h: f64) -> ProblemFile {
+        let mut file = ProblemFile::new(&self.problem);
+        file.scene = Some(scene.to_string());
+        file.step = Some(step);
+        file.substep = Some(self.substep);
+        file.h = Some(h);
+        for (json, c) in file.contacts.iter_mut().zip(&self.contacts) {
+            json.geometry = Some(GeometryJson {
+                p: c.point.iter().copied().collect(),
+                n: c.frame.n.iter().copied().collect(),
+                depth: c.depth,
+            });
+        }
+        file.solution = Some(SolutionJson {
+            solver: "pgs".into(),
+            lambda: self.lambda.iter().map(|l| l.iter().copied().collect()).collect(),
+            iterations: self.report.iterations,
+            residual: self.report.residual,
+        });
+        file
+    }
 }
 
 /// A state component became NaN or infinite; the run must stop.
@@ -45,8 +101,9 @@ pub struct NonFinite {
 }
 
 impl World {
-    /// Sets up the bodies at their initial state.
-    pub fn new(scene: &Scene) -> World {
+    /// Sets up the bodies at their initial state. Fails only when a mesh cannot be prepared for
+    /// collision queries (scene loading has already checked that it bounds a solid).
+    pub fn new(scene: &Scene) -> Result<World, String> {
         let bodies = scene
             .bodies
             .iter()
@@ -60,11 +117,76 @@ impl World {
                 b
             })
             .collect();
-        World {
+        let colliders = scene
+            .bodies
+            .iter()
+            .map(|d| {
+                MeshCollider::new(d.mesh.clone())
+                    .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(World {
             params: scene.params.clone(),
             bodies,
             step: 0,
+            frame_contacts: Vec::new(),
+            colliders,
+            warm_start: WarmStart::new(scene.params.warm_start),
+            workspace: PgsWorkspace::new(scene.params.pgs_seed),
+            contact_buffer: Vec::new(),
+        })
+    }
+
+    /// The settings the problem is assembled with, from the scene parameters.
+    pub fn problem_settings(&self) -> ProblemSettings {
+        let p = &self.params;
+        ProblemSettings {
+            h: p.h(),
+            mu: p.mu,
+            friction: p.friction_model,
+            compliance: p.compliance,
+            stabilization: p.stabilization,
+            slop: p.stabilization_slop,
         }
+    }
+
+    /// The PGS settings, from the scene parameters.
+    pub fn pgs_settings(&self) -> PgsSettings {
+        PgsSettings {
+            max_iterations: self.params.pgs_iterations,
+            tolerance: self.params.pgs_tolerance,
+            order: self.params.pgs_order,
+        }
+    }
+
+    /// Contact processing of one substep: detect → assemble → solve → apply. Changes velocities
+    /// only. Records the solve in `frame_contacts` when there were contacts.
+    fn process_contacts(&mut self, substep: u32) {
+        let mut contacts = std::mem::take(&mut self.contact_buffer);
+        detect_contacts(&self.bodies, &self.colliders, &mut contacts);
+        if contacts.is_empty() {
+            self.warm_start.clear();
+            self.contact_buffer = contacts;
+            return;
+        }
+        let problem =
+            assemble_problem(&self.bodies, &contacts, &self.problem_settings(), &self.warm_start);
+        let mut lambda = Vec::with_capacity(contacts.len());
+        let report = solve_pgs(&problem, &self.pgs_settings(), &mut self.workspace, &mut lambda);
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            let du = self.workspace.delta_velocity(i);
+            body.v += du.fixed_rows::<3>(0);
+            body.omega += du.fixed_rows::<3>(3);
+        }
+        self.warm_start.store(&contacts, &lambda);
+        self.frame_contacts.push(SubstepContacts {
+            substep,
+            contacts: contacts.clone(),
+            problem,
+            lambda,
+            report,
+        });
+        self.contact_buffer = contacts;
     }
 
     /// Simulated time, s: `step · dt` (not a running sum, so it has no round-off drift).
@@ -77,6 +199,7 @@ impl World {
         let h = self.params.h();
         let gravity = self.params.gravity;
         let integrator = self.params.integrator;
+        self.frame_contacts.clear();
         for substep in 0..self.params.substeps {
             for body in &mut self.bodies {
                 body.zero_forces();
@@ -85,7 +208,9 @@ impl World {
             for body in &mut self.bodies {
                 body.step_velocity(h, integrator);
             }
-            // Contact processing goes here (issue #3): it changes velocities only.
+            if self.params.check_collisions {
+                self.process_contacts(substep);
+            }
             for body in &mut self.bodies {
                 body.step_position(h);
             }

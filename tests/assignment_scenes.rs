@@ -29,7 +29,7 @@ fn all_seven_assignment_scenes_load_and_run_two_seconds_without_collisions() {
             scene.warnings
         );
         scene.params.check_collisions = false;
-        let mut world = World::new(&scene);
+        let mut world = World::new(&scene).unwrap();
         let frames = (2.0 / scene.params.dt).round() as u64;
         for _ in 0..frames {
             world.step().unwrap_or_else(|e| panic!("scene{k}: {e}"));

@@ -22,7 +22,7 @@ fn intermediate_axis(scene: &Scene) -> usize {
 /// axis for the simulation and for the RK4 reference.
 fn flips(scene: &Scene, seconds: f64) -> (Vec<f64>, Vec<f64>) {
     let axis = intermediate_axis(scene);
-    let mut world = World::new(scene);
+    let mut world = World::new(scene).unwrap();
     let frames = (seconds / scene.params.dt).round() as usize;
     let mut samples = vec![(0.0, world.bodies[0].omega_body()[axis])];
     for _ in 0..frames {

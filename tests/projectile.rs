@@ -17,7 +17,7 @@ fn projectile_matches_the_closed_form_of_symplectic_euler_to_round_off() {
         scene.params.gravity,
         scene.params.h(),
     );
-    let mut world = World::new(&scene);
+    let mut world = World::new(&scene).unwrap();
     let mut worst = 0.0f64;
     for _ in 0..300 {
         world.step().unwrap();
@@ -48,7 +48,7 @@ fn projectile_differs_from_the_parabola_by_half_g_h_t() {
     let mut errors = Vec::new();
     for substeps in [1, 2, 4] {
         scene.params.substeps = substeps;
-        let mut world = World::new(&scene);
+        let mut world = World::new(&scene).unwrap();
         for _ in 0..200 {
             world.step().unwrap();
         }

@@ -1,6 +1,7 @@
 //! Command-line interface: argument definitions and dispatch. Each subcommand lives in its own
 //! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1.
 
+mod contacts;
 mod massprops;
 mod run;
 mod scene;
@@ -27,6 +28,8 @@ enum Command {
     Massprops(massprops::MasspropsArgs),
     /// Load and check a scene, and print it with every default filled in.
     Scene(scene::SceneArgs),
+    /// Print one step's contacts: point, frame, depth, Jacobian, Delassus block, b and λ.
+    Contacts(contacts::ContactsArgs),
 }
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
@@ -36,6 +39,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Massprops(args)) => massprops::massprops(args),
         Some(Command::Scene(args)) => scene::scene(args),
+        Some(Command::Contacts(args)) => contacts::contacts(args),
         None => run::run(cli.run),
     }
 }

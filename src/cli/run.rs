@@ -23,11 +23,22 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     pgs_iterations    PGS iterations per solve         100
     damping           only 0 is accepted (the assignment defines no damping model)
     show_contacts, is_running   user-interface keys; no effect here
-  Keys this project adds:
+  Keys this project adds (docs/scene-format.md, docs/contact.md):
     integrator        angular velocity update: \"spatial\" (the assignment's explicit
                       spatial-frame scheme; default), \"body\" (the same equations in
                       the body frame), \"implicit_gyroscopic\" (implicit Euler on the
                       ω×Jω term, one Newton step: stable at high spin)
+    friction_model    \"box\" (each tangent impulse in [−μλn, μλn]; default) or
+                      \"cone\" (the tangent pair in the disk of radius μλn)
+    compliance        c ≥ 0 added to each normal row's diagonal, kg⁻¹ (constraint
+                      force mixing: w_n = … + c λn); 0 = rigid          0
+    stabilization     Baumgarte β in [0, 1]: fraction of the penetration beyond the
+                      slop pushed out per step                         0.2
+    stabilization_slop  penetration left alone, m                      0.005
+    warm_start        start PGS from the previous substep's impulses   true
+    pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
+    pgs_order         \"sequential\" or \"random\" (seeded shuffle each sweep)  sequential
+    pgs_seed          seed of the random order                        0
   Any other key is reported as a warning and ignored.
   bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
     assignment root = parent of the scene's folder, then the scene's folder, then the
@@ -62,6 +73,10 @@ pub struct RunArgs {
     /// Run with check_collisions = false, whatever the scene says.
     #[arg(long)]
     pub no_collisions: bool,
+    /// Write each contact problem to DIR as step-KKKKKK-SS.json (frame K, substep S;
+    /// docs/contact-problem-format.md), with the contacts' geometry and the PGS solution.
+    #[arg(long, value_name = "DIR")]
+    pub dump_problems: Option<PathBuf>,
     /// Print no progress bar and no summary.
     #[arg(long, short)]
     pub quiet: bool,
@@ -88,11 +103,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     if args.every == 0 {
         bail!("--every must be at least 1");
     }
-    if scene.params.check_collisions && scene.params.gravity != nalgebra::Vector3::zeros() {
-        eprintln!(
-            "warning: {}: check_collisions is on, but contact processing is not implemented yet (issue #3): bodies fall through the ground and each other",
-            scene.source
-        );
+    if let Some(dir) = &args.dump_problems {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the problem directory", dir.display()))?;
     }
     let format = args.format.unwrap_or(match &args.out {
         Some(p) if p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")) => TraceFormat::Csv,
@@ -119,14 +132,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         DEFAULT_SCENE_NAME.to_string()
     };
 
-    let mut world = World::new(&scene);
+    let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
     let header = TraceHeader::for_world(&world, &source);
     let mut writer = TraceWriter::new(out, format, &header)
         .with_context(|| format!("{}: cannot write", out_path.display()))?;
     let write_err =
         |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
     writer
-        .write(&TraceRecord::of_world(&world, Vec::new()))
+        .write(&TraceRecord::of_world(&world))
         .map_err(write_err)?;
     let mut records = 1u64;
     let mut last_recorded = 0u64;
@@ -142,6 +155,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut progress_shown = false;
+    let mut contact_stats = ContactStats::default();
+    let mut stopped_at_contact = None;
 
     for k in 1..=steps {
         if let Err(failure) = world.step() {
@@ -153,9 +168,20 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
                 out_path.display()
             );
         }
-        if k % args.every == 0 || k == steps {
+        contact_stats.add(&world);
+        if let Some(dir) = &args.dump_problems {
+            for solve in &world.frame_contacts {
+                let path = dir.join(format!("step-{k:06}-{:02}.json", solve.substep));
+                let file = solve.problem_file(&world.params.name, k, world.params.h());
+                let text = serde_json::to_string(&file).context("serialising a contact problem")?;
+                std::fs::write(&path, text + "\n")
+                    .with_context(|| format!("{}: cannot write", path.display()))?;
+            }
+        }
+        let stop_here = world.params.stop_on_contact && !world.frame_contacts.is_empty();
+        if k % args.every == 0 || k == steps || stop_here {
             writer
-                .write(&TraceRecord::of_world(&world, Vec::new()))
+                .write(&TraceRecord::of_world(&world))
                 .map_err(write_err)?;
             records += 1;
             last_recorded = k;
@@ -168,6 +194,10 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         }
         if progress_shown && k % 64 == 0 {
             progress.set_position(k);
+        }
+        if stop_here {
+            stopped_at_contact = Some(k);
+            break;
         }
     }
     writer.flush().map_err(write_err)?;
@@ -217,10 +247,64 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             "momentum drift |Δp − M g t| = {momentum_drift:.3e} kg·m/s, |ΔL_com| = {angular_drift:.3e} kg·m²/s{}",
             relative(angular_drift, start_momentum.angular_com.norm())
         );
+        if world.params.check_collisions {
+            let c = &contact_stats;
+            if c.solves > 0 {
+                eprintln!(
+                    "contacts       {} solves in {} frames, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} m/s, deepest penetration {:.3e} m",
+                    c.solves,
+                    c.frames,
+                    c.max_contacts,
+                    c.iterations as f64 / c.solves as f64,
+                    c.max_residual,
+                    c.max_depth
+                );
+            } else {
+                eprintln!("contacts       none");
+            }
+        }
         eprintln!(
             "trace          {} ({records} records, {format:?})",
             out_path.display()
         );
     }
+    if let Some(k) = stopped_at_contact {
+        let n = world.frame_contacts.last().map_or(0, |s| s.contacts.len());
+        eprintln!(
+            "stop_on_contact: stopped at the first frame with contacts, step {k} (t = {} s), {n} contacts; inspect them with `rigidref contacts {}`",
+            world.time(),
+            args.scene
+                .as_ref()
+                .map_or("".to_string(), |p| p.display().to_string())
+        );
+    }
     Ok(())
+}
+
+/// Contact figures for the summary.
+#[derive(Default)]
+struct ContactStats {
+    frames: u64,
+    solves: u64,
+    max_contacts: usize,
+    iterations: u64,
+    max_residual: f64,
+    max_depth: f64,
+}
+
+impl ContactStats {
+    fn add(&mut self, world: &World) {
+        if !world.frame_contacts.is_empty() {
+            self.frames += 1;
+        }
+        for s in &world.frame_contacts {
+            self.solves += 1;
+            self.max_contacts = self.max_contacts.max(s.contacts.len());
+            self.iterations += u64::from(s.report.iterations);
+            self.max_residual = self.max_residual.max(s.report.residual);
+            for c in &s.contacts {
+                self.max_depth = self.max_depth.max(c.depth);
+            }
+        }
+    }
 }

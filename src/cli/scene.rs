@@ -30,6 +30,16 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     println!("stop_on_contact  {}", p.stop_on_contact);
     println!("pgs_iterations   {}", p.pgs_iterations);
     println!("integrator       {}", p.integrator.name());
+    println!("friction_model   {}", p.friction_model.name());
+    println!("compliance       {} kg⁻¹", p.compliance);
+    println!("stabilization    {}", p.stabilization);
+    println!("stabilization_slop {} m", p.stabilization_slop);
+    println!("warm_start       {}", p.warm_start);
+    match p.pgs_tolerance {
+        Some(t) => println!("pgs_tolerance    {t} m/s"),
+        None => println!("pgs_tolerance    none (all pgs_iterations sweeps)"),
+    }
+    println!("pgs_order        {:?} (seed {})", p.pgs_order, p.pgs_seed);
     for (i, b) in scene.bodies.iter().enumerate() {
         let moments = b.inertia.symmetric_eigenvalues();
         println!("body {i}: {} ({})", b.name, b.source);

@@ -1,7 +1,11 @@
 //! The JSON shapes of the 3D assignment's scene and body files, and the one reader that turns
 //! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
 
-use super::values::{Count, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping};
+use super::values::{
+    Count, Fraction, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping,
+};
+use crate::problem::FrictionModel;
+use crate::solve::ContactOrder;
 use super::{SceneError, SimParameters};
 use crate::body::AngularIntegrator;
 use nalgebra::{Matrix3, Vector3};
@@ -34,6 +38,14 @@ pub(super) struct SimParametersJson {
     damping: Option<ZeroDamping>,
     pgs_iterations: Option<Count>,
     integrator: Option<AngularIntegrator>,
+    friction_model: Option<FrictionModel>,
+    compliance: Option<NonNegative>,
+    stabilization: Option<Fraction>,
+    stabilization_slop: Option<NonNegative>,
+    warm_start: Option<bool>,
+    pgs_tolerance: Option<Positive>,
+    pgs_order: Option<ContactOrder>,
+    pgs_seed: Option<u64>,
 }
 
 impl SimParametersJson {
@@ -52,6 +64,14 @@ impl SimParametersJson {
             stop_on_contact: self.stop_on_contact.unwrap_or(false),
             pgs_iterations: self.pgs_iterations.map_or(100, |x| x.0),
             integrator: self.integrator.unwrap_or_default(),
+            friction_model: self.friction_model.unwrap_or_default(),
+            compliance: self.compliance.map_or(0.0, |x| x.0),
+            stabilization: self.stabilization.map_or(super::DEFAULT_STABILIZATION, |x| x.0),
+            stabilization_slop: self.stabilization_slop.map_or(super::DEFAULT_SLOP, |x| x.0),
+            warm_start: self.warm_start.unwrap_or(true),
+            pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
+            pgs_order: self.pgs_order.unwrap_or_default(),
+            pgs_seed: self.pgs_seed.unwrap_or(0),
         }
     }
 }

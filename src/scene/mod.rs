@@ -9,6 +9,8 @@ pub mod values;
 pub use embedded::{DEFAULT_SCENE_NAME, default_scene};
 
 use crate::body::AngularIntegrator;
+use crate::problem::FrictionModel;
+use crate::solve::ContactOrder;
 use crate::mesh::TriMesh;
 use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
@@ -36,7 +38,33 @@ pub struct SimParameters {
     pub pgs_iterations: u32,
     /// `integrator` (this project's key; default `spatial`).
     pub integrator: AngularIntegrator,
+    /// `friction_model`: `box` (default, the assignment's) or `cone`.
+    pub friction_model: FrictionModel,
+    /// `compliance` c ≥ 0 on each contact's normal row, kg⁻¹ (default 0: rigid contacts).
+    pub compliance: f64,
+    /// `stabilization`: Baumgarte factor β ∈ [0, 1], the fraction of the penetration beyond the
+    /// slop pushed out per step (default [`DEFAULT_STABILIZATION`]).
+    pub stabilization: f64,
+    /// `stabilization_slop`: penetration left alone by stabilisation, m (default
+    /// [`DEFAULT_SLOP`]).
+    pub stabilization_slop: f64,
+    /// `warm_start`: start each solve from the previous substep's impulses (default true).
+    pub warm_start: bool,
+    /// `pgs_tolerance`: stop PGS once its residual is at or below this, m/s (default none: run
+    /// all `pgs_iterations`).
+    pub pgs_tolerance: Option<f64>,
+    /// `pgs_order`: `sequential` (default) or `random` (a fresh seeded permutation per sweep).
+    pub pgs_order: ContactOrder,
+    /// `pgs_seed`: seed of the random contact order (default 0).
+    pub pgs_seed: u64,
 }
+
+/// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough
+/// to undo a landing's penetration in a few tenths of a second, slow enough not to launch bodies.
+pub const DEFAULT_STABILIZATION: f64 = 0.2;
+/// Default stabilisation slop, m: penetration this small is left alone, so resting contacts do
+/// not jitter (a few millimetres against bodies of a metre).
+pub const DEFAULT_SLOP: f64 = 0.005;
 
 impl SimParameters {
     /// The integration step h = dt / substeps, s.

@@ -45,6 +45,22 @@ impl<'de> Deserialize<'de> for Positive {
     }
 }
 
+/// A number in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fraction(pub f64);
+
+impl<'de> Deserialize<'de> for Fraction {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let x = f64::deserialize(d)?;
+        if !(x.is_finite() && (0.0..=1.0).contains(&x)) {
+            return Err(D::Error::custom(format!(
+                "must be a number in [0, 1], got {x}"
+            )));
+        }
+        Ok(Fraction(x))
+    }
+}
+
 /// A number ≥ 0.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NonNegative(pub f64);

@@ -1,0 +1,256 @@
+//! The contact problem: plain data, the one interface between collision/dynamics and every
+//! solver (our PGS, clarabel, and any external solver through its JSON file).
+//! docs/contact-problem-format.md; the mathematics in docs/contact.md §"The contact problem".
+//!
+//! Generic over `D`, the degrees of freedom per body (6 in 3D: v, ω; 3 in 2D: vx, vy, ω), and
+//! `R`, the constraint rows per contact (3 in 3D: n, t1, t2; 2 in 2D: n, t). Row 0 is always the
+//! normal row; rows 1..R are friction rows.
+//!
+//! With u the bodies' velocities before contact (stacked), J the contact Jacobian (stacked rows)
+//! and M⁻¹ the block-diagonal inverse mass, the problem is: find impulses λ (N·s) with
+//!
+//!   w = (A + C) λ + b,   A = J M⁻¹ Jᵀ (Delassus operator),   b = J u − bias,
+//!
+//! where w is the constraint-space velocity after the impulses (m/s), C is diagonal with each
+//! contact's compliance on its normal row, and for each contact
+//!   0 ≤ λn ⊥ wn ≥ 0                       (non-penetration, no glue),
+//!   box friction:  |λt_k| ≤ μ λn, each row a clamp complementarity with w_t_k,
+//!   cone friction: ‖λt‖ ≤ μ λn and λt = proj_disk(λt − s w_t) (maximal dissipation in the disk).
+//! The bodies' velocities afterwards are u⁺ = u + M⁻¹ Jᵀ λ.
+
+use nalgebra::{DMatrix, SMatrix, SVector};
+use serde::{Deserialize, Serialize};
+
+/// How the friction rows are bounded.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionModel {
+    /// Each friction row separately in [−μ λn, μ λn] (the assignment's model; a pyramid).
+    #[default]
+    Box,
+    /// The friction rows together in the disk ‖λt‖ ≤ μ λn (Anitescu's convex cone).
+    Cone,
+}
+
+impl FrictionModel {
+    /// The scene-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionModel::Box => "box",
+            FrictionModel::Cone => "cone",
+        }
+    }
+}
+
+/// One body as the solver sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProblemBody<const D: usize> {
+    /// Generalised inverse mass M⁻¹ in world coordinates (3D: diag(m⁻¹ I₃, J⁻¹), kg⁻¹ and
+    /// (kg·m²)⁻¹). All zero for a pinned body.
+    pub inverse_mass: SMatrix<f64, D, D>,
+    /// Generalised velocity u before contact (3D: v in m/s, ω in rad/s).
+    pub velocity: SVector<f64, D>,
+}
+
+/// One contact as the solver sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProblemContact<const D: usize, const R: usize> {
+    /// Indices into [`ContactProblem::bodies`] of body 1 and body 2; `None` is the static world
+    /// (the ground). The normal points from body 2 into body 1.
+    pub bodies: [Option<usize>; 2],
+    /// The Jacobian blocks J₁ and J₂ (R × D): rows · u = relative velocity along n, t1, t2.
+    /// J₂ is zero when body 2 is `None`.
+    pub jacobian: [SMatrix<f64, R, D>; 2],
+    /// b = J u − bias, m/s (the bias is the stabilisation term on the normal row).
+    pub b: SVector<f64, R>,
+    /// Friction coefficient μ (dimensionless).
+    pub mu: f64,
+    /// Compliance c ≥ 0 on the normal row (kg⁻¹): w_n gains c λn (constraint force mixing).
+    pub compliance: f64,
+    /// Initial guess for λ (warm start), N·s; zero when cold.
+    pub lambda0: SVector<f64, R>,
+}
+
+/// The whole problem of one substep. Plain data; solvers read it and never change it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactProblem<const D: usize, const R: usize> {
+    /// How friction rows are bounded.
+    pub friction: FrictionModel,
+    /// The bodies, indexed by [`ProblemContact::bodies`].
+    pub bodies: Vec<ProblemBody<D>>,
+    /// The contacts.
+    pub contacts: Vec<ProblemContact<D, R>>,
+}
+
+/// The 3D problem: 6 degrees of freedom per body, 3 rows per contact.
+pub type ContactProblem3 = ContactProblem<6, 3>;
+
+impl<const D: usize, const R: usize> ContactProblem<D, R> {
+    /// The contact's R × R Delassus block A_kk = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ (kg⁻¹), without
+    /// compliance. docs/contact.md §"Delassus operator".
+    pub fn delassus_block(&self, k: usize) -> SMatrix<f64, R, R> {
+        let c = &self.contacts[k];
+        let mut a = SMatrix::<f64, R, R>::zeros();
+        for side in 0..2 {
+            if let Some(body) = c.bodies[side] {
+                let j = &c.jacobian[side];
+                a += j * self.bodies[body].inverse_mass * j.transpose();
+            }
+        }
+        a
+    }
+
+    /// The dense Jacobian (R·contacts × D·bodies), assembled naively; for tests and for solvers
+    /// that want matrices.
+    pub fn dense_jacobian(&self) -> DMatrix<f64> {
+        let mut j = DMatrix::zeros(R * self.contacts.len(), D * self.bodies.len());
+        for (k, c) in self.contacts.iter().enumerate() {
+            for side in 0..2 {
+                if let Some(body) = c.bodies[side] {
+                    let mut block = j.view_mut((R * k, D * body), (R, D));
+                    block += c.jacobian[side];
+                }
+            }
+        }
+        j
+    }
+
+    /// The dense block-diagonal inverse mass matrix (D·bodies square).
+    pub fn dense_inverse_mass(&self) -> DMatrix<f64> {
+        let n = D * self.bodies.len();
+        let mut m = DMatrix::zeros(n, n);
+        for (i, body) in self.bodies.iter().enumerate() {
+            m.view_mut((D * i, D * i), (D, D))
+                .copy_from(&body.inverse_mass);
+        }
+        m
+    }
+
+    /// The dense Delassus operator A = J M⁻¹ Jᵀ, assembled naively from the dense matrices.
+    pub fn dense_delassus(&self) -> DMatrix<f64> {
+        let j = self.dense_jacobian();
+        &j * self.dense_inverse_mass() * j.transpose()
+    }
+
+    /// The dense compliance matrix C: diagonal, each contact's compliance on its normal row.
+    pub fn dense_compliance(&self) -> DMatrix<f64> {
+        let mut c = DMatrix::zeros(R * self.contacts.len(), R * self.contacts.len());
+        for (k, contact) in self.contacts.iter().enumerate() {
+            c[(R * k, R * k)] = contact.compliance;
+        }
+        c
+    }
+
+    /// The stacked right-hand side b.
+    pub fn dense_b(&self) -> nalgebra::DVector<f64> {
+        nalgebra::DVector::from_iterator(
+            R * self.contacts.len(),
+            self.contacts.iter().flat_map(|c| c.b.iter().copied()),
+        )
+    }
+
+    /// w = (A + C) λ + b for the given impulses, computed through the bodies (u⁺ = u + M⁻¹Jᵀλ),
+    /// not through a dense A. Allocates; for inspection and tests.
+    pub fn constraint_velocity(&self, lambda: &[SVector<f64, R>]) -> Vec<SVector<f64, R>> {
+        let delta = self.velocity_change(lambda);
+        self.contacts
+            .iter()
+            .zip(lambda)
+            .map(|(c, l)| {
+                let mut w = c.b;
+                for side in 0..2 {
+                    if let Some(body) = c.bodies[side] {
+                        w += c.jacobian[side] * delta[body];
+                    }
+                }
+                w[0] += c.compliance * l[0];
+                w
+            })
+            .collect()
+    }
+
+    /// The change of each body's velocity Δu = M⁻¹ Jᵀ λ caused by the impulses.
+    pub fn velocity_change(&self, lambda: &[SVector<f64, R>]) -> Vec<SVector<f64, D>> {
+        let mut delta = vec![SVector::<f64, D>::zeros(); self.bodies.len()];
+        for (c, l) in self.contacts.iter().zip(lambda) {
+            for side in 0..2 {
+                if let Some(body) = c.bodies[side] {
+                    delta[body] += self.bodies[body].inverse_mass * c.jacobian[side].transpose() * l;
+                }
+            }
+        }
+        delta
+    }
+
+    /// Checks the problem is well formed: body indices in range, every number finite, μ ≥ 0,
+    /// compliance ≥ 0, no contact between the static world and itself. Returns what is wrong.
+    pub fn validate(&self) -> Result<(), String> {
+        for (i, body) in self.bodies.iter().enumerate() {
+            if body.inverse_mass.iter().chain(body.velocity.iter()).any(|x| !x.is_finite()) {
+                return Err(format!("body {i}: non-finite inverse mass or velocity"));
+            }
+        }
+        for (k, c) in self.contacts.iter().enumerate() {
+            if c.bodies == [None, None] {
+                return Err(format!("contact {k}: both bodies are the static world"));
+            }
+            for body in c.bodies.iter().flatten() {
+                if *body >= self.bodies.len() {
+                    return Err(format!(
+                        "contact {k}: body index {body} out of range (there are {} bodies)",
+                        self.bodies.len()
+                    ));
+                }
+            }
+            let numbers = c.jacobian[0]
+                .iter()
+                .chain(c.jacobian[1].iter())
+                .chain(c.b.iter())
+                .chain(c.lambda0.iter());
+            if numbers.clone().any(|x| !x.is_finite()) {
+                return Err(format!("contact {k}: non-finite Jacobian, b or lambda0"));
+            }
+            if !(c.mu.is_finite() && c.mu >= 0.0) {
+                return Err(format!("contact {k}: mu must be ≥ 0, got {}", c.mu));
+            }
+            if !(c.compliance.is_finite() && c.compliance >= 0.0) {
+                return Err(format!(
+                    "contact {k}: compliance must be ≥ 0, got {}",
+                    c.compliance
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Projects one contact's impulse onto its feasible set: λn ≥ 0 and the friction rows within
+/// the box or disk of radius μ λn. docs/contact.md §"Box and cone friction".
+pub fn project_feasible<const R: usize>(
+    lambda: &SVector<f64, R>,
+    mu: f64,
+    friction: FrictionModel,
+) -> SVector<f64, R> {
+    let mut p = *lambda;
+    p[0] = p[0].max(0.0);
+    let bound = mu * p[0];
+    match friction {
+        FrictionModel::Box => {
+            for r in 1..R {
+                p[r] = p[r].clamp(-bound, bound);
+            }
+        }
+        FrictionModel::Cone => {
+            let norm = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
+            if norm > bound {
+                let scale = if norm > 0.0 { bound / norm } else { 0.0 };
+                for r in 1..R {
+                    p[r] *= scale;
+                }
+            }
+        }
+    }
+    p
+}
+
+pub mod json;

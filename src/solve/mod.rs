@@ -1,0 +1,11 @@
+//! Solvers of the contact problem ([`crate::problem::ContactProblem`]).
+//!
+//! - [`pgs`]: projected Gauss–Seidel with delta velocities (Erleben 2007), the project's solver;
+//! - [`residual`]: the natural-map residual that says how far a λ is from a solution, for any
+//!   solver's answer.
+
+pub mod pgs;
+pub mod residual;
+
+pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+pub use residual::residual;

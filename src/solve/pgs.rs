@@ -1,0 +1,241 @@
+//! Projected Gauss–Seidel with delta velocities (Erleben 2007). docs/contact.md §"PGS".
+//!
+//! Instead of the dense w = (A + C) λ + b, each body carries Δu = M⁻¹ Jᵀ λ, the velocity change
+//! that the current impulses cause. A row's velocity is then w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂
+//! (+ c λn on the normal row), and a change δ of λ_r costs one update Δu_s += (M_s⁻¹ J_sᵀ)_r δ per
+//! body. One sweep visits every contact once: the normal row first, then its friction rows with
+//! bounds from the λn just computed.
+
+use super::residual::{RowScales, contact_residual, project_disk, row_scales};
+use crate::problem::{ContactProblem, FrictionModel, project_feasible};
+use nalgebra::{SMatrix, SVector};
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
+
+/// The order in which a sweep visits the contacts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactOrder {
+    /// Problem order, every sweep (the assignment's).
+    #[default]
+    Sequential,
+    /// A fresh permutation every sweep from the workspace's seeded generator (ChaCha8).
+    Random,
+}
+
+/// How long PGS runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PgsSettings {
+    /// Sweeps at most (`pgs_iterations`, default 100).
+    pub max_iterations: u32,
+    /// Stop as soon as the residual is at or below this (m/s); `None` runs every sweep.
+    pub tolerance: Option<f64>,
+    /// Contact order.
+    pub order: ContactOrder,
+}
+
+/// What a solve did.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct SolveReport {
+    /// Sweeps run.
+    pub iterations: u32,
+    /// Residual of the returned λ (docs/contact.md §"Residual"), m/s.
+    pub residual: f64,
+    /// The tolerance was given and reached.
+    pub converged: bool,
+}
+
+/// Buffers PGS reuses from solve to solve, so that a solve does not allocate once they have
+/// grown to the problem's size; also the random generator, so a run's orders are reproducible.
+#[derive(Clone, Debug)]
+pub struct PgsWorkspace<const D: usize, const R: usize> {
+    /// Δu per body: the velocity change the current λ causes.
+    delta_velocity: Vec<SVector<f64, D>>,
+    /// M_s⁻¹ J_sᵀ per contact and side (D × R), zero for the static world.
+    inverse_mass_jacobian_t: Vec<[SMatrix<f64, D, R>; 2]>,
+    /// Row scales per contact.
+    scales: Vec<RowScales<R>>,
+    /// The visiting order.
+    order: Vec<usize>,
+    rng: ChaCha8Rng,
+}
+
+impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
+    /// An empty workspace whose random orders come from `seed`.
+    pub fn new(seed: u64) -> Self {
+        PgsWorkspace {
+            delta_velocity: Vec::new(),
+            inverse_mass_jacobian_t: Vec::new(),
+            scales: Vec::new(),
+            order: Vec::new(),
+            rng: ChaCha8Rng::seed_from_u64(seed),
+        }
+    }
+
+    /// Δu of body `i` after the last solve: add it to the body's velocity.
+    pub fn delta_velocity(&self, i: usize) -> &SVector<f64, D> {
+        &self.delta_velocity[i]
+    }
+
+    fn prepare(&mut self, problem: &ContactProblem<D, R>) {
+        self.delta_velocity.clear();
+        self.delta_velocity
+            .resize(problem.bodies.len(), SVector::zeros());
+        self.inverse_mass_jacobian_t.clear();
+        self.scales.clear();
+        self.order.clear();
+        for (k, c) in problem.contacts.iter().enumerate() {
+            let side = |s: usize| match c.bodies[s] {
+                Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
+                None => SMatrix::zeros(),
+            };
+            self.inverse_mass_jacobian_t.push([side(0), side(1)]);
+            self.scales.push(row_scales(problem, k));
+            self.order.push(k);
+        }
+    }
+
+    /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
+    fn row_velocity(&self, problem: &ContactProblem<D, R>, k: usize, r: usize) -> f64 {
+        let c = &problem.contacts[k];
+        let mut w = c.b[r];
+        for s in 0..2 {
+            if let Some(b) = c.bodies[s] {
+                w += c.jacobian[s].row(r).transpose().dot(&self.delta_velocity[b]);
+            }
+        }
+        w
+    }
+
+    /// Changes λ_r of contact `k` by `delta` and updates the bodies' Δu to match.
+    fn apply(&mut self, problem: &ContactProblem<D, R>, k: usize, r: usize, delta: f64) {
+        let c = &problem.contacts[k];
+        for s in 0..2 {
+            if let Some(b) = c.bodies[s] {
+                let column = self.inverse_mass_jacobian_t[k][s].column(r);
+                self.delta_velocity[b].axpy(delta, &column, 1.0);
+            }
+        }
+    }
+
+    /// The full constraint velocity w of contact `k`, compliance included.
+    fn contact_velocity(
+        &self,
+        problem: &ContactProblem<D, R>,
+        k: usize,
+        lambda: &SVector<f64, R>,
+    ) -> SVector<f64, R> {
+        let mut w = SVector::<f64, R>::from_fn(|r, _| self.row_velocity(problem, k, r));
+        w[0] += problem.contacts[k].compliance * lambda[0];
+        w
+    }
+
+    fn residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
+        (0..problem.contacts.len())
+            .map(|k| {
+                let w = self.contact_velocity(problem, k, &lambda[k]);
+                let c = &problem.contacts[k];
+                contact_residual(problem.friction, c.mu, &lambda[k], &w, &self.scales[k])
+            })
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Solves `problem` by projected Gauss–Seidel, starting from each contact's `lambda0` (projected
+/// onto its feasible set). On return `lambda` holds one impulse per contact (N·s) and
+/// `workspace.delta_velocity(i)` each body's velocity change. docs/contact.md §"PGS".
+pub fn solve_pgs<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    settings: &PgsSettings,
+    workspace: &mut PgsWorkspace<D, R>,
+    lambda: &mut Vec<SVector<f64, R>>,
+) -> SolveReport {
+    workspace.prepare(problem);
+    lambda.clear();
+    for (k, c) in problem.contacts.iter().enumerate() {
+        let start = project_feasible(&c.lambda0, c.mu, problem.friction);
+        lambda.push(SVector::zeros());
+        for r in 0..R {
+            workspace.apply(problem, k, r, start[r]);
+        }
+        lambda[k] = start;
+    }
+
+    let mut iterations = 0;
+    let mut converged = false;
+    while iterations < settings.max_iterations {
+        if settings.order == ContactOrder::Random {
+            let PgsWorkspace { order, rng, .. } = &mut *workspace;
+            order.shuffle(rng);
+        }
+        for i in 0..problem.contacts.len() {
+            let k = workspace.order[i];
+            solve_contact(problem, workspace, k, &mut lambda[k]);
+        }
+        iterations += 1;
+        if let Some(tolerance) = settings.tolerance {
+            if workspace.residual(problem, lambda) <= tolerance {
+                converged = true;
+                break;
+            }
+        }
+    }
+    SolveReport {
+        iterations,
+        residual: workspace.residual(problem, lambda),
+        converged,
+    }
+}
+
+/// One contact's Gauss–Seidel update: normal row, then friction rows.
+fn solve_contact<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    workspace: &mut PgsWorkspace<D, R>,
+    k: usize,
+    lambda: &mut SVector<f64, R>,
+) {
+    let contact = &problem.contacts[k];
+    let diagonal = workspace.scales[k].diagonal;
+
+    // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
+    if diagonal[0] > 0.0 {
+        let w_n = workspace.row_velocity(problem, k, 0) + contact.compliance * lambda[0];
+        let lambda_n = (lambda[0] - w_n / diagonal[0]).max(0.0);
+        workspace.apply(problem, k, 0, lambda_n - lambda[0]);
+        lambda[0] = lambda_n;
+    }
+
+    // Friction rows, bounded by μ times the normal impulse just computed.
+    let bound = contact.mu * lambda[0];
+    match problem.friction {
+        FrictionModel::Box => {
+            for r in 1..R {
+                if diagonal[r] > 0.0 {
+                    let w_r = workspace.row_velocity(problem, k, r);
+                    let lambda_r = (lambda[r] - w_r / diagonal[r]).clamp(-bound, bound);
+                    workspace.apply(problem, k, r, lambda_r - lambda[r]);
+                    lambda[r] = lambda_r;
+                } else {
+                    lambda[r] = lambda[r].clamp(-bound, bound);
+                }
+            }
+        }
+        FrictionModel::Cone => {
+            // One projected-gradient step on the pair with the scalar step 1/ρ, then onto the
+            // disk: a per-row step would converge to a point that is not the disk's solution.
+            let rho = workspace.scales[k].tangent_rho;
+            let mut trial = *lambda;
+            if rho > 0.0 {
+                for r in 1..R {
+                    trial[r] = lambda[r] - workspace.row_velocity(problem, k, r) / rho;
+                }
+            }
+            let projected = project_disk(&trial, bound);
+            for r in 1..R {
+                workspace.apply(problem, k, r, projected[r] - lambda[r]);
+                lambda[r] = projected[r];
+            }
+        }
+    }
+}
