@@ -87,7 +87,8 @@ pub type ContactProblem3 = ContactProblem<6, 3>;
 
 impl<const D: usize, const R: usize> ContactProblem<D, R> {
     /// The contact's R × R Delassus block A_kk = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ (kg⁻¹), without
-    /// compliance. docs/contact.md §"Delassus operator".
+    /// compliance, averaged with its transpose so that it is symmetric to the bit (the product
+    /// alone is symmetric only to round-off). docs/contact.md §"Delassus operator".
     pub fn delassus_block(&self, k: usize) -> SMatrix<f64, R, R> {
         let c = &self.contacts[k];
         let mut a = SMatrix::<f64, R, R>::zeros();
@@ -97,7 +98,7 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
                 a += j * self.bodies[body].inverse_mass * j.transpose();
             }
         }
-        a
+        (a + a.transpose()) * 0.5
     }
 
     /// The dense Jacobian (R·contacts × D·bodies), assembled naively; for tests and for solvers

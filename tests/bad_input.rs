@@ -326,6 +326,24 @@ fn negative_mu_zero_pgs_iterations_and_nonzero_damping_are_rejected() {
 }
 
 #[test]
+fn contact_parameters_out_of_range_are_rejected() {
+    for (value, key, says) in [
+        ("\"compliance\": -0.01", "sim_parameters[0].compliance", "≥ 0"),
+        ("\"stabilization\": -0.2", "sim_parameters[0].stabilization", "[0, 1]"),
+        ("\"stabilization\": 1.5", "sim_parameters[0].stabilization", "[0, 1]"),
+        ("\"stabilization_slop\": -0.001", "sim_parameters[0].stabilization_slop", "≥ 0"),
+        ("\"pgs_tolerance\": 0", "sim_parameters[0].pgs_tolerance", "positive"),
+        ("\"pgs_iterations\": -3", "sim_parameters[0].pgs_iterations", "≥ 1"),
+        ("\"friction_model\": \"pyramid\"", "sim_parameters[0].friction_model", "unknown variant"),
+        ("\"pgs_order\": \"shuffled\"", "sim_parameters[0].pgs_order", "unknown variant"),
+        ("\"warm_start\": 1", "sim_parameters[0].warm_start", "boolean"),
+        ("\"pgs_seed\": -1", "sim_parameters[0].pgs_seed", "u64"),
+    ] {
+        expect_error(&scene_with("\"substeps\": 1", value), "s.json:2:", &[key, says]);
+    }
+}
+
+#[test]
 fn unknown_keys_warn_and_do_not_stop_the_run() {
     let case = scene_with("\"substeps\": 1", "\"substeps\": 1, \"sub_steps\": 4");
     let out = case.run();

@@ -69,7 +69,15 @@ fn massprops_reproduces_the_assignment_body_files() {
 #[test]
 fn canonical_body_files_are_the_massprops_of_their_source_meshes() {
     let root = common::project_root();
-    for name in ["slab", "block"] {
+    let mut names: Vec<String> = std::fs::read_dir(root.join("scenes/src"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    for name in &names {
         let source = TriMesh::load_obj(&root.join(format!("scenes/src/{name}.obj"))).unwrap();
         let props = mass_properties(&source, 1000.0);
         let j: Vec<Vec<f64>> = (0..3)

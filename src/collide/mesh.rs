@@ -12,12 +12,18 @@ use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::PointQueryWithLocation;
 use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
 
+/// A vertex closer to the surface than this fraction of the mesh's bounding radius is on the
+/// surface, not inside: its closest feature (and so its normal) is decided by round-off, e.g. a
+/// vertex lying in the plane of a face it does not touch. Such a vertex is not a contact.
+pub const SURFACE_TOLERANCE: f64 = 1e-9;
+
 /// A body's mesh prepared for queries: parry's triangle mesh with its BVH and pseudo-normals
 /// (for a reliable inside test), in the body frame.
 #[derive(Clone)]
 pub struct MeshCollider {
     shape: ParryTriMesh,
     local_box: Aabb,
+    radius: f64,
     mesh: std::sync::Arc<TriMesh>,
 }
 
@@ -54,6 +60,7 @@ impl MeshCollider {
         Ok(MeshCollider {
             shape,
             local_box,
+            radius: mesh.bounding_radius(),
             mesh,
         })
     }
@@ -96,7 +103,8 @@ impl MeshCollider {
     }
 }
 
-/// Appends a contact for every vertex of body `i` strictly inside body `j`: point the vertex,
+/// Appends a contact for every vertex of body `i` inside body `j` by more than
+/// [`SURFACE_TOLERANCE`] of j's bounding radius: point the vertex,
 /// depth its distance to j's surface, normal the outward direction of j's surface there
 /// (rotated to the world frame). Body i is body 1, body j is body 2.
 pub fn vertex_contacts(
@@ -114,7 +122,7 @@ pub fn vertex_contacts(
             continue;
         }
         let sd = collider_j.signed_distance(&in_j);
-        if sd.distance < 0.0 {
+        if sd.distance < -SURFACE_TOLERANCE * collider_j.radius && sd.normal.iter().all(|x| x.is_finite()) {
             let normal = (body_j.rotation * sd.normal).normalize();
             out.push(Contact {
                 body1: i,

@@ -37,3 +37,91 @@ pub fn body(mass: f64, moments: [f64; 3], frame: Matrix3<f64>) -> RigidBody {
 pub fn rigidref_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_rigidref"))
 }
+
+pub mod problems {
+    //! Random contact problems for the solver tests: bodies with random mass, inertia and
+    //! orientation; contacts between random bodies or with the ground, at random points with
+    //! random normals and right-hand sides.
+
+    use nalgebra::{Matrix3, SVector, Vector3};
+    use proptest::prelude::*;
+    use rigidref::assemble::{ProblemSettings, assemble_problem};
+    use rigidref::collide::Contact;
+    use rigidref::contact::ContactFrame;
+    use rigidref::problem::{ContactProblem3, FrictionModel};
+    use rigidref::rotation::exp_so3;
+    use rigidref::warm_start::WarmStart;
+
+    fn vector(scale: f64) -> impl Strategy<Value = Vector3<f64>> {
+        (-scale..scale, -scale..scale, -scale..scale).prop_map(|(x, y, z)| Vector3::new(x, y, z))
+    }
+
+    fn unit() -> impl Strategy<Value = Vector3<f64>> {
+        vector(1.0)
+            .prop_filter("not too short", |v| v.norm() > 1e-2)
+            .prop_map(|v| v.normalize())
+    }
+
+    /// What a random problem is made of.
+    #[derive(Clone, Debug)]
+    pub struct ProblemSpec {
+        pub bodies: Vec<(f64, [f64; 3], Vector3<f64>, Vector3<f64>)>,
+        pub contacts: Vec<(usize, usize, Vector3<f64>, Vector3<f64>, SVector<f64, 3>)>,
+    }
+
+    /// `bodies` bodies (mass 1–100 kg, principal moments 0.1–10 kg·m², random orientation, centre
+    /// within 1 m of the origin) and `contacts` contacts (points within 1 m, random unit normals,
+    /// b with entries in [−2, 2] m/s).
+    pub fn spec(
+        bodies: std::ops::Range<usize>,
+        contacts: std::ops::Range<usize>,
+    ) -> impl Strategy<Value = ProblemSpec> {
+        let body = (1.0..100.0f64, (0.1..10.0f64, 0.1..10.0f64, 0.1..10.0f64), vector(3.0), vector(1.0))
+            .prop_map(|(m, (a, b, c), w, x)| {
+                let mut moments = [a, b, c];
+                moments.sort_by(f64::total_cmp);
+                moments[2] = moments[2].min(0.99 * (moments[0] + moments[1]));
+                (m, moments, w, x)
+            });
+        let contact = (0usize..8, 0usize..8, vector(1.0), unit(), vector(2.0))
+            .prop_map(|(a, b, p, n, rhs)| (a, b, p, n, SVector::<f64, 3>::from(rhs)));
+        (
+            proptest::collection::vec(body, bodies),
+            proptest::collection::vec(contact, contacts),
+        )
+            .prop_map(|(bodies, contacts)| ProblemSpec { bodies, contacts })
+    }
+
+    /// The problem: assembled from the random bodies and contacts by the project's own assembly
+    /// (so its Jacobians are real contact Jacobians), then b replaced by the random one.
+    pub fn build(spec: &ProblemSpec, mu: f64, compliance: f64, friction: FrictionModel) -> ContactProblem3 {
+        let bodies: Vec<_> = spec
+            .bodies
+            .iter()
+            .map(|&(m, moments, w, x)| {
+                let r = exp_so3(&w);
+                let mut b = super::body(m, moments, Matrix3::identity());
+                b.x = x;
+                b.rotation = r;
+                b.update_world_inertia();
+                b
+            })
+            .collect();
+        let n = bodies.len();
+        let contacts: Vec<Contact> = spec
+            .contacts
+            .iter()
+            .map(|&(a, b, p, normal, _)| {
+                let body1 = a % n;
+                let body2 = if b % (n + 1) == n || b % (n + 1) == body1 { None } else { Some(b % (n + 1)) };
+                Contact { body1, body2, vertex: 0, point: p, frame: ContactFrame::from_normal(&normal), depth: 0.0 }
+            })
+            .collect();
+        let settings = ProblemSettings { h: 0.01, mu, friction, compliance, stabilization: 0.0, slop: 0.0 };
+        let mut problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
+        for (c, s) in problem.contacts.iter_mut().zip(&spec.contacts) {
+            c.b = s.4;
+        }
+        problem
+    }
+}

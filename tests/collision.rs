@@ -1,0 +1,153 @@
+//! Collision detection: the fast signed distance (parry3d's BVH) against the brute-force oracle,
+//! ground contacts, and the broad phase against all pairs (docs/contact.md §"Collision
+//! detection").
+
+mod common;
+
+use nalgebra::{Matrix3, Vector3};
+use proptest::prelude::*;
+use rigidref::body::RigidBody;
+use rigidref::collide::broad::{Aabb, overlapping_pairs};
+use rigidref::collide::closest_point::brute_force_signed_distance;
+use rigidref::collide::ground::ground_contacts;
+use rigidref::collide::{MeshCollider, detect_contacts};
+use rigidref::mesh::TriMesh;
+use rigidref::rotation::exp_so3;
+use std::sync::Arc;
+
+/// The meshes to test on: the project's own, and the assignment's when ../shared is present.
+fn meshes() -> Vec<(String, Arc<TriMesh>)> {
+    let mut out = Vec::new();
+    let mut add = |dir: std::path::PathBuf, names: &[&str]| {
+        for name in names {
+            let path = dir.join(format!("{name}.obj"));
+            let mesh = TriMesh::load_obj(&path).expect("mesh loads");
+            out.push((path.display().to_string(), Arc::new(mesh)));
+        }
+    };
+    add(
+        common::project_root().join("scenes/data"),
+        &["ball", "box", "brick", "slab", "block", "cube20"],
+    );
+    if let Some(dir) = common::rigid3d_assignment() {
+        add(dir.join("data"), &["sphere", "cube", "brick", "thing"]);
+    }
+    out
+}
+
+#[test]
+fn parry_signed_distance_matches_the_brute_force_oracle() {
+    let mut compared = 0;
+    for (name, mesh) in meshes() {
+        let collider = MeshCollider::new(mesh.clone()).unwrap();
+        let radius = mesh.bounding_radius();
+        let lo = Aabb::around(mesh.vertices.iter().copied());
+        let span = lo.max - lo.min;
+        // Points in the bounding box grown by 20% each side: inside, outside and near the surface.
+        let config = ProptestConfig::with_cases(400);
+        proptest!(config, |(f in (-0.2..1.2f64, -0.2..1.2f64, -0.2..1.2f64))| {
+            let p = lo.min + Vector3::new(f.0 * span.x, f.1 * span.y, f.2 * span.z);
+            let fast = collider.signed_distance(&p);
+            let slow = brute_force_signed_distance(&mesh, &p);
+            // Distances agree to round-off of the closest-point arithmetic on metre-sized meshes.
+            prop_assert!((fast.distance.abs() - slow.distance.abs()).abs() <= 1e-9 * radius,
+                "{name}: at {p:?} parry {} oracle {}", fast.distance, slow.distance);
+            // The inside/outside decision agrees except within 1e-9 of the surface, where either
+            // answer is right.
+            if slow.distance.abs() > 1e-9 * radius {
+                prop_assert_eq!(fast.distance < 0.0, slow.distance < 0.0,
+                    "{}: at {:?} parry {} oracle {}", name, p, fast.distance, slow.distance);
+            }
+            // The normal is a unit vector, and moving the point along it by the distance lands
+            // on the surface (the closest point), inside or out.
+            prop_assert!((fast.normal.norm() - 1.0).abs() < 1e-12);
+            let landed = p - fast.normal * fast.distance;
+            prop_assert!((landed - fast.closest).norm() <= 1e-9 * radius);
+        });
+        compared += 1;
+    }
+    assert!(compared >= 6);
+}
+
+fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> RigidBody {
+    let mut b = RigidBody::new("b", 1.0, Matrix3::identity(), mesh);
+    b.x = x;
+    b.rotation = rotation;
+    b.update_world_inertia();
+    b
+}
+
+#[test]
+fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
+    let mesh = Arc::new(TriMesh::load_obj(&common::project_root().join("scenes/data/ball.obj")).unwrap());
+    proptest!(ProptestConfig::with_cases(300), |(
+        y in -0.6..0.6f64,
+        w in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
+    )| {
+        let rotation = exp_so3(&Vector3::new(w.0, w.1, w.2));
+        let body = body_with(mesh.clone(), Vector3::new(0.3, y, -0.2), rotation);
+        let mut contacts = Vec::new();
+        ground_contacts(4, &body, &mut contacts);
+        let below: Vec<usize> = (0..mesh.vertices.len())
+            .filter(|&i| (body.x + body.rotation * mesh.vertices[i]).y < 0.0)
+            .collect();
+        prop_assert_eq!(contacts.iter().map(|c| c.vertex).collect::<Vec<_>>(), below);
+        for c in &contacts {
+            prop_assert_eq!(c.body1, 4);
+            prop_assert_eq!(c.body2, None);
+            prop_assert_eq!(c.frame.n, Vector3::y());
+            prop_assert_eq!(c.depth, -c.point.y);
+            prop_assert!(c.depth > 0.0);
+        }
+    });
+}
+
+#[test]
+fn broad_phase_finds_exactly_the_overlapping_pairs() {
+    proptest!(ProptestConfig::with_cases(300), |(
+        boxes in proptest::collection::vec(
+            ((-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64), (0.0..2.0f64, 0.0..2.0f64, 0.0..2.0f64)),
+            0..40)
+    )| {
+        let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+            let min = Vector3::new(lo.0, lo.1, lo.2);
+            Aabb { min, max: min + Vector3::new(size.0, size.1, size.2) }
+        }).collect();
+        let mut all_pairs = Vec::new();
+        for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if boxes[i].overlaps(&boxes[j]) {
+                    all_pairs.push((i, j));
+                }
+            }
+        }
+        prop_assert_eq!(overlapping_pairs(&boxes), all_pairs);
+    });
+}
+
+#[test]
+fn mesh_contacts_come_from_both_bodies_with_normals_out_of_body_2() {
+    // Two boxes overlapping along x by 1 cm, the second turned 30° about y and raised 5 cm so
+    // that its leading bottom corner pokes into the first. (Level with each other, every
+    // penetrating vertex would lie in the plane of a face: on the surface, not inside, which the
+    // vertex method does not count; docs/contact.md §"Mesh contacts".)
+    let root = common::project_root();
+    let mesh = Arc::new(TriMesh::load_obj(&root.join("scenes/data/box.obj")).unwrap());
+    let a = body_with(mesh.clone(), Vector3::new(0.0, 1.0, 0.0), Matrix3::identity());
+    let turn = exp_so3(&Vector3::new(0.0, 30f64.to_radians(), 0.0));
+    // The turned box's half-width along x is 0.25 (cos 30° + sin 30°).
+    let reach = 0.25 * (30f64.to_radians().cos() + 30f64.to_radians().sin());
+    let b = body_with(mesh.clone(), Vector3::new(0.25 + reach - 0.01, 1.05, 0.0), turn);
+    let colliders = vec![MeshCollider::new(mesh.clone()).unwrap(), MeshCollider::new(mesh).unwrap()];
+    let mut contacts = Vec::new();
+    detect_contacts(&[a, b], &colliders, &mut contacts);
+    assert!(!contacts.is_empty(), "the boxes overlap, so there are contacts");
+    for c in &contacts {
+        // Body 1 owns the vertex; the normal points out of body 2 toward body 1.
+        let toward_body1 = if c.body1 == 0 { -Vector3::x() } else { Vector3::x() };
+        assert!(c.frame.n.dot(&toward_body1) > 0.5, "{c:?}");
+        assert!(c.depth > 0.0 && c.depth <= 0.01 + 1e-12, "{c:?}");
+    }
+    // The turned box's leading bottom corner is inside the first box.
+    assert!(contacts.iter().any(|c| c.body1 == 1 && c.body2 == Some(0)), "{contacts:?}");
+}
