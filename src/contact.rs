@@ -76,7 +76,8 @@ pub fn inverse_mass_matrix(body: &RigidBody) -> SMatrix<f64, DOF_3D, DOF_3D> {
     for k in 0..3 {
         m[(k, k)] = body.inv_mass;
     }
-    m.fixed_view_mut::<3, 3>(3, 3).copy_from(&body.inertia_world_inv);
+    m.fixed_view_mut::<3, 3>(3, 3)
+        .copy_from(&body.inertia_world_inv);
     m
 }
 

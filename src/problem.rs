@@ -176,7 +176,8 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
         for (c, l) in self.contacts.iter().zip(lambda) {
             for side in 0..2 {
                 if let Some(body) = c.bodies[side] {
-                    delta[body] += self.bodies[body].inverse_mass * c.jacobian[side].transpose() * l;
+                    delta[body] +=
+                        self.bodies[body].inverse_mass * c.jacobian[side].transpose() * l;
                 }
             }
         }
@@ -187,7 +188,12 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
     /// compliance ≥ 0, no contact between the static world and itself. Returns what is wrong.
     pub fn validate(&self) -> Result<(), String> {
         for (i, body) in self.bodies.iter().enumerate() {
-            if body.inverse_mass.iter().chain(body.velocity.iter()).any(|x| !x.is_finite()) {
+            if body
+                .inverse_mass
+                .iter()
+                .chain(body.velocity.iter())
+                .any(|x| !x.is_finite())
+            {
                 return Err(format!("body {i}: non-finite inverse mass or velocity"));
             }
         }

@@ -72,7 +72,11 @@ impl SubstepContacts {
         }
         file.solution = Some(SolutionJson {
             solver: "pgs".into(),
-            lambda: self.lambda.iter().map(|l| l.iter().copied().collect()).collect(),
+            lambda: self
+                .lambda
+                .iter()
+                .map(|l| l.iter().copied().collect())
+                .collect(),
             iterations: self.report.iterations,
             residual: self.report.residual,
         });
@@ -169,10 +173,19 @@ impl World {
             self.contact_buffer = contacts;
             return;
         }
-        let problem =
-            assemble_problem(&self.bodies, &contacts, &self.problem_settings(), &self.warm_start);
+        let problem = assemble_problem(
+            &self.bodies,
+            &contacts,
+            &self.problem_settings(),
+            &self.warm_start,
+        );
         let mut lambda = Vec::with_capacity(contacts.len());
-        let report = solve_pgs(&problem, &self.pgs_settings(), &mut self.workspace, &mut lambda);
+        let report = solve_pgs(
+            &problem,
+            &self.pgs_settings(),
+            &mut self.workspace,
+            &mut lambda,
+        );
         for (i, body) in self.bodies.iter_mut().enumerate() {
             let du = self.workspace.delta_velocity(i);
             body.v += du.fixed_rows::<3>(0);

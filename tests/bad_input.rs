@@ -328,18 +328,58 @@ fn negative_mu_zero_pgs_iterations_and_nonzero_damping_are_rejected() {
 #[test]
 fn contact_parameters_out_of_range_are_rejected() {
     for (value, key, says) in [
-        ("\"compliance\": -0.01", "sim_parameters[0].compliance", "≥ 0"),
-        ("\"stabilization\": -0.2", "sim_parameters[0].stabilization", "[0, 1]"),
-        ("\"stabilization\": 1.5", "sim_parameters[0].stabilization", "[0, 1]"),
-        ("\"stabilization_slop\": -0.001", "sim_parameters[0].stabilization_slop", "≥ 0"),
-        ("\"pgs_tolerance\": 0", "sim_parameters[0].pgs_tolerance", "positive"),
-        ("\"pgs_iterations\": -3", "sim_parameters[0].pgs_iterations", "≥ 1"),
-        ("\"friction_model\": \"pyramid\"", "sim_parameters[0].friction_model", "unknown variant"),
-        ("\"pgs_order\": \"shuffled\"", "sim_parameters[0].pgs_order", "unknown variant"),
-        ("\"warm_start\": 1", "sim_parameters[0].warm_start", "boolean"),
+        (
+            "\"compliance\": -0.01",
+            "sim_parameters[0].compliance",
+            "≥ 0",
+        ),
+        (
+            "\"stabilization\": -0.2",
+            "sim_parameters[0].stabilization",
+            "[0, 1]",
+        ),
+        (
+            "\"stabilization\": 1.5",
+            "sim_parameters[0].stabilization",
+            "[0, 1]",
+        ),
+        (
+            "\"stabilization_slop\": -0.001",
+            "sim_parameters[0].stabilization_slop",
+            "≥ 0",
+        ),
+        (
+            "\"pgs_tolerance\": 0",
+            "sim_parameters[0].pgs_tolerance",
+            "positive",
+        ),
+        (
+            "\"pgs_iterations\": -3",
+            "sim_parameters[0].pgs_iterations",
+            "≥ 1",
+        ),
+        (
+            "\"friction_model\": \"pyramid\"",
+            "sim_parameters[0].friction_model",
+            "unknown variant",
+        ),
+        (
+            "\"pgs_order\": \"shuffled\"",
+            "sim_parameters[0].pgs_order",
+            "unknown variant",
+        ),
+        (
+            "\"warm_start\": 1",
+            "sim_parameters[0].warm_start",
+            "boolean",
+        ),
         ("\"pgs_seed\": -1", "sim_parameters[0].pgs_seed", "u64"),
     ] {
-        expect_error(&scene_with("\"substeps\": 1", value), "s.json:2:", &[key, says]);
+        expect_error(
+            &scene_with("\"substeps\": 1", value),
+            "s.json:2:",
+            &[key, says],
+        );
     }
 }
 
@@ -395,6 +435,29 @@ fn degenerate_triangles_are_reported_as_a_warning() {
             && stderr.contains("1 degenerate (zero-area) triangles"),
         "{stderr}"
     );
+    // With contact on: two such bodies resting on the ground and pressed into each other, so
+    // that ground, broad-phase and signed-distance queries all meet the zero-area face.
+    let scene = r#"{
+        "sim_parameters": [{"dt": 0.01, "gravity": [0, -9.8, 0], "mu": 0.5, "check_collisions": true}],
+        "bodies": [{"name": "a", "file_root": "data/block", "x0": [0, 0.49, 0]},
+                   {"name": "b", "file_root": "data/block", "x0": [0.97, 0.49, 0.1], "R0": [[0,0,1],[0,1,0],[-1,0,0]]}]
+    }"#;
+    std::fs::write(case.path("scenes/s.json"), scene).unwrap();
+    let out = Command::new(common::rigidref_bin())
+        .args(["run", "--steps", "100", "--out"])
+        .arg(case.path("trace.jsonl"))
+        .arg(case.path("scenes/s.json"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success() && !stderr.contains("panicked"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("degenerate") && stderr.contains("contacts "),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -425,7 +488,7 @@ fn a_nan_during_the_run_stops_it_naming_step_body_and_quantity_and_keeps_a_valid
     let last = trace.records.last().unwrap();
     assert!(last.bodies[0].omega.iter().all(|w| w.is_finite()));
     assert!(
-        last.step >= 14 && last.step % 7 == 0,
+        last.step >= 14 && last.step.is_multiple_of(7),
         "the run should fail after several records: {}",
         last.step
     );

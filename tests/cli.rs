@@ -246,7 +246,11 @@ fn contacts_command_prints_the_first_contact_of_scene2() {
     }
     for (name, dir) in scenes {
         let out = rigidref(&["contacts", &name, "--json"], &dir);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let contacts = v["contacts"].as_array().unwrap();
         assert_eq!(contacts.len(), 1, "{name}: one vertex lands first");
@@ -258,11 +262,15 @@ fn contacts_command_prints_the_first_contact_of_scene2() {
         assert_eq!(j[0].len(), 12);
         // Normal row: [0 1 0 | −r_z 0 r_x | 0 …] with r almost vertical.
         assert_eq!(&j[0][..3], &[0.0, 1.0, 0.0]);
-        assert!(j[0][3..].iter().all(|x| x.abs() < 1e-6), "{name}: {:?}", j[0]);
+        assert!(
+            j[0][3..].iter().all(|x| x.abs() < 1e-6),
+            "{name}: {:?}",
+            j[0]
+        );
         let a: Vec<Vec<f64>> = serde_json::from_value(c["delassus"].clone()).unwrap();
-        for r in 0..3 {
-            for s in 0..3 {
-                assert_eq!(a[r][s], a[s][r]);
+        for (r, row) in a.iter().enumerate() {
+            for (s, entry) in row.iter().enumerate() {
+                assert_eq!(*entry, a[s][r], "{name}: A is symmetric to the bit");
             }
         }
         let lambda: Vec<f64> = serde_json::from_value(c["lambda"].clone()).unwrap();
@@ -270,12 +278,25 @@ fn contacts_command_prints_the_first_contact_of_scene2() {
         // The table says the same in words.
         let out = rigidref(&["contacts", &name], &dir);
         let table = String::from_utf8_lossy(&out.stdout);
-        for word in ["contact 0: body 1 = 0", "body 2 = ground", "J      =", "A      = J M⁻¹ Jᵀ", "b      =", "λ      ="] {
-            assert!(table.contains(word), "{name}: table lacks {word:?}:\n{table}");
+        for word in [
+            "contact 0: body 1 = 0",
+            "body 2 = ground",
+            "J      =",
+            "A      = J M⁻¹ Jᵀ",
+            "b      =",
+            "λ      =",
+        ] {
+            assert!(
+                table.contains(word),
+                "{name}: table lacks {word:?}:\n{table}"
+            );
         }
     }
     // A step without contacts is an error, not an empty answer.
-    let out = rigidref(&["contacts", "sphere_drop.json", "--step", "3"], &scenes_dir());
+    let out = rigidref(
+        &["contacts", "sphere_drop.json", "--step", "3"],
+        &scenes_dir(),
+    );
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("step 3 has no contacts"));
 }
@@ -286,23 +307,49 @@ fn stop_on_contact_stops_at_the_first_contact_frame() {
     let tmp = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(scenes_dir().join("sphere_drop.json"))
         .unwrap()
-        .replace("\"substeps\": 1", "\"substeps\": 1, \"stop_on_contact\": true");
+        .replace(
+            "\"substeps\": 1",
+            "\"substeps\": 1, \"stop_on_contact\": true",
+        );
     let scene = tmp.path().join("stop.json");
     std::fs::write(&scene, text).unwrap();
     let trace_path = tmp.path().join("t.jsonl");
     // Run from scenes/ so that file_root "data/ball" resolves through the working directory.
     let out = rigidref(
-        &["run", scene.to_str().unwrap(), "--time", "5", "--every", "10", "--out", trace_path.to_str().unwrap()],
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--time",
+            "5",
+            "--every",
+            "10",
+            "--out",
+            trace_path.to_str().unwrap(),
+        ],
         &scenes_dir(),
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    assert!(stderr.contains("stop_on_contact: stopped at the first frame with contacts, step 46"), "{stderr}");
-    let trace = read_trace(std::io::BufReader::new(std::fs::File::open(&trace_path).unwrap()), "t").unwrap();
+    assert!(
+        stderr.contains("stop_on_contact: stopped at the first frame with contacts, step 46"),
+        "{stderr}"
+    );
+    let trace = read_trace(
+        std::io::BufReader::new(std::fs::File::open(&trace_path).unwrap()),
+        "t",
+    )
+    .unwrap();
     let last = trace.records.last().unwrap();
-    assert_eq!(last.step, 46, "the contact frame is recorded even off the --every grid");
+    assert_eq!(
+        last.step, 46,
+        "the contact frame is recorded even off the --every grid"
+    );
     assert!(!last.contacts.is_empty());
-    assert!(trace.records[..trace.records.len() - 1].iter().all(|r| r.contacts.is_empty()));
+    assert!(
+        trace.records[..trace.records.len() - 1]
+            .iter()
+            .all(|r| r.contacts.is_empty())
+    );
 }
 
 /// `--dump-problems DIR` writes one problem file per frame with contacts (substeps = 1), each
@@ -313,13 +360,38 @@ fn dump_problems_writes_one_readable_file_per_contact_step() {
     let dump = tmp.path().join("problems");
     let trace_path = tmp.path().join("t.jsonl");
     let out = rigidref(
-        &["run", "sphere_drop.json", "--time", "1", "--quiet", "--dump-problems", dump.to_str().unwrap(), "--out", trace_path.to_str().unwrap()],
+        &[
+            "run",
+            "sphere_drop.json",
+            "--time",
+            "1",
+            "--quiet",
+            "--dump-problems",
+            dump.to_str().unwrap(),
+            "--out",
+            trace_path.to_str().unwrap(),
+        ],
         &scenes_dir(),
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let trace = read_trace(std::io::BufReader::new(std::fs::File::open(&trace_path).unwrap()), "t").unwrap();
-    let with_contacts: Vec<_> = trace.records.iter().filter(|r| !r.contacts.is_empty()).collect();
-    let mut files: Vec<_> = std::fs::read_dir(&dump).unwrap().map(|e| e.unwrap().path()).collect();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let trace = read_trace(
+        std::io::BufReader::new(std::fs::File::open(&trace_path).unwrap()),
+        "t",
+    )
+    .unwrap();
+    let with_contacts: Vec<_> = trace
+        .records
+        .iter()
+        .filter(|r| !r.contacts.is_empty())
+        .collect();
+    let mut files: Vec<_> = std::fs::read_dir(&dump)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     files.sort();
     assert_eq!(files.len(), with_contacts.len());
     assert!(!files.is_empty());

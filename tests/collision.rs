@@ -79,7 +79,8 @@ fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> Rig
 
 #[test]
 fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
-    let mesh = Arc::new(TriMesh::load_obj(&common::project_root().join("scenes/data/ball.obj")).unwrap());
+    let mesh =
+        Arc::new(TriMesh::load_obj(&common::project_root().join("scenes/data/ball.obj")).unwrap());
     proptest!(ProptestConfig::with_cases(300), |(
         y in -0.6..0.6f64,
         w in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
@@ -133,21 +134,42 @@ fn mesh_contacts_come_from_both_bodies_with_normals_out_of_body_2() {
     // vertex method does not count; docs/contact.md §"Mesh contacts".)
     let root = common::project_root();
     let mesh = Arc::new(TriMesh::load_obj(&root.join("scenes/data/box.obj")).unwrap());
-    let a = body_with(mesh.clone(), Vector3::new(0.0, 1.0, 0.0), Matrix3::identity());
+    let a = body_with(
+        mesh.clone(),
+        Vector3::new(0.0, 1.0, 0.0),
+        Matrix3::identity(),
+    );
     let turn = exp_so3(&Vector3::new(0.0, 30f64.to_radians(), 0.0));
     // The turned box's half-width along x is 0.25 (cos 30° + sin 30°).
     let reach = 0.25 * (30f64.to_radians().cos() + 30f64.to_radians().sin());
-    let b = body_with(mesh.clone(), Vector3::new(0.25 + reach - 0.01, 1.05, 0.0), turn);
-    let colliders = vec![MeshCollider::new(mesh.clone()).unwrap(), MeshCollider::new(mesh).unwrap()];
+    let b = body_with(
+        mesh.clone(),
+        Vector3::new(0.25 + reach - 0.01, 1.05, 0.0),
+        turn,
+    );
+    let colliders = vec![
+        MeshCollider::new(mesh.clone()).unwrap(),
+        MeshCollider::new(mesh).unwrap(),
+    ];
     let mut contacts = Vec::new();
     detect_contacts(&[a, b], &colliders, &mut contacts);
-    assert!(!contacts.is_empty(), "the boxes overlap, so there are contacts");
+    assert!(
+        !contacts.is_empty(),
+        "the boxes overlap, so there are contacts"
+    );
     for c in &contacts {
         // Body 1 owns the vertex; the normal points out of body 2 toward body 1.
-        let toward_body1 = if c.body1 == 0 { -Vector3::x() } else { Vector3::x() };
+        let toward_body1 = if c.body1 == 0 {
+            -Vector3::x()
+        } else {
+            Vector3::x()
+        };
         assert!(c.frame.n.dot(&toward_body1) > 0.5, "{c:?}");
         assert!(c.depth > 0.0 && c.depth <= 0.01 + 1e-12, "{c:?}");
     }
     // The turned box's leading bottom corner is inside the first box.
-    assert!(contacts.iter().any(|c| c.body1 == 1 && c.body2 == Some(0)), "{contacts:?}");
+    assert!(
+        contacts.iter().any(|c| c.body1 == 1 && c.body2 == Some(0)),
+        "{contacts:?}"
+    );
 }

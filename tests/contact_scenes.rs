@@ -46,17 +46,31 @@ fn check_simple_jacobian(scene: &Scene, what: &str) {
     // A sphere lands on the vertex straight below its centre: r = (0, −d, 0) up to the mesh's
     // coordinate rounding, so the rows are n: [0 1 0 | −r_z 0 r_x], t1 = −z: [0 0 −1 | d r_x 0],
     // t2 = −x: [−1 0 0 | 0 −r_z −d] with d = −r_y (docs/contact.md §"Contact Jacobian").
-    assert!(r.x.abs() < 1e-6 && r.z.abs() < 1e-6, "{what}: lever arm {r:?} is not vertical");
+    assert!(
+        r.x.abs() < 1e-6 && r.z.abs() < 1e-6,
+        "{what}: lever arm {r:?} is not vertical"
+    );
     let d = -r.y;
     let expected = nalgebra::SMatrix::<f64, 3, 6>::from_row_slice(&[
         0.0, 1.0, 0.0, -r.z, 0.0, r.x, //
         0.0, 0.0, -1.0, d, r.x, 0.0, //
         -1.0, 0.0, 0.0, 0.0, -r.z, -d,
     ]);
-    println!("{what}: first contact at step {}, lever arm {r:?}\nJ₁ = {}", w.step, j[0]);
+    println!(
+        "{what}: first contact at step {}, lever arm {r:?}\nJ₁ = {}",
+        w.step, j[0]
+    );
     // 1e-12: round-off of p − x with |x| of a metre or two.
-    assert!((j[0] - expected).amax() < 1e-12, "{what}: J₁ − expected = {:?}", (j[0] - expected).as_slice());
-    assert_eq!(j[1], nalgebra::SMatrix::<f64, 3, 6>::zeros(), "{what}: the ground has no velocity");
+    assert!(
+        (j[0] - expected).amax() < 1e-12,
+        "{what}: J₁ − expected = {:?}",
+        (j[0] - expected).as_slice()
+    );
+    assert_eq!(
+        j[1],
+        nalgebra::SMatrix::<f64, 3, 6>::zeros(),
+        "{what}: the ground has no velocity"
+    );
     assert_eq!(c.body2, None);
     assert_eq!(c.frame.n, Vector3::y());
 }
@@ -87,23 +101,43 @@ fn check_rest(scene: &Scene, what: &str, settle: u64, window: u64, still: f64) {
     for _ in 0..window {
         w.step().unwrap();
         let b = &w.bodies[0];
-        assert!(b.v.norm() < still && b.omega.norm() < still, "{what}: not at rest: v {:?} ω {:?}", b.v, b.omega);
-        worst_impulse_error = worst_impulse_error.max((total_normal_impulse(&w) - m * g * h).abs() / (m * g * h));
+        assert!(
+            b.v.norm() < still && b.omega.norm() < still,
+            "{what}: not at rest: v {:?} ω {:?}",
+            b.v,
+            b.omega
+        );
+        worst_impulse_error =
+            worst_impulse_error.max((total_normal_impulse(&w) - m * g * h).abs() / (m * g * h));
         for c in &w.frame_contacts.last().unwrap().contacts {
             deepest = deepest.max(c.depth);
         }
     }
-    println!("{what}: at rest, Σλn vs m g h relative error {worst_impulse_error:.2e}, penetration {deepest:.6e} m (slop {slop} m)");
+    println!(
+        "{what}: at rest, Σλn vs m g h relative error {worst_impulse_error:.2e}, penetration {deepest:.6e} m (slop {slop} m)"
+    );
     // The documented rest penetration is the stabilisation slop (plus 1 µm for a body that is
     // still settling or, for scene2, starting to tip): stabilisation pushes out any excess and
     // leaves the slop alone (docs/contact.md §"Stabilisation").
-    assert!(deepest <= slop + 1e-6, "{what}: rests {deepest} m deep, more than the slop {slop}");
-    assert!(worst_impulse_error < 1e-6, "{what}: Σλn differs from m g h by {worst_impulse_error:e}");
+    assert!(
+        deepest <= slop + 1e-6,
+        "{what}: rests {deepest} m deep, more than the slop {slop}"
+    );
+    assert!(
+        worst_impulse_error < 1e-6,
+        "{what}: Σλn differs from m g h by {worst_impulse_error:e}"
+    );
 }
 
 #[test]
 fn sphere_comes_to_rest_and_carries_its_weight() {
-    check_rest(&canonical("sphere_drop.json"), "scenes/sphere_drop.json", 150, 50, 1e-6);
+    check_rest(
+        &canonical("sphere_drop.json"),
+        "scenes/sphere_drop.json",
+        150,
+        50,
+        1e-6,
+    );
     // The assignment's sphere has its coordinates rounded, so the vertex it lands on is 8e-9 m
     // off the vertical through its centre: gravity then tips it over from that vertex, slowly
     // at first (|ω| ≈ 1e-5 rad/s by frame 150, 1 rad/s by frame 350). Frames 100..130 are after
@@ -119,7 +153,13 @@ fn corner_impulses(scene: &Scene, steps: u64) -> Vec<f64> {
     for _ in 0..steps {
         w.step().unwrap();
     }
-    w.frame_contacts.last().unwrap().lambda.iter().map(|l| l[0]).collect()
+    w.frame_contacts
+        .last()
+        .unwrap()
+        .lambda
+        .iter()
+        .map(|l| l[0])
+        .collect()
 }
 
 fn spread(values: &[f64]) -> f64 {
@@ -135,22 +175,39 @@ fn brick_corner_impulses_are_equal_with_compliance() {
     let mut rigid_scene = scene.clone();
     rigid_scene.params.compliance = 0.0;
     let rigid = corner_impulses(&rigid_scene, 200);
-    println!("brick at rest, compliance {} kg⁻¹: corner λn {compliant:?}, spread {:.2e}", scene.params.compliance, spread(&compliant));
-    println!("brick at rest, rigid: corner λn {rigid:?}, spread {:.2e} (the rigid problem's λ is not unique; PGS picks one)", spread(&rigid));
+    println!(
+        "brick at rest, compliance {} kg⁻¹: corner λn {compliant:?}, spread {:.2e}",
+        scene.params.compliance,
+        spread(&compliant)
+    );
+    println!(
+        "brick at rest, rigid: corner λn {rigid:?}, spread {:.2e} (the rigid problem's λ is not unique; PGS picks one)",
+        spread(&rigid)
+    );
     assert_eq!(compliant.len(), 4);
-    assert!(spread(&compliant) < 0.01, "compliant corners differ by {:.3}", spread(&compliant));
+    assert!(
+        spread(&compliant) < 0.01,
+        "compliant corners differ by {:.3}",
+        spread(&compliant)
+    );
     // Both carry the weight: Σλn = m g h.
     let weight = 384.0 * 9.8 * 0.01;
     for impulses in [&compliant, &rigid] {
         let total: f64 = impulses.iter().sum();
-        assert!((total - weight).abs() < 1e-6 * weight, "Σλn {total} vs m g h {weight}");
+        assert!(
+            (total - weight).abs() < 1e-6 * weight,
+            "Σλn {total} vs m g h {weight}"
+        );
     }
     // The assignment's brick, falling with spin (scene6), comes to rest on four corners with
     // equal impulses once contacts are compliant.
     if let Some(mut scene) = assignment("scene6.json") {
         scene.params.compliance = 0.01;
         let impulses = corner_impulses(&scene, 500);
-        println!("assignment scene6 with compliance 0.01 after 5 s: λn {impulses:?}, spread {:.2e}", spread(&impulses));
+        println!(
+            "assignment scene6 with compliance 0.01 after 5 s: λn {impulses:?}, spread {:.2e}",
+            spread(&impulses)
+        );
         assert_eq!(impulses.len(), 4);
         assert!(spread(&impulses) < 0.01);
     }
@@ -171,7 +228,11 @@ fn slide(scene: &Scene) -> (f64, u64) {
 fn sliding_box_stops_after_v0_squared_over_2_mu_g() {
     let scene = canonical("sliding_box.json");
     let v0 = scene.bodies[0].v0.norm();
-    let (mu, g, h) = (scene.params.mu, scene.params.gravity.norm(), scene.params.h());
+    let (mu, g, h) = (
+        scene.params.mu,
+        scene.params.gravity.norm(),
+        scene.params.h(),
+    );
     let continuous = v0 * v0 / (2.0 * mu * g);
     // Symplectic Euler loses μ g h of speed per step and moves with the new speed, so it stops
     // short by v0 h / 2 (relative μ g h / v0 = 1% here): docs/contact.md §"Box and cone friction".
@@ -201,7 +262,10 @@ fn frictionless_box_keeps_its_velocity() {
         assert!(!w.frame_contacts.is_empty(), "the box stays on the ground");
     }
     let b = &w.bodies[0];
-    println!("frictionless box after 2 s: v = {:?}, ω = {:?}", b.v, b.omega);
+    println!(
+        "frictionless box after 2 s: v = {:?}, ω = {:?}",
+        b.v, b.omega
+    );
     // Round-off only: the contact impulses are vertical and through symmetric corners.
     assert!((b.v - v0).norm() < 1e-9 * v0.norm());
     assert!(b.omega.norm() < 1e-9);
@@ -227,12 +291,17 @@ fn box_on_incline_sticks_below_the_friction_angle_and_slides_above() {
         }
         let moved = w.bodies[0].x.x - x0.x;
         let expected = 0.5 * g * (theta.sin() - mu * theta.cos()) * t * t;
-        println!("incline tan θ = {ratio} μ: moved {moved:.3e} m in {t} s (sliding would give {expected:.3e} m)");
+        println!(
+            "incline tan θ = {ratio} μ: moved {moved:.3e} m in {t} s (sliding would give {expected:.3e} m)"
+        );
         if sticks {
             assert!(moved.abs() < 1e-9, "tan θ < μ but it moved {moved}");
         } else {
             // Within 3%: the discrete trajectory lags the parabola by a step.
-            assert!((moved - expected).abs() < 0.03 * expected, "moved {moved}, expected {expected}");
+            assert!(
+                (moved - expected).abs() < 0.03 * expected,
+                "moved {moved}, expected {expected}"
+            );
         }
     }
 }
@@ -265,16 +334,29 @@ fn warm_start_at_least_halves_the_iterations_on_a_resting_stack() {
     let warm = mean_sweeps(&scene);
     scene.params.warm_start = false;
     let cold = mean_sweeps(&scene);
-    println!("resting stack of five, residual 1e-8 m/s: {cold:.1} sweeps cold, {warm:.1} warm ({:.1}× fewer)", cold / warm);
-    assert!(cold >= 2.0 * warm, "warm start saves only {:.2}×", cold / warm);
+    println!(
+        "resting stack of five, residual 1e-8 m/s: {cold:.1} sweeps cold, {warm:.1} warm ({:.1}× fewer)",
+        cold / warm
+    );
+    assert!(
+        cold >= 2.0 * warm,
+        "warm start saves only {:.2}×",
+        cold / warm
+    );
 }
 
 #[test]
 fn assignment_scenes_run_five_seconds_with_contact() {
-    let mut scenes: Vec<(String, Scene)> = ["sphere_drop", "sliding_box", "brick_rest", "box_stack", "collision"]
-        .iter()
-        .map(|n| (format!("scenes/{n}.json"), canonical(&format!("{n}.json"))))
-        .collect();
+    let mut scenes: Vec<(String, Scene)> = [
+        "sphere_drop",
+        "sliding_box",
+        "brick_rest",
+        "box_stack",
+        "collision",
+    ]
+    .iter()
+    .map(|n| (format!("scenes/{n}.json"), canonical(&format!("{n}.json"))))
+    .collect();
     if let Some(dir) = common::rigid3d_assignment() {
         for i in 1..=7 {
             let path: PathBuf = dir.join(format!("scenes/scene{i}.json"));
@@ -318,9 +400,15 @@ fn assignment_scenes_run_five_seconds_with_contact() {
             "{what}: deepest {deepest:.4} m, last second {last_second_deepest:.4} m, worst energy rise {worst_rise:.3e} J (bound {energy_bound:.3e} J)"
         );
         assert!(deepest < 0.1, "{what}: {deepest} m deep");
-        assert!(last_second_deepest <= 2.0 * slop, "{what}: {last_second_deepest} m deep in the last second");
+        assert!(
+            last_second_deepest <= 2.0 * slop,
+            "{what}: {last_second_deepest} m deep in the last second"
+        );
         if scene.params.mu > 0.0 && g > 0.0 {
-            assert!(worst_rise <= energy_bound, "{what}: energy rose by {worst_rise} J > {energy_bound} J");
+            assert!(
+                worst_rise <= energy_bound,
+                "{what}: energy rose by {worst_rise} J > {energy_bound} J"
+            );
         }
     }
 }
@@ -337,7 +425,9 @@ fn check_momentum(scene: &Scene, what: &str) {
     let end = w.momentum();
     let dp = (end.linear - start.linear).norm() / start.linear.norm().max(1e-300);
     let dl = (end.angular - start.angular).norm() / start.angular.norm().max(1e-300);
-    println!("{what}: relative change of linear momentum {dp:.2e}, angular momentum about the origin {dl:.2e}");
+    println!(
+        "{what}: relative change of linear momentum {dp:.2e}, angular momentum about the origin {dl:.2e}"
+    );
     // Equal and opposite impulses at one point change neither; 1e-9 is round-off over 300
     // frames with room to spare.
     assert!(dp < 1e-9 && dl < 1e-9, "{what}: Δp {dp:e}, ΔL {dl:e}");

@@ -7,21 +7,32 @@ use common::problems::{build, spec};
 use nalgebra::SVector;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
-use std::cell::Cell;
 use rigidref::problem::json::ProblemFile;
-use rigidref::problem::{ContactProblem, ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
+use rigidref::problem::{
+    ContactProblem, ContactProblem3, FrictionModel, ProblemBody, ProblemContact,
+};
 use rigidref::solve::{ContactOrder, PgsSettings, PgsWorkspace, residual, solve_pgs};
+use std::cell::Cell;
 
 /// Iterations PGS may use on the random frictionless problems below: measured at most a few
 /// hundred sweeps on problems whose Delassus operator has condition number ≤ 1e3 (the printed
 /// maximum), so 20 000 leaves a wide margin without letting a broken solver through.
 const FRICTIONLESS_BUDGET: u32 = 20_000;
 
-fn solve(problem: &ContactProblem3, iterations: u32, tolerance: Option<f64>, order: ContactOrder, seed: u64)
-    -> (Vec<SVector<f64, 3>>, rigidref::solve::SolveReport) {
+fn solve(
+    problem: &ContactProblem3,
+    iterations: u32,
+    tolerance: Option<f64>,
+    order: ContactOrder,
+    seed: u64,
+) -> (Vec<SVector<f64, 3>>, rigidref::solve::SolveReport) {
     let mut workspace = PgsWorkspace::new(seed);
     let mut lambda = Vec::new();
-    let settings = PgsSettings { max_iterations: iterations, tolerance, order };
+    let settings = PgsSettings {
+        max_iterations: iterations,
+        tolerance,
+        order,
+    };
     let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     (lambda, report)
 }
@@ -76,10 +87,16 @@ fn one_contact(b: [f64; 3], mu: f64) -> ContactProblem3 {
     let frame = rigidref::contact::ContactFrame::from_normal(&nalgebra::Vector3::y());
     ContactProblem {
         friction: FrictionModel::Box,
-        bodies: vec![ProblemBody { inverse_mass, velocity: SVector::zeros() }],
+        bodies: vec![ProblemBody {
+            inverse_mass,
+            velocity: SVector::zeros(),
+        }],
         contacts: vec![ProblemContact {
             bodies: [Some(0), None],
-            jacobian: [rigidref::contact::jacobian_block(&frame, &nalgebra::Vector3::zeros()), Default::default()],
+            jacobian: [
+                rigidref::contact::jacobian_block(&frame, &nalgebra::Vector3::zeros()),
+                Default::default(),
+            ],
             b: SVector::from(b),
             mu,
             compliance: 0.0,
@@ -141,15 +158,31 @@ fn cone_friction_impulses_stay_in_the_disk_and_converge() {
         let independent = residual(&problem, &lambda);
         prop_assert!((independent - report.residual).abs() <= 1e-12);
     });
-    println!("cone friction, box on the ground: at most {} sweeps to residual 1e-9 m/s", most_sweeps.get());
+    println!(
+        "cone friction, box on the ground: at most {} sweeps to residual 1e-9 m/s",
+        most_sweeps.get()
+    );
 }
 
 /// The project's 0.5 m box (125 kg) on the ground with its four bottom corners in contact,
 /// moving with velocity `v` and angular velocity `w`.
-fn box_on_ground(v: nalgebra::Vector3<f64>, w: nalgebra::Vector3<f64>, mu: f64, friction: FrictionModel) -> ContactProblem3 {
+fn box_on_ground(
+    v: nalgebra::Vector3<f64>,
+    w: nalgebra::Vector3<f64>,
+    mu: f64,
+    friction: FrictionModel,
+) -> ContactProblem3 {
     use rigidref::assemble::{ProblemSettings, assemble_problem};
-    let mesh = std::sync::Arc::new(rigidref::mesh::TriMesh::load_obj(&common::project_root().join("scenes/data/box.obj")).unwrap());
-    let mut body = rigidref::body::RigidBody::new("box", 125.0, nalgebra::Matrix3::identity() * (125.0 * 0.5 / 12.0 * 0.5 * 2.0), mesh);
+    let mesh = std::sync::Arc::new(
+        rigidref::mesh::TriMesh::load_obj(&common::project_root().join("scenes/data/box.obj"))
+            .unwrap(),
+    );
+    let mut body = rigidref::body::RigidBody::new(
+        "box",
+        125.0,
+        nalgebra::Matrix3::identity() * (125.0 * 0.5 / 12.0 * 0.5 * 2.0),
+        mesh,
+    );
     body.x = nalgebra::Vector3::new(0.0, 0.249, 0.0);
     body.v = v;
     body.omega = w;
@@ -157,8 +190,20 @@ fn box_on_ground(v: nalgebra::Vector3<f64>, w: nalgebra::Vector3<f64>, mu: f64, 
     let mut contacts = Vec::new();
     rigidref::collide::ground::ground_contacts(0, &body, &mut contacts);
     assert_eq!(contacts.len(), 4);
-    let settings = ProblemSettings { h: 0.01, mu, friction, compliance: 0.0, stabilization: 0.0, slop: 0.0 };
-    assemble_problem(&[body], &contacts, &settings, &rigidref::warm_start::WarmStart::new(false))
+    let settings = ProblemSettings {
+        h: 0.01,
+        mu,
+        friction,
+        compliance: 0.0,
+        stabilization: 0.0,
+        slop: 0.0,
+    };
+    assemble_problem(
+        &[body],
+        &contacts,
+        &settings,
+        &rigidref::warm_start::WarmStart::new(false),
+    )
 }
 
 #[test]
@@ -173,7 +218,10 @@ fn cone_friction_opposes_diagonal_sliding_and_box_friction_does_not() {
     let (lambda, report) = solve(&p, 100, None, ContactOrder::Sequential, 0);
     assert!(report.residual < 1e-12, "{report:?}");
     let expected = -1.0 / 2f64.sqrt();
-    assert!((lambda[0] - SVector::from([2.0, expected, expected])).amax() < 1e-12, "{lambda:?}");
+    assert!(
+        (lambda[0] - SVector::from([2.0, expected, expected])).amax() < 1e-12,
+        "{lambda:?}"
+    );
     p.friction = FrictionModel::Box;
     let (lambda, _) = solve(&p, 100, None, ContactOrder::Sequential, 0);
     assert_eq!(lambda[0], SVector::from([2.0, -1.0, -1.0]));
@@ -188,10 +236,22 @@ fn random_contact_order_is_reproducible_from_its_seed() {
     let (b, _) = solve(&problem, 30, None, ContactOrder::Random, 7);
     let (c, _) = solve(&problem, 30, None, ContactOrder::Random, 8);
     let (d, _) = solve(&problem, 30, None, ContactOrder::Sequential, 7);
-    let bits = |l: &[SVector<f64, 3>]| l.iter().flat_map(|v| v.iter().map(|x| x.to_bits())).collect::<Vec<_>>();
+    let bits = |l: &[SVector<f64, 3>]| {
+        l.iter()
+            .flat_map(|v| v.iter().map(|x| x.to_bits()))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(bits(&a), bits(&b), "same seed, same answer to the bit");
-    assert_ne!(bits(&a), bits(&c), "another seed visits the contacts in another order");
-    assert_ne!(bits(&a), bits(&d), "the random order differs from the sequential one");
+    assert_ne!(
+        bits(&a),
+        bits(&c),
+        "another seed visits the contacts in another order"
+    );
+    assert_ne!(
+        bits(&a),
+        bits(&d),
+        "the random order differs from the sequential one"
+    );
 }
 
 #[test]
@@ -209,10 +269,16 @@ fn problem_file_round_trips_exactly() {
     // A 2D problem (3 DOF per body, 2 rows) through the same file.
     let problem: ContactProblem<3, 2> = ContactProblem {
         friction: FrictionModel::Box,
-        bodies: vec![ProblemBody { inverse_mass: nalgebra::Matrix3::identity() * 0.25, velocity: nalgebra::Vector3::new(1.0, -2.0, 0.5) }],
+        bodies: vec![ProblemBody {
+            inverse_mass: nalgebra::Matrix3::identity() * 0.25,
+            velocity: nalgebra::Vector3::new(1.0, -2.0, 0.5),
+        }],
         contacts: vec![ProblemContact {
             bodies: [Some(0), None],
-            jacobian: [nalgebra::SMatrix::<f64, 2, 3>::new(0.0, 1.0, 0.3, 1.0, 0.0, -0.2), Default::default()],
+            jacobian: [
+                nalgebra::SMatrix::<f64, 2, 3>::new(0.0, 1.0, 0.3, 1.0, 0.0, -0.2),
+                Default::default(),
+            ],
             b: nalgebra::Vector2::new(-2.0, 1.0),
             mu: 0.33,
             compliance: 0.0,
@@ -220,10 +286,16 @@ fn problem_file_round_trips_exactly() {
         }],
     };
     let text = serde_json::to_string(&ProblemFile::new(&problem)).unwrap();
-    let back: ContactProblem<3, 2> = serde_json::from_str::<ProblemFile>(&text).unwrap().to_problem().unwrap();
+    let back: ContactProblem<3, 2> = serde_json::from_str::<ProblemFile>(&text)
+        .unwrap()
+        .to_problem()
+        .unwrap();
     assert_eq!(back, problem);
     // A malformed file names what is wrong.
     let bad = text.replace("\"mu\":0.33", "\"mu\":-1.0");
-    let err = serde_json::from_str::<ProblemFile>(&bad).unwrap().to_problem::<3, 2>().unwrap_err();
+    let err = serde_json::from_str::<ProblemFile>(&bad)
+        .unwrap()
+        .to_problem::<3, 2>()
+        .unwrap_err();
     assert!(err.contains("mu must be ≥ 0"), "{err}");
 }

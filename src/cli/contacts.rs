@@ -64,7 +64,9 @@ struct ContactJson {
 }
 
 fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>> {
-    (0..A).map(|i| (0..B).map(|j| m[(i, j)]).collect()).collect()
+    (0..A)
+        .map(|i| (0..B).map(|j| m[(i, j)]).collect())
+        .collect()
 }
 
 /// Runs the scene to the chosen step and prints its contacts.
@@ -78,10 +80,15 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
         scene.params.check_collisions = true;
     }
     if !(args.time.is_finite() && args.time > 0.0) {
-        bail!("--time must be a positive number of seconds, got {}", args.time);
+        bail!(
+            "--time must be a positive number of seconds, got {}",
+            args.time
+        );
     }
     if args.step == Some(0) {
-        bail!("--step counts frames from 1 (step 0 is the initial state, before any contact solve)");
+        bail!(
+            "--step counts frames from 1 (step 0 is the initial state, before any contact solve)"
+        );
     }
     let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
     let limit = match args.step {
@@ -113,8 +120,11 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
             .iter()
             .find(|c| c.substep == s)
             .with_context(|| {
-                let had: Vec<String> =
-                    world.frame_contacts.iter().map(|c| c.substep.to_string()).collect();
+                let had: Vec<String> = world
+                    .frame_contacts
+                    .iter()
+                    .map(|c| c.substep.to_string())
+                    .collect();
                 format!(
                     "substep {s} of step {} has no contacts (substeps with contacts: {})",
                     world.step,
@@ -189,7 +199,9 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
         println!("  n      = {}   depth = {:.6e} m", fmt3(&c.n), c.depth);
         println!("  t1     = {}", fmt3(&c.t1));
         println!("  t2     = {}", fmt3(&c.t2));
-        println!("  J      =            v1 (x y z)                      ω1 (x y z)                      v2 (x y z)                      ω2 (x y z)");
+        println!(
+            "  J      =            v1 (x y z)                      ω1 (x y z)                      v2 (x y z)                      ω2 (x y z)"
+        );
         for (row, name) in c.jacobian.iter().zip(["n ", "t1", "t2"]) {
             let cells: Vec<String> = row.iter().map(|x| format!("{x:>10.4}")).collect();
             println!("    {name}   {}", cells.join(" "));
@@ -206,7 +218,11 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
         }
         println!("  b      = {} m/s", fmt3(&c.b));
         println!("  λ0     = {} N·s", fmt3(&c.lambda0));
-        println!("  λ      = {} N·s  (force λ/h = {} N)", fmt3(&c.lambda), fmt3(&c.lambda.map(|l| l / out.h)));
+        println!(
+            "  λ      = {} N·s  (force λ/h = {} N)",
+            fmt3(&c.lambda),
+            fmt3(&c.lambda.map(|l| l / out.h))
+        );
     }
     Ok(())
 }

@@ -13,7 +13,7 @@ pub struct Aabb {
 
 impl Aabb {
     /// The box around `points`.
-    pub fn around<'a>(points: impl IntoIterator<Item = Vector3<f64>>) -> Aabb {
+    pub fn around(points: impl IntoIterator<Item = Vector3<f64>>) -> Aabb {
         let mut b = Aabb {
             min: Vector3::repeat(f64::INFINITY),
             max: Vector3::repeat(f64::NEG_INFINITY),

@@ -49,11 +49,7 @@ impl MeshCollider {
     /// Fails only for a mesh parry cannot build (no triangles, or a topology it rejects).
     pub fn new(mesh: std::sync::Arc<TriMesh>) -> Result<MeshCollider, String> {
         let vertices = mesh.vertices.iter().map(to_parry).collect();
-        let indices = mesh
-            .triangles
-            .iter()
-            .map(|t| t.map(|i| i as u32))
-            .collect();
+        let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
         let shape = ParryTriMesh::with_flags(vertices, indices, TriMeshFlags::ORIENTED)
             .map_err(|e| format!("cannot build the collision mesh: {e:?}"))?;
         let local_box = Aabb::around(mesh.vertices.iter().copied());
@@ -67,14 +63,20 @@ impl MeshCollider {
 
     /// The body's world bounding box (of its transformed vertices).
     pub fn world_aabb(&self, body: &RigidBody) -> Aabb {
-        Aabb::around(self.mesh.vertices.iter().map(|v| body.x + body.rotation * v))
+        Aabb::around(
+            self.mesh
+                .vertices
+                .iter()
+                .map(|v| body.x + body.rotation * v),
+        )
     }
 
     /// Signed distance from `p` (body frame) to the surface, through the BVH. Same meaning as
     /// [`super::closest_point::brute_force_signed_distance`].
     pub fn signed_distance(&self, p: &Vector3<f64>) -> SignedDistance {
-        let (projection, (triangle, _)) =
-            self.shape.project_local_point_and_get_location(to_parry(p), false);
+        let (projection, (triangle, _)) = self
+            .shape
+            .project_local_point_and_get_location(to_parry(p), false);
         let closest = from_parry(projection.point);
         let distance = (closest - p).norm();
         let t = self.mesh.triangles[triangle as usize];
@@ -90,7 +92,11 @@ impl MeshCollider {
             face_normal
         };
         SignedDistance {
-            distance: if projection.is_inside { -distance } else { distance },
+            distance: if projection.is_inside {
+                -distance
+            } else {
+                distance
+            },
             closest,
             normal,
             triangle: triangle as usize,
@@ -122,7 +128,9 @@ pub fn vertex_contacts(
             continue;
         }
         let sd = collider_j.signed_distance(&in_j);
-        if sd.distance < -SURFACE_TOLERANCE * collider_j.radius && sd.normal.iter().all(|x| x.is_finite()) {
+        if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
+            && sd.normal.iter().all(|x| x.is_finite())
+        {
             let normal = (body_j.rotation * sd.normal).normalize();
             out.push(Contact {
                 body1: i,

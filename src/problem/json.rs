@@ -103,7 +103,9 @@ pub struct SolutionJson {
 }
 
 fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>> {
-    (0..A).map(|i| (0..B).map(|j| m[(i, j)]).collect()).collect()
+    (0..A)
+        .map(|i| (0..B).map(|j| m[(i, j)]).collect())
+        .collect()
 }
 
 fn matrix<const A: usize, const B: usize>(
@@ -167,7 +169,9 @@ impl ProblemFile {
 
     /// The problem in the file, checked: dimensions D and R must match the file's, every array
     /// must have its size, and [`ContactProblem::validate`] must pass.
-    pub fn to_problem<const D: usize, const R: usize>(&self) -> Result<ContactProblem<D, R>, String> {
+    pub fn to_problem<const D: usize, const R: usize>(
+        &self,
+    ) -> Result<ContactProblem<D, R>, String> {
         if self.format != PROBLEM_FORMAT {
             return Err(format!(
                 "format is {:?}, expected {PROBLEM_FORMAT:?}",
@@ -206,7 +210,9 @@ impl ProblemFile {
                     match i {
                         -1 => Ok(None),
                         i if i >= 0 => Ok(Some(i as usize)),
-                        i => Err(format!("contacts[{k}].bodies: index {i} (use −1 for the static world)")),
+                        i => Err(format!(
+                            "contacts[{k}].bodies: index {i} (use −1 for the static world)"
+                        )),
                     }
                 };
                 Ok(ProblemContact {

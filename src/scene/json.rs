@@ -4,10 +4,10 @@
 use super::values::{
     Count, Fraction, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping,
 };
-use crate::problem::FrictionModel;
-use crate::solve::ContactOrder;
 use super::{SceneError, SimParameters};
 use crate::body::AngularIntegrator;
+use crate::problem::FrictionModel;
+use crate::solve::ContactOrder;
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
 
@@ -66,7 +66,9 @@ impl SimParametersJson {
             integrator: self.integrator.unwrap_or_default(),
             friction_model: self.friction_model.unwrap_or_default(),
             compliance: self.compliance.map_or(0.0, |x| x.0),
-            stabilization: self.stabilization.map_or(super::DEFAULT_STABILIZATION, |x| x.0),
+            stabilization: self
+                .stabilization
+                .map_or(super::DEFAULT_STABILIZATION, |x| x.0),
             stabilization_slop: self.stabilization_slop.map_or(super::DEFAULT_SLOP, |x| x.0),
             warm_start: self.warm_start.unwrap_or(true),
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),

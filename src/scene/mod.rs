@@ -9,9 +9,9 @@ pub mod values;
 pub use embedded::{DEFAULT_SCENE_NAME, default_scene};
 
 use crate::body::AngularIntegrator;
+use crate::mesh::TriMesh;
 use crate::problem::FrictionModel;
 use crate::solve::ContactOrder;
-use crate::mesh::TriMesh;
 use nalgebra::{Matrix3, Vector3};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

@@ -14,7 +14,17 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
 /// The order in which a sweep visits the contacts.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "snake_case")]
 pub enum ContactOrder {
     /// Problem order, every sweep (the assignment's).
@@ -102,7 +112,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         let mut w = c.b[r];
         for s in 0..2 {
             if let Some(b) = c.bodies[s] {
-                w += c.jacobian[s].row(r).transpose().dot(&self.delta_velocity[b]);
+                w += c.jacobian[s]
+                    .row(r)
+                    .transpose()
+                    .dot(&self.delta_velocity[b]);
             }
         }
         w
@@ -174,11 +187,11 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             solve_contact(problem, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
-        if let Some(tolerance) = settings.tolerance {
-            if workspace.residual(problem, lambda) <= tolerance {
-                converged = true;
-                break;
-            }
+        if let Some(tolerance) = settings.tolerance
+            && workspace.residual(problem, lambda) <= tolerance
+        {
+            converged = true;
+            break;
         }
     }
     SolveReport {

@@ -62,11 +62,17 @@ pub mod problems {
             .prop_map(|v| v.normalize())
     }
 
+    /// A random body: mass (kg), principal moments (kg·m²), rotation vector, position (m).
+    pub type BodySpec = (f64, [f64; 3], Vector3<f64>, Vector3<f64>);
+    /// A random contact: body 1 and body 2 choices (reduced modulo the body count; body 2 may
+    /// come out as the ground), point (m), normal, b (m/s).
+    pub type ContactSpec = (usize, usize, Vector3<f64>, Vector3<f64>, SVector<f64, 3>);
+
     /// What a random problem is made of.
     #[derive(Clone, Debug)]
     pub struct ProblemSpec {
-        pub bodies: Vec<(f64, [f64; 3], Vector3<f64>, Vector3<f64>)>,
-        pub contacts: Vec<(usize, usize, Vector3<f64>, Vector3<f64>, SVector<f64, 3>)>,
+        pub bodies: Vec<BodySpec>,
+        pub contacts: Vec<ContactSpec>,
     }
 
     /// `bodies` bodies (mass 1–100 kg, principal moments 0.1–10 kg·m², random orientation, centre
@@ -76,7 +82,12 @@ pub mod problems {
         bodies: std::ops::Range<usize>,
         contacts: std::ops::Range<usize>,
     ) -> impl Strategy<Value = ProblemSpec> {
-        let body = (1.0..100.0f64, (0.1..10.0f64, 0.1..10.0f64, 0.1..10.0f64), vector(3.0), vector(1.0))
+        let body = (
+            1.0..100.0f64,
+            (0.1..10.0f64, 0.1..10.0f64, 0.1..10.0f64),
+            vector(3.0),
+            vector(1.0),
+        )
             .prop_map(|(m, (a, b, c), w, x)| {
                 let mut moments = [a, b, c];
                 moments.sort_by(f64::total_cmp);
@@ -94,7 +105,12 @@ pub mod problems {
 
     /// The problem: assembled from the random bodies and contacts by the project's own assembly
     /// (so its Jacobians are real contact Jacobians), then b replaced by the random one.
-    pub fn build(spec: &ProblemSpec, mu: f64, compliance: f64, friction: FrictionModel) -> ContactProblem3 {
+    pub fn build(
+        spec: &ProblemSpec,
+        mu: f64,
+        compliance: f64,
+        friction: FrictionModel,
+    ) -> ContactProblem3 {
         let bodies: Vec<_> = spec
             .bodies
             .iter()
@@ -113,11 +129,29 @@ pub mod problems {
             .iter()
             .map(|&(a, b, p, normal, _)| {
                 let body1 = a % n;
-                let body2 = if b % (n + 1) == n || b % (n + 1) == body1 { None } else { Some(b % (n + 1)) };
-                Contact { body1, body2, vertex: 0, point: p, frame: ContactFrame::from_normal(&normal), depth: 0.0 }
+                let body2 = if b % (n + 1) == n || b % (n + 1) == body1 {
+                    None
+                } else {
+                    Some(b % (n + 1))
+                };
+                Contact {
+                    body1,
+                    body2,
+                    vertex: 0,
+                    point: p,
+                    frame: ContactFrame::from_normal(&normal),
+                    depth: 0.0,
+                }
             })
             .collect();
-        let settings = ProblemSettings { h: 0.01, mu, friction, compliance, stabilization: 0.0, slop: 0.0 };
+        let settings = ProblemSettings {
+            h: 0.01,
+            mu,
+            friction,
+            compliance,
+            stabilization: 0.0,
+            slop: 0.0,
+        };
         let mut problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         for (c, s) in problem.contacts.iter_mut().zip(&spec.contacts) {
             c.b = s.4;
