@@ -27,7 +27,7 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     integrator        angular velocity update: \"spatial\" (the assignment's explicit
                       spatial-frame scheme; default), \"body\" (the same equations in
                       the body frame), \"implicit_gyroscopic\" (implicit Euler on the
-                      ω×Jω term, one Newton step: stable at high spin)
+                      ω×Jω term, solved by Newton: stable at high spin)
     friction_model    \"box\" (each tangent impulse in [−μλn, μλn]; default) or
                       \"cone\" (the tangent pair in the disk of radius μλn)
     compliance        c ≥ 0 added to each normal row's diagonal, kg⁻¹ (constraint
