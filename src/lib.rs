@@ -23,6 +23,7 @@ pub mod assemble;
 pub mod body;
 pub mod collide;
 pub mod contact;
+pub mod crosscheck;
 pub mod diagnostics;
 pub mod massprops;
 pub mod mesh;

@@ -2,9 +2,11 @@
 //!
 //! - [`pgs`]: projected Gauss–Seidel with delta velocities (Erleben 2007), the project's solver;
 //! - [`residual`]: the natural-map residual that says how far a λ is from a solution, for any
-//!   solver's answer.
+//!   solver's answer;
+//! - [`qp`]: the same problem as a convex QP/SOCP solved by clarabel, the independent reference.
 
 pub mod pgs;
+pub mod qp;
 pub mod residual;
 
 pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};

@@ -103,6 +103,37 @@ pub mod problems {
             .prop_map(|(bodies, contacts)| ProblemSpec { bodies, contacts })
     }
 
+    /// Bodies as real bodies are: principal moments m ρ² k with ρ = 1 m and k ∈ [0.1, 0.4] (a
+    /// sphere has 0.4, a cube 1/6), contacts at points within 0.8 m of body 1's centre. The mass
+    /// and lever arms match, unlike [`spec`]'s, whose independent masses and moments include
+    /// thin rods struck at the far end.
+    pub fn physical_spec(
+        bodies: std::ops::Range<usize>,
+        contacts: std::ops::Range<usize>,
+    ) -> impl Strategy<Value = ProblemSpec> {
+        let body = (1.0..100.0f64, (0.1..0.4f64, 0.1..0.4f64, 0.1..0.4f64), vector(3.0), vector(1.0))
+            .prop_map(|(m, (a, b, c), w, x)| {
+                let mut moments = [m * a, m * b, m * c];
+                moments.sort_by(f64::total_cmp);
+                moments[2] = moments[2].min(0.99 * (moments[0] + moments[1]));
+                (m, moments, w, x)
+            });
+        let contact = (0usize..8, 0usize..8, vector(0.8 / 3f64.sqrt()), unit(), vector(2.0))
+            .prop_map(|(a, b, p, n, rhs)| (a, b, p, n, SVector::<f64, 3>::from(rhs)));
+        (
+            proptest::collection::vec(body, bodies),
+            proptest::collection::vec(contact, contacts),
+        )
+            .prop_map(|(bodies, mut contacts)| {
+                // Contact points relative to body 1's centre.
+                let n = bodies.len();
+                for c in &mut contacts {
+                    c.2 += bodies[c.0 % n].3;
+                }
+                ProblemSpec { bodies, contacts }
+            })
+    }
+
     /// The problem: assembled from the random bodies and contacts by the project's own assembly
     /// (so its Jacobians are real contact Jacobians), then b replaced by the random one.
     pub fn build(
