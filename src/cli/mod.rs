@@ -2,7 +2,9 @@
 //! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1.
 
 mod contacts;
+mod crosscheck;
 mod massprops;
+mod rapier;
 mod run;
 mod scene;
 
@@ -30,6 +32,9 @@ enum Command {
     Scene(scene::SceneArgs),
     /// Print one step's contacts: point, frame, depth, Jacobian, Delassus block, b and λ.
     Contacts(contacts::ContactsArgs),
+    /// Solve every contact problem of a run (or problem files) with PGS and clarabel and compare;
+    /// or, with --rapier, compare the run with a rapier3d mirror.
+    Crosscheck(crosscheck::CrosscheckArgs),
 }
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
@@ -40,6 +45,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Massprops(args)) => massprops::massprops(args),
         Some(Command::Scene(args)) => scene::scene(args),
         Some(Command::Contacts(args)) => contacts::contacts(args),
+        Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
         None => run::run(cli.run),
     }
 }

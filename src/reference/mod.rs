@@ -2,3 +2,5 @@
 //! calls these; they share no integration code with it.
 
 pub mod euler;
+pub mod compare;
+pub mod rapier;

@@ -76,10 +76,12 @@ pub struct QpSettings {
 }
 
 impl Default for QpSettings {
-    /// 1e-11: tight enough that clarabel's own error is far below the 1e-5 agreement checked.
+    /// 1e-10 (on the scaled problem): measured over 3000 random problems, the tightest
+    /// tolerance clarabel reaches cleanly on nearly all (4 reported reduced accuracy; 1e-11: 91,
+    /// 1e-12: 381), with λ within 4e-6 of PGS's converged answer.
     fn default() -> Self {
         QpSettings {
-            tolerance: 1e-11,
+            tolerance: 1e-10,
             max_iterations: 200,
         }
     }
@@ -118,12 +120,17 @@ pub fn solve_qp<const D: usize, const R: usize>(
             ));
         }
     }
-    // Objective: P = A + C (clarabel keeps the upper triangle), q = b.
+    // Objective: P = A + C (clarabel keeps the upper triangle), q = b, in scaled variables
+    // λ = S x with S = diag(1/√P_ii): P's diagonal becomes 1, so clarabel's absolute
+    // tolerances mean the same for a 1 kg body and a 10 t one.
     let p_dense = problem.dense_delassus() + problem.dense_compliance();
+    let scale: Vec<f64> = (0..n)
+        .map(|i| if p_dense[(i, i)] > 0.0 { 1.0 / p_dense[(i, i)].sqrt() } else { 1.0 })
+        .collect();
     let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
     for j in 0..n {
         for i in 0..=j {
-            let v = 0.5 * (p_dense[(i, j)] + p_dense[(j, i)]);
+            let v = 0.5 * (p_dense[(i, j)] + p_dense[(j, i)]) * scale[i] * scale[j];
             if v != 0.0 {
                 pi.push(i);
                 pj.push(j);
@@ -132,7 +139,7 @@ pub fn solve_qp<const D: usize, const R: usize>(
         }
     }
     let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
-    let q: Vec<f64> = problem.dense_b().iter().copied().collect();
+    let q: Vec<f64> = problem.dense_b().iter().zip(&scale).map(|(b, s)| b * s).collect();
 
     // Constraints A x + s = b_c, s in the cones, rows grouped by cone in clarabel's order.
     let mut rows = ConstraintRows::default();
@@ -175,7 +182,9 @@ pub fn solve_qp<const D: usize, const R: usize>(
             rows.close_cone(SupportedConeT::SecondOrderConeT);
         }
     }
-    let a = CscMatrix::new_from_triplets(rows.b.len(), n, rows.i, rows.j, rows.v);
+    // Constraint coefficients act on λ = S x.
+    let scaled: Vec<f64> = rows.v.iter().zip(&rows.j).map(|(v, &j)| v * scale[j]).collect();
+    let a = CscMatrix::new_from_triplets(rows.b.len(), n, rows.i, rows.j, scaled);
     let (bc, cones) = (rows.b, rows.cones);
 
     let mut s = DefaultSettings::<f64> {
@@ -193,7 +202,7 @@ pub fn solve_qp<const D: usize, const R: usize>(
     solver.solve();
     let x = &solver.solution.x;
     let lambda: Vec<SVector<f64, R>> = (0..k_count)
-        .map(|k| SVector::<f64, R>::from_fn(|r, _| x[R * k + r]))
+        .map(|k| SVector::<f64, R>::from_fn(|r, _| x[R * k + r] * scale[R * k + r]))
         .collect();
     let status = solver.solution.status;
     Ok(QpSolution {

@@ -1,0 +1,290 @@
+//! `rigidref crosscheck`: every contact problem of a run (or of problem files) solved by PGS run
+//! to convergence and by clarabel, and compared. docs/verification.md §"clarabel".
+
+use anyhow::{Context, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use rigidref::crosscheck::{Comparison, CrosscheckSettings, ProblemCheck, check_problem};
+use rigidref::problem::json::ProblemFile;
+use rigidref::world::World;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Arguments of `rigidref crosscheck`.
+#[derive(Args)]
+#[command(after_long_help = "\
+For every contact problem, PGS is run to convergence (residual 1e-12 m/s, at most 200000
+sweeps; not the scene's pgs_iterations) and clarabel solves the convex program with the same
+solution: the frictionless QP when μ = 0, else the QP (box) or SOCP (cone) with the friction
+bounds fixed at PGS's normal impulses, which PGS's answer must minimise. Where the objective is
+strictly convex on the free rows, λ is unique and compared: ‖λ_pgs − λ_qp‖ / max(‖λ_qp‖, λ_ref)
+with λ_ref = ‖b‖ / max diag(A + C). Where it is not (a rigid brick resting on four corners),
+only the optimal value is, and the relative objective gap is compared. For cone friction the
+report also gives the distance to Anitescu's relaxation (the SOCP with no fixed data), which
+differs from PGS wherever a contact slides.
+
+Coupled friction is not a monotone problem; where PGS cannot converge, the problem is reported
+as unverified, not compared. Exit status 1 when any comparison exceeds its tolerance or clarabel
+fails. Formulations: docs/contact.md §\"Convex formulations\".")]
+pub struct CrosscheckArgs {
+    /// A scene file, a contact-problem file (from `run --dump-problems`), or a folder of them.
+    /// Without one, the built-in default scene.
+    pub input: Option<PathBuf>,
+    /// Simulated time to run a scene, s.
+    #[arg(long, default_value_t = 5.0)]
+    pub time: f64,
+    /// Largest relative λ difference accepted where λ is unique.
+    #[arg(long, default_value_t = 1e-5)]
+    pub tolerance: f64,
+    /// Largest relative objective gap accepted where λ is not unique.
+    #[arg(long, default_value_t = 1e-8)]
+    pub objective_tolerance: f64,
+    /// Print one line per problem.
+    #[arg(long)]
+    pub table: bool,
+    /// Print the summary (and with --table every problem) as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Compare the scene against a rapier3d mirror instead (docs/verification.md §"rapier3d").
+    #[arg(long)]
+    pub rapier: bool,
+}
+
+/// One problem's check and where it came from.
+#[derive(serde::Serialize)]
+struct Row {
+    source: String,
+    #[serde(flatten)]
+    check: ProblemCheck,
+}
+
+#[derive(serde::Serialize)]
+struct Summary {
+    input: String,
+    problems: usize,
+    compared: usize,
+    unverified: usize,
+    compared_by_lambda: usize,
+    compared_by_objective: usize,
+    max_lambda_difference: f64,
+    median_lambda_difference: f64,
+    max_objective_gap: f64,
+    median_objective_gap: f64,
+    worst: Option<String>,
+    failures: usize,
+    tolerance: f64,
+    objective_tolerance: f64,
+    passed: bool,
+}
+
+/// Runs the cross-check.
+pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
+    if args.rapier {
+        return super::rapier::rapier(&args);
+    }
+    if !(args.tolerance > 0.0 && args.objective_tolerance > 0.0) {
+        bail!("--tolerance and --objective-tolerance must be positive");
+    }
+    let settings = CrosscheckSettings::default();
+    let (input, rows) = match &args.input {
+        Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, &settings)?),
+        Some(path) if is_problem_file(path) => {
+            (path.display().to_string(), vec![check_file(path, &settings)?])
+        }
+        other => {
+            let scene = super::load_scene_or_default(other.as_deref())?;
+            (scene.source.clone(), check_scene(scene, args.time, &settings)?)
+        }
+    };
+    let summary = summarise(&input, &rows, &args);
+    if args.json {
+        let value = if args.table {
+            serde_json::json!({"summary": summary, "problems": rows})
+        } else {
+            serde_json::json!({"summary": summary})
+        };
+        println!("{}", serde_json::to_string_pretty(&value)?);
+    } else {
+        if args.table {
+            println!(
+                "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12}",
+                "problem", "contacts", "formulation", "compared", "disagree", "res PGS", "res QP", "sweeps", "clarabel"
+            );
+            for r in &rows {
+                println!(
+                    "{:<28} {:>8} {:<36} {:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>7} {:<12}",
+                    r.source,
+                    r.check.contacts,
+                    r.check.formulation,
+                    if r.check.comparison == Comparison::Lambda { "λ" } else { "objective" },
+                    r.check.disagreement,
+                    r.check.residual_pgs,
+                    r.check.residual_qp,
+                    r.check.pgs_iterations,
+                    format!("{} ({})", r.check.qp_status, r.check.qp_iterations),
+                );
+            }
+            println!();
+        }
+        print_summary(&summary);
+    }
+    if !summary.passed {
+        bail!(
+            "{input}: {} of {} problems disagree beyond the tolerance (worst: {})",
+            summary.failures,
+            summary.compared,
+            summary.worst.as_deref().unwrap_or("-")
+        );
+    }
+    Ok(())
+}
+
+fn is_problem_file(path: &Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .is_some_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(rigidref::problem::json::PROBLEM_FORMAT))
+}
+
+fn check_file(path: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Row> {
+    let file = ProblemFile::read(path).map_err(|e| anyhow::anyhow!(e))?;
+    let name = path.display().to_string();
+    let check = match (file.dof_per_body, file.rows_per_contact) {
+        (6, 3) => check_problem(&file.to_problem::<6, 3>().map_err(|e| anyhow::anyhow!("{name}: {e}"))?, settings),
+        (3, 2) => check_problem(&file.to_problem::<3, 2>().map_err(|e| anyhow::anyhow!("{name}: {e}"))?, settings),
+        (d, r) => bail!("{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"),
+    }
+    .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+    Ok(Row { source: name, check })
+}
+
+fn check_folder(dir: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Vec<Row>> {
+    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir)
+        .with_context(|| format!("{}: cannot read folder", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    paths.sort();
+    if paths.is_empty() {
+        bail!("{}: no .json problem files in the folder", dir.display());
+    }
+    paths.iter().map(|p| check_file(p, settings)).collect()
+}
+
+fn check_scene(
+    scene: rigidref::scene::Scene,
+    time: f64,
+    settings: &CrosscheckSettings,
+) -> anyhow::Result<Vec<Row>> {
+    if !(time.is_finite() && time > 0.0) {
+        bail!("--time must be a positive number of seconds, got {time}");
+    }
+    if !scene.params.check_collisions {
+        eprintln!("note: {}: check_collisions is false: no contact problems to check", scene.source);
+    }
+    let steps = (time / scene.params.dt + 1e-9).floor().max(1.0) as u64;
+    let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
+    let started = Instant::now();
+    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
+    progress.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut rows = Vec::new();
+    for k in 1..=steps {
+        world
+            .step()
+            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
+        for solve in &world.frame_contacts {
+            let check = check_problem(&solve.problem, settings).map_err(|e| anyhow::anyhow!(e))?;
+            rows.push(Row {
+                source: format!("step {k} substep {}", solve.substep),
+                check,
+            });
+        }
+        if started.elapsed() > Duration::from_secs(1) {
+            progress.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        progress.set_position(k);
+    }
+    progress.finish_and_clear();
+    Ok(rows)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// PGS converged when its residual is at most this (m/s); the run asks for 1e-12.
+const CONVERGED: f64 = 1e-10;
+
+fn summarise(input: &str, rows: &[Row], args: &CrosscheckArgs) -> Summary {
+    let compared: Vec<&Row> = rows.iter().filter(|r| r.check.residual_pgs <= CONVERGED).collect();
+    let by = |c: Comparison| compared.iter().filter(|r| r.check.comparison == c).map(|r| r.check.disagreement).collect::<Vec<_>>();
+    let lambda = by(Comparison::Lambda);
+    let objective = by(Comparison::Objective);
+    let fails = |r: &&&Row| {
+        !(r.check.qp_status == "Solved" || r.check.qp_status == "AlmostSolved")
+            || match r.check.comparison {
+                Comparison::Lambda => r.check.disagreement > args.tolerance,
+                Comparison::Objective => r.check.disagreement > args.objective_tolerance,
+            }
+    };
+    let failures = compared.iter().filter(fails).count();
+    // The worst relative to its own tolerance.
+    let worst = compared
+        .iter()
+        .max_by(|a, b| {
+            let ratio = |r: &Row| {
+                r.check.disagreement
+                    / match r.check.comparison {
+                        Comparison::Lambda => args.tolerance,
+                        Comparison::Objective => args.objective_tolerance,
+                    }
+            };
+            ratio(a).total_cmp(&ratio(b))
+        })
+        .map(|r| format!("{}: {:?} {:.2e}", r.source, r.check.comparison, r.check.disagreement));
+    Summary {
+        input: input.to_string(),
+        problems: rows.len(),
+        compared: compared.len(),
+        unverified: rows.len() - compared.len(),
+        compared_by_lambda: lambda.len(),
+        compared_by_objective: objective.len(),
+        max_lambda_difference: lambda.iter().copied().fold(0.0, f64::max),
+        median_lambda_difference: median(lambda),
+        max_objective_gap: objective.iter().copied().fold(0.0, f64::max),
+        median_objective_gap: median(objective),
+        worst,
+        failures,
+        tolerance: args.tolerance,
+        objective_tolerance: args.objective_tolerance,
+        passed: failures == 0,
+    }
+}
+
+fn print_summary(s: &Summary) {
+    println!("input            {}", s.input);
+    println!(
+        "problems         {} ({} compared: {} by λ, {} by objective; {} unverified: PGS did not converge)",
+        s.problems, s.compared, s.compared_by_lambda, s.compared_by_objective, s.unverified
+    );
+    println!(
+        "λ difference     max {:.2e}, median {:.2e} (tolerance {:.0e})",
+        s.max_lambda_difference, s.median_lambda_difference, s.tolerance
+    );
+    println!(
+        "objective gap    max {:.2e}, median {:.2e} (tolerance {:.0e})",
+        s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
+    );
+    println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
+    println!(
+        "result           {}",
+        if s.passed { "agree".to_string() } else { format!("{} problems disagree", s.failures) }
+    );
+}
