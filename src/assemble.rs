@@ -24,6 +24,8 @@ pub struct ProblemSettings {
     pub stabilization: f64,
     /// Penetration left alone by stabilisation, m.
     pub slop: f64,
+    /// Deliberate bugs (tests only; [`crate::faults`]).
+    pub faults: crate::faults::Faults,
 }
 
 /// The contact problem of the current substep: every body (its world M⁻¹ and velocity after the
@@ -46,7 +48,10 @@ pub fn assemble_problem(
         .iter()
         .map(|c| {
             let body1 = &bodies[c.body1];
-            let j1 = jacobian_block(&c.frame, &(c.point - body1.x));
+            let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
+            if settings.faults.jacobian_sign_flip {
+                j1.column_mut(3).neg_mut();
+            }
             let j2 = match c.body2 {
                 Some(b) => -jacobian_block(&c.frame, &(c.point - bodies[b].x)),
                 None => SMatrix::zeros(),

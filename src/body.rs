@@ -69,6 +69,8 @@ pub struct RigidBody {
     pub inertia_world_inv: Matrix3<f64>,
     /// The shape in the body frame (centre of mass at the origin), m.
     pub mesh: Arc<TriMesh>,
+    /// Deliberate bugs (tests only; [`crate::faults`]). Off by default.
+    pub faults: crate::faults::Faults,
 }
 
 impl RigidBody {
@@ -91,6 +93,7 @@ impl RigidBody {
             inertia_world: inertia_body,
             inertia_world_inv: inertia_body_inv,
             mesh,
+            faults: crate::faults::Faults::NONE,
         };
         body.update_world_inertia();
         body
@@ -115,7 +118,10 @@ impl RigidBody {
         self.v += self.force * (h * self.inv_mass);
         self.omega = match integrator {
             AngularIntegrator::Spatial => {
-                let gyroscopic = self.omega.cross(&(self.inertia_world * self.omega));
+                let mut gyroscopic = self.omega.cross(&(self.inertia_world * self.omega));
+                if self.faults.no_gyroscopic_term {
+                    gyroscopic = Vector3::zeros();
+                }
                 self.omega + self.inertia_world_inv * (self.torque - gyroscopic) * h
             }
             AngularIntegrator::Body => {
@@ -145,7 +151,11 @@ impl RigidBody {
 
     /// J = R J₀ Rᵀ and J⁻¹ = R J₀⁻¹ Rᵀ. docs/dynamics.md §"World inertia".
     pub fn update_world_inertia(&mut self) {
-        let r = self.rotation;
+        let r = if self.faults.transposed_world_inertia {
+            self.rotation.transpose()
+        } else {
+            self.rotation
+        };
         self.inertia_world = r * self.inertia_body * r.transpose();
         self.inertia_world_inv = r * self.inertia_body_inv * r.transpose();
     }

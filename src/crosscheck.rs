@@ -74,6 +74,7 @@ impl Default for CrosscheckSettings {
                 max_iterations: 200_000,
                 tolerance: Some(1e-12),
                 order: crate::solve::ContactOrder::Sequential,
+                faults: crate::faults::Faults::NONE,
             },
             qp: QpSettings::default(),
             uniqueness_threshold: 1e-8,
@@ -105,7 +106,11 @@ fn solve_precisely<const D: usize, const R: usize>(
     let second = solve_qp(problem, formulation, &looser)?;
     let r1 = residual(problem, &first.lambda);
     let r2 = residual(problem, &second.lambda);
-    Ok(if second.solved && (r2 < r1 || !first.solved) { second } else { first })
+    Ok(if second.solved && (r2 < r1 || !first.solved) {
+        second
+    } else {
+        first
+    })
 }
 
 /// Runs PGS to convergence and clarabel on `problem` and compares them.
@@ -156,7 +161,11 @@ pub fn check_problem<const D: usize, const R: usize>(
     let lambda_scale = norm(&qp.lambda).max(lambda_ref).max(1e-300);
     let lambda_difference = norm(&difference) / lambda_scale;
     let f_pgs = objective(problem, &lambda);
-    let f_scale = qp.objective.abs().max(0.5 * b_norm * lambda_ref).max(1e-300);
+    let f_scale = qp
+        .objective
+        .abs()
+        .max(0.5 * b_norm * lambda_ref)
+        .max(1e-300);
     let objective_gap = (f_pgs - qp.objective).abs() / f_scale;
     let comparison = if unique {
         Comparison::Lambda
@@ -165,7 +174,11 @@ pub fn check_problem<const D: usize, const R: usize>(
     };
     let anitescu = if !frictionless && problem.friction == FrictionModel::Cone {
         let relaxed = solve_precisely(problem, &QpFormulation::Cone, &settings.qp)?;
-        let d: Vec<SVector<f64, R>> = lambda.iter().zip(&relaxed.lambda).map(|(a, b)| a - b).collect();
+        let d: Vec<SVector<f64, R>> = lambda
+            .iter()
+            .zip(&relaxed.lambda)
+            .map(|(a, b)| a - b)
+            .collect();
         let w = problem.constraint_velocity(&lambda);
         // Sliding: a pressed contact whose tangential velocity is not zero.
         let sliding = lambda.iter().zip(&w).any(|(l, w)| {
@@ -182,7 +195,11 @@ pub fn check_problem<const D: usize, const R: usize>(
         comparison,
         lambda_difference,
         objective_gap,
-        disagreement: if unique { lambda_difference } else { objective_gap },
+        disagreement: if unique {
+            lambda_difference
+        } else {
+            objective_gap
+        },
         residual_pgs: report.residual,
         residual_qp: residual(problem, &qp.lambda),
         pgs_iterations: report.iterations,

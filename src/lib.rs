@@ -25,6 +25,8 @@ pub mod collide;
 pub mod contact;
 pub mod crosscheck;
 pub mod diagnostics;
+pub mod faults;
+pub mod golden;
 pub mod massprops;
 pub mod mesh;
 pub mod problem;

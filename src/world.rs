@@ -48,6 +48,8 @@ pub struct World {
     pub step: u64,
     /// The contact solves of the last frame, one per substep that had contacts.
     pub frame_contacts: Vec<SubstepContacts>,
+    /// Deliberate bugs (tests only; [`crate::faults`]); set with [`World::inject_faults`].
+    pub faults: crate::faults::Faults,
     colliders: Vec<MeshCollider>,
     warm_start: WarmStart,
     workspace: PgsWorkspace<6, 3>,
@@ -134,11 +136,21 @@ impl World {
             bodies,
             step: 0,
             frame_contacts: Vec::new(),
+            faults: crate::faults::Faults::NONE,
             colliders,
             warm_start: WarmStart::new(scene.params.warm_start),
             workspace: PgsWorkspace::new(scene.params.pgs_seed),
             contact_buffer: Vec::new(),
         })
+    }
+
+    /// Switches on deliberate bugs (tests only: docs/verification.md §"Teeth").
+    pub fn inject_faults(&mut self, faults: crate::faults::Faults) {
+        self.faults = faults;
+        for body in &mut self.bodies {
+            body.faults = faults;
+            body.update_world_inertia();
+        }
     }
 
     /// The settings the problem is assembled with, from the scene parameters.
@@ -151,6 +163,7 @@ impl World {
             compliance: p.compliance,
             stabilization: p.stabilization,
             slop: p.stabilization_slop,
+            faults: self.faults,
         }
     }
 
@@ -160,6 +173,7 @@ impl World {
             max_iterations: self.params.pgs_iterations,
             tolerance: self.params.pgs_tolerance,
             order: self.params.pgs_order,
+            faults: self.faults,
         }
     }
 

@@ -24,7 +24,11 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
     let seen: RefCell<BTreeMap<String, (usize, f64)>> = RefCell::default();
     let not_converged = RefCell::new(0usize);
     let infeasible = RefCell::new(0usize);
-    let config = ProptestConfig { cases: 500, max_global_rejects: 2000, ..ProptestConfig::default() };
+    let config = ProptestConfig {
+        cases: 500,
+        max_global_rejects: 2000,
+        ..ProptestConfig::default()
+    };
     proptest!(config, |(
         s in physical_spec(1..4, 1..8),
         mu in prop_oneof![Just(0.0), 0.0..2.0f64],
@@ -65,17 +69,36 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
     let compared: usize = seen.values().map(|v| v.0).sum();
     let not_converged = not_converged.into_inner();
     let infeasible = infeasible.into_inner();
-    println!("{compared} problems compared, {not_converged} skipped because PGS (coupled friction) did not converge, {infeasible} because clarabel proved them infeasible:");
+    println!(
+        "{compared} problems compared, {not_converged} skipped because PGS (coupled friction) did not converge, {infeasible} because clarabel proved them infeasible:"
+    );
     for (k, (n, worst)) in &seen {
         println!("  {k}: {n} problems, worst disagreement {worst:.2e}");
     }
     assert!(compared >= 500);
     // A solver that failed often could hide behind the skip; it may not.
-    assert!(not_converged * 10 < compared, "{not_converged} of {compared} did not converge");
-    assert!(infeasible * 10 < compared, "{infeasible} of {compared} infeasible");
+    assert!(
+        not_converged * 10 < compared,
+        "{not_converged} of {compared} did not converge"
+    );
+    assert!(
+        infeasible * 10 < compared,
+        "{infeasible} of {compared} infeasible"
+    );
     // Both kinds of comparison, every formulation, with and without compliance, were exercised.
-    for needle in ["frictionless QP", "box QP", "SOCP, disks", "/ Lambda /", "/ Objective /", "compliance on", "compliance off"] {
-        assert!(seen.keys().any(|k| k.contains(needle)), "no problem exercised {needle:?}");
+    for needle in [
+        "frictionless QP",
+        "box QP",
+        "SOCP, disks",
+        "/ Lambda /",
+        "/ Objective /",
+        "compliance on",
+        "compliance off",
+    ] {
+        assert!(
+            seen.keys().any(|k| k.contains(needle)),
+            "no problem exercised {needle:?}"
+        );
     }
 }
 
@@ -89,38 +112,85 @@ fn ball_on_ground(v: Vector3<f64>, mu: f64) -> rigidref::problem::ContactProblem
     body_on_ground("ball", 505.8805849972099, 49.44279586960, 0.499, v, mu, 0.0)
 }
 
-fn body_on_ground(name: &str, mass: f64, moment: f64, y: f64, v: Vector3<f64>, mu: f64, compliance: f64) -> rigidref::problem::ContactProblem3 {
+fn body_on_ground(
+    name: &str,
+    mass: f64,
+    moment: f64,
+    y: f64,
+    v: Vector3<f64>,
+    mu: f64,
+    compliance: f64,
+) -> rigidref::problem::ContactProblem3 {
     use rigidref::assemble::{ProblemSettings, assemble_problem};
     let mesh = std::sync::Arc::new(
-        rigidref::mesh::TriMesh::load_obj(&common::project_root().join(format!("scenes/data/{name}.obj"))).unwrap(),
+        rigidref::mesh::TriMesh::load_obj(
+            &common::project_root().join(format!("scenes/data/{name}.obj")),
+        )
+        .unwrap(),
     );
-    let mut body = rigidref::body::RigidBody::new(name, mass, nalgebra::Matrix3::identity() * moment, mesh);
+    let mut body =
+        rigidref::body::RigidBody::new(name, mass, nalgebra::Matrix3::identity() * moment, mesh);
     body.x = Vector3::new(0.0, y, 0.0);
     body.v = v;
     body.update_world_inertia();
     let mut contacts = Vec::new();
     rigidref::collide::ground::ground_contacts(0, &body, &mut contacts);
     assert!(!contacts.is_empty());
-    let settings = ProblemSettings { h: 0.01, mu, friction: FrictionModel::Cone, compliance, stabilization: 0.0, slop: 0.0 };
-    assemble_problem(&[body], &contacts, &settings, &rigidref::warm_start::WarmStart::new(false))
+    let settings = ProblemSettings {
+        h: 0.01,
+        mu,
+        friction: FrictionModel::Cone,
+        compliance,
+        stabilization: 0.0,
+        slop: 0.0,
+        faults: Default::default(),
+    };
+    assemble_problem(
+        &[body],
+        &contacts,
+        &settings,
+        &rigidref::warm_start::WarmStart::new(false),
+    )
 }
 
 #[test]
 fn a_rigid_resting_box_is_compared_by_objective_and_a_compliant_one_by_lambda() {
     // Four corners carry the weight in infinitely many ways without compliance.
-    let rigid = check_problem(&box_on_ground(Vector3::new(0.0, -0.098, 0.0), 0.0, 0.0), &CrosscheckSettings::default()).unwrap();
+    let rigid = check_problem(
+        &box_on_ground(Vector3::new(0.0, -0.098, 0.0), 0.0, 0.0),
+        &CrosscheckSettings::default(),
+    )
+    .unwrap();
     assert_eq!(rigid.comparison, Comparison::Objective, "{rigid:?}");
     assert!(rigid.objective_gap <= OBJECTIVE_TOLERANCE, "{rigid:?}");
     // Compliance on the normal rows makes the normal impulses unique.
-    let compliant = check_problem(&box_on_ground(Vector3::new(0.0, -0.098, 0.0), 0.0, 1e-3), &CrosscheckSettings::default()).unwrap();
+    let compliant = check_problem(
+        &box_on_ground(Vector3::new(0.0, -0.098, 0.0), 0.0, 1e-3),
+        &CrosscheckSettings::default(),
+    )
+    .unwrap();
     assert_eq!(compliant.comparison, Comparison::Lambda, "{compliant:?}");
-    assert!(compliant.lambda_difference <= LAMBDA_TOLERANCE, "{compliant:?}");
+    assert!(
+        compliant.lambda_difference <= LAMBDA_TOLERANCE,
+        "{compliant:?}"
+    );
     // With friction the eight friction rows of four corners share three tangential degrees of
     // freedom, so the friction impulses are never unique, compliance or not (compliance acts on
     // normal rows only): objective again.
-    let frictional = check_problem(&box_on_ground(Vector3::new(0.3, -0.098, 0.0), 0.5, 1e-3), &CrosscheckSettings::default()).unwrap();
-    assert_eq!(frictional.comparison, Comparison::Objective, "{frictional:?}");
-    assert!(frictional.objective_gap <= OBJECTIVE_TOLERANCE, "{frictional:?}");
+    let frictional = check_problem(
+        &box_on_ground(Vector3::new(0.3, -0.098, 0.0), 0.5, 1e-3),
+        &CrosscheckSettings::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        frictional.comparison,
+        Comparison::Objective,
+        "{frictional:?}"
+    );
+    assert!(
+        frictional.objective_gap <= OBJECTIVE_TOLERANCE,
+        "{frictional:?}"
+    );
 }
 
 #[test]
@@ -128,7 +198,11 @@ fn anitescu_relaxation_agrees_when_sticking_and_separates_when_sliding() {
     let settings = CrosscheckSettings::default();
     // A ball landing while moving sideways at 0.1 m/s with μ = 1: friction stops the contact
     // point (it rolls), nothing slides, and the Anitescu SOCP has PGS's answer.
-    let sticking = check_problem(&ball_on_ground(Vector3::new(0.1, -1.0, 0.0), 1.0), &settings).unwrap();
+    let sticking = check_problem(
+        &ball_on_ground(Vector3::new(0.1, -1.0, 0.0), 1.0),
+        &settings,
+    )
+    .unwrap();
     let (difference, sliding) = sticking.anitescu.unwrap();
     println!("sticking: PGS vs Anitescu {difference:.2e}");
     assert_eq!(sticking.comparison, Comparison::Lambda);
@@ -140,7 +214,10 @@ fn anitescu_relaxation_agrees_when_sticking_and_separates_when_sliding() {
     let (difference, sliding) = sliding_check.anitescu.unwrap();
     println!("sliding: PGS vs Anitescu {difference:.2e}");
     assert!(sliding && difference > 1e-3, "{sliding_check:?}");
-    assert!(sliding_check.lambda_difference <= LAMBDA_TOLERANCE, "PGS still agrees with the fixed-disk SOCP");
+    assert!(
+        sliding_check.lambda_difference <= LAMBDA_TOLERANCE,
+        "PGS still agrees with the fixed-disk SOCP"
+    );
     let relaxed = solve_qp(&problem, &QpFormulation::Cone, &QpSettings::default()).unwrap();
     let w = problem.constraint_velocity(&relaxed.lambda);
     let l = relaxed.lambda[0];

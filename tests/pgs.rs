@@ -32,6 +32,7 @@ fn solve(
         max_iterations: iterations,
         tolerance,
         order,
+        faults: Default::default(),
     };
     let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     (lambda, report)
@@ -197,6 +198,7 @@ fn box_on_ground(
         compliance: 0.0,
         stabilization: 0.0,
         slop: 0.0,
+        faults: Default::default(),
     };
     assemble_problem(
         &[body],

@@ -24,8 +24,8 @@ report also gives the distance to Anitescu's relaxation (the SOCP with no fixed 
 differs from PGS wherever a contact slides.
 
 Coupled friction is not a monotone problem; where PGS cannot converge, the problem is reported
-as unverified, not compared. Exit status 1 when any comparison exceeds its tolerance or clarabel
-fails. Formulations: docs/contact.md §\"Convex formulations\".")]
+as unverified, not compared (with --strict, it fails the check). Exit status 1 when any
+comparison exceeds its tolerance or clarabel fails. Formulations: docs/contact.md §\"Convex formulations\".")]
 pub struct CrosscheckArgs {
     /// A scene file, a contact-problem file (from `run --dump-problems`), or a folder of them.
     /// Without one, the built-in default scene.
@@ -42,6 +42,9 @@ pub struct CrosscheckArgs {
     /// Print one line per problem.
     #[arg(long)]
     pub table: bool,
+    /// Also fail when PGS cannot converge on some problem (instead of reporting it unverified).
+    #[arg(long)]
+    pub strict: bool,
     /// Print the summary (and with --table every problem) as JSON.
     #[arg(long)]
     pub json: bool,
@@ -88,12 +91,16 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     let settings = CrosscheckSettings::default();
     let (input, rows) = match &args.input {
         Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, &settings)?),
-        Some(path) if is_problem_file(path) => {
-            (path.display().to_string(), vec![check_file(path, &settings)?])
-        }
+        Some(path) if is_problem_file(path) => (
+            path.display().to_string(),
+            vec![check_file(path, &settings)?],
+        ),
         other => {
             let scene = super::load_scene_or_default(other.as_deref())?;
-            (scene.source.clone(), check_scene(scene, args.time, &settings)?)
+            (
+                scene.source.clone(),
+                check_scene(scene, args.time, &settings)?,
+            )
         }
     };
     let summary = summarise(&input, &rows, &args);
@@ -108,7 +115,15 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         if args.table {
             println!(
                 "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12}",
-                "problem", "contacts", "formulation", "compared", "disagree", "res PGS", "res QP", "sweeps", "clarabel"
+                "problem",
+                "contacts",
+                "formulation",
+                "compared",
+                "disagree",
+                "res PGS",
+                "res QP",
+                "sweeps",
+                "clarabel"
             );
             for r in &rows {
                 println!(
@@ -116,7 +131,11 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
                     r.source,
                     r.check.contacts,
                     r.check.formulation,
-                    if r.check.comparison == Comparison::Lambda { "λ" } else { "objective" },
+                    if r.check.comparison == Comparison::Lambda {
+                        "λ"
+                    } else {
+                        "objective"
+                    },
                     r.check.disagreement,
                     r.check.residual_pgs,
                     r.check.residual_qp,
@@ -143,7 +162,10 @@ fn is_problem_file(path: &Path) -> bool {
     std::fs::read_to_string(path)
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
-        .is_some_and(|v| v.get("format").and_then(|f| f.as_str()) == Some(rigidref::problem::json::PROBLEM_FORMAT))
+        .is_some_and(|v| {
+            v.get("format").and_then(|f| f.as_str())
+                == Some(rigidref::problem::json::PROBLEM_FORMAT)
+        })
 }
 
 fn check_file(path: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Row> {
@@ -155,7 +177,10 @@ fn check_file(path: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Row>
         (d, r) => bail!("{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"),
     }
     .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-    Ok(Row { source: name, check })
+    Ok(Row {
+        source: name,
+        check,
+    })
 }
 
 fn check_folder(dir: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Vec<Row>> {
@@ -180,15 +205,20 @@ fn check_scene(
         bail!("--time must be a positive number of seconds, got {time}");
     }
     if !scene.params.check_collisions {
-        eprintln!("note: {}: check_collisions is false: no contact problems to check", scene.source);
+        eprintln!(
+            "note: {}: check_collisions is false: no contact problems to check",
+            scene.source
+        );
     }
     let steps = (time / scene.params.dt + 1e-9).floor().max(1.0) as u64;
     let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
     let started = Instant::now();
     let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
     progress.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let mut rows = Vec::new();
     for k in 1..=steps {
@@ -223,8 +253,17 @@ fn median(mut v: Vec<f64>) -> f64 {
 const CONVERGED: f64 = 1e-10;
 
 fn summarise(input: &str, rows: &[Row], args: &CrosscheckArgs) -> Summary {
-    let compared: Vec<&Row> = rows.iter().filter(|r| r.check.residual_pgs <= CONVERGED).collect();
-    let by = |c: Comparison| compared.iter().filter(|r| r.check.comparison == c).map(|r| r.check.disagreement).collect::<Vec<_>>();
+    let compared: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.check.residual_pgs <= CONVERGED)
+        .collect();
+    let by = |c: Comparison| {
+        compared
+            .iter()
+            .filter(|r| r.check.comparison == c)
+            .map(|r| r.check.disagreement)
+            .collect::<Vec<_>>()
+    };
     let lambda = by(Comparison::Lambda);
     let objective = by(Comparison::Objective);
     let fails = |r: &&&Row| {
@@ -234,7 +273,10 @@ fn summarise(input: &str, rows: &[Row], args: &CrosscheckArgs) -> Summary {
                 Comparison::Objective => r.check.disagreement > args.objective_tolerance,
             }
     };
-    let failures = compared.iter().filter(fails).count();
+    let mut failures = compared.iter().filter(fails).count();
+    if args.strict {
+        failures += rows.len() - compared.len();
+    }
     // The worst relative to its own tolerance.
     let worst = compared
         .iter()
@@ -248,7 +290,12 @@ fn summarise(input: &str, rows: &[Row], args: &CrosscheckArgs) -> Summary {
             };
             ratio(a).total_cmp(&ratio(b))
         })
-        .map(|r| format!("{}: {:?} {:.2e}", r.source, r.check.comparison, r.check.disagreement));
+        .map(|r| {
+            format!(
+                "{}: {:?} {:.2e}",
+                r.source, r.check.comparison, r.check.disagreement
+            )
+        });
     Summary {
         input: input.to_string(),
         problems: rows.len(),
@@ -285,6 +332,10 @@ fn print_summary(s: &Summary) {
     println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
     println!(
         "result           {}",
-        if s.passed { "agree".to_string() } else { format!("{} problems disagree", s.failures) }
+        if s.passed {
+            "agree".to_string()
+        } else {
+            format!("{} problems disagree", s.failures)
+        }
     );
 }

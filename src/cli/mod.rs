@@ -3,6 +3,7 @@
 
 mod contacts;
 mod crosscheck;
+mod golden;
 mod massprops;
 mod rapier;
 mod run;
@@ -35,6 +36,8 @@ enum Command {
     /// Solve every contact problem of a run (or problem files) with PGS and clarabel and compare;
     /// or, with --rapier, compare the run with a rapier3d mirror.
     Crosscheck(crosscheck::CrosscheckArgs),
+    /// Compare fresh runs of the canonical scenes with golden/ (or regenerate it with --update).
+    Golden(golden::GoldenArgs),
 }
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
@@ -46,6 +49,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Scene(args)) => scene::scene(args),
         Some(Command::Contacts(args)) => contacts::contacts(args),
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
+        Some(Command::Golden(args)) => golden::golden(args),
         None => run::run(cli.run),
     }
 }

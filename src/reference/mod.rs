@@ -1,6 +1,6 @@
 //! Independent references that checks compare the simulator against. Nothing in the simulator
 //! calls these; they share no integration code with it.
 
-pub mod euler;
 pub mod compare;
+pub mod euler;
 pub mod rapier;

@@ -52,7 +52,11 @@ fn rotation(m: &Matrix3<f64>) -> Rotation {
 
 fn from_rotation(q: &Rotation) -> Matrix3<f64> {
     let m = rapier3d_f64::math::Matrix::from_quat(*q);
-    Matrix3::from_columns(&[from_vector(m.x_axis), from_vector(m.y_axis), from_vector(m.z_axis)])
+    Matrix3::from_columns(&[
+        from_vector(m.x_axis),
+        from_vector(m.y_axis),
+        from_vector(m.z_axis),
+    ])
 }
 
 /// A collider for `mesh`: its convex hull if the mesh is convex (within 1e-6 of its size), else
@@ -60,10 +64,12 @@ fn from_rotation(q: &Rotation) -> Matrix3<f64> {
 fn collider(mesh: &TriMesh) -> Result<ColliderBuilder, String> {
     let points: Vec<Vector> = mesh.vertices.iter().map(vector).collect();
     if mesh.is_convex(1e-6 * mesh.bounding_radius()) {
-        ColliderBuilder::convex_hull(&points).ok_or_else(|| "rapier could not build the convex hull".to_string())
+        ColliderBuilder::convex_hull(&points)
+            .ok_or_else(|| "rapier could not build the convex hull".to_string())
     } else {
         let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
-        ColliderBuilder::trimesh(points, indices).map_err(|e| format!("rapier could not build the triangle mesh: {e:?}"))
+        ColliderBuilder::trimesh(points, indices)
+            .map_err(|e| format!("rapier could not build the triangle mesh: {e:?}"))
     }
 }
 
@@ -106,16 +112,19 @@ impl RapierMirror {
                     .friction_combine_rule(CoefficientCombineRule::Min)
                     .restitution(0.0)
                     .build();
-                world.colliders.insert_with_parent(c, handle, &mut world.bodies);
+                world
+                    .colliders
+                    .insert_with_parent(c, handle, &mut world.bodies);
             }
             handles.push(handle);
         }
         if p.check_collisions {
-            let ground = ColliderBuilder::halfspace(rapier3d_f64::na::Unit::new_unchecked(Vector::Y))
-                .friction(p.mu)
-                .friction_combine_rule(CoefficientCombineRule::Min)
-                .restitution(0.0)
-                .build();
+            let ground =
+                ColliderBuilder::halfspace(rapier3d_f64::na::Unit::new_unchecked(Vector::Y))
+                    .friction(p.mu)
+                    .friction_combine_rule(CoefficientCombineRule::Min)
+                    .restitution(0.0)
+                    .build();
             world.colliders.insert(ground);
         }
         Ok(RapierMirror { world, handles })
@@ -144,6 +153,8 @@ impl RapierMirror {
 
     /// Whether any pair of colliders is touching (has an active contact).
     pub fn has_contacts(&self) -> bool {
-        self.world.contact_pairs().any(|p| p.has_any_active_contact())
+        self.world
+            .contact_pairs()
+            .any(|p| p.has_any_active_contact())
     }
 }

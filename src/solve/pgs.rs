@@ -43,6 +43,8 @@ pub struct PgsSettings {
     pub tolerance: Option<f64>,
     /// Contact order.
     pub order: ContactOrder,
+    /// Deliberate bugs (tests only; [`crate::faults`]).
+    pub faults: crate::faults::Faults,
 }
 
 /// What a solve did.
@@ -184,7 +186,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
-            solve_contact(problem, workspace, k, &mut lambda[k]);
+            solve_contact(problem, settings, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
@@ -204,12 +206,14 @@ pub fn solve_pgs<const D: usize, const R: usize>(
 /// One contact's Gauss–Seidel update: normal row, then friction rows.
 fn solve_contact<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
+    settings: &PgsSettings,
     workspace: &mut PgsWorkspace<D, R>,
     k: usize,
     lambda: &mut SVector<f64, R>,
 ) {
     let contact = &problem.contacts[k];
     let diagonal = workspace.scales[k].diagonal;
+    let start_normal = project_feasible(&contact.lambda0, contact.mu, problem.friction)[0];
 
     // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
     if diagonal[0] > 0.0 {
@@ -220,7 +224,11 @@ fn solve_contact<const D: usize, const R: usize>(
     }
 
     // Friction rows, bounded by μ times the normal impulse just computed.
-    let bound = contact.mu * lambda[0];
+    let bound = if settings.faults.stale_friction_bound {
+        contact.mu * start_normal
+    } else {
+        contact.mu * lambda[0]
+    };
     match problem.friction {
         FrictionModel::Box => {
             for r in 1..R {

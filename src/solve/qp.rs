@@ -21,9 +21,7 @@
 
 use crate::problem::ContactProblem;
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{
-    DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
-};
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::SVector;
 
 /// Which convex program to pose (see the module documentation).
@@ -112,20 +110,26 @@ pub fn solve_qp<const D: usize, const R: usize>(
 ) -> Result<QpSolution<R>, String> {
     let k_count = problem.contacts.len();
     let n = R * k_count;
-    if let QpFormulation::BoxFixed(fixed) | QpFormulation::ConeFixed(fixed) = formulation {
-        if fixed.len() != k_count {
-            return Err(format!(
-                "{} fixed normal impulses for {k_count} contacts",
-                fixed.len()
-            ));
-        }
+    if let QpFormulation::BoxFixed(fixed) | QpFormulation::ConeFixed(fixed) = formulation
+        && fixed.len() != k_count
+    {
+        return Err(format!(
+            "{} fixed normal impulses for {k_count} contacts",
+            fixed.len()
+        ));
     }
     // Objective: P = A + C (clarabel keeps the upper triangle), q = b, in scaled variables
     // λ = S x with S = diag(1/√P_ii): P's diagonal becomes 1, so clarabel's absolute
     // tolerances mean the same for a 1 kg body and a 10 t one.
     let p_dense = problem.dense_delassus() + problem.dense_compliance();
     let scale: Vec<f64> = (0..n)
-        .map(|i| if p_dense[(i, i)] > 0.0 { 1.0 / p_dense[(i, i)].sqrt() } else { 1.0 })
+        .map(|i| {
+            if p_dense[(i, i)] > 0.0 {
+                1.0 / p_dense[(i, i)].sqrt()
+            } else {
+                1.0
+            }
+        })
         .collect();
     let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
     for j in 0..n {
@@ -139,7 +143,12 @@ pub fn solve_qp<const D: usize, const R: usize>(
         }
     }
     let p = CscMatrix::new_from_triplets(n, n, pi, pj, pv);
-    let q: Vec<f64> = problem.dense_b().iter().zip(&scale).map(|(b, s)| b * s).collect();
+    let q: Vec<f64> = problem
+        .dense_b()
+        .iter()
+        .zip(&scale)
+        .map(|(b, s)| b * s)
+        .collect();
 
     // Constraints A x + s = b_c, s in the cones, rows grouped by cone in clarabel's order.
     let mut rows = ConstraintRows::default();
@@ -158,8 +167,8 @@ pub fn solve_qp<const D: usize, const R: usize>(
         rows.row(&[(R * k, -1.0)], 0.0);
     }
     if let QpFormulation::BoxFixed(fixed) = formulation {
-        for k in 0..k_count {
-            let bound = problem.contacts[k].mu * fixed[k].max(0.0);
+        for (k, (contact, fixed_normal)) in problem.contacts.iter().zip(fixed).enumerate() {
+            let bound = contact.mu * fixed_normal.max(0.0);
             for r in 1..R {
                 rows.row(&[(R * k + r, 1.0)], bound);
                 rows.row(&[(R * k + r, -1.0)], bound);
@@ -168,7 +177,10 @@ pub fn solve_qp<const D: usize, const R: usize>(
     }
     rows.close_cone(SupportedConeT::NonnegativeConeT);
     // Second-order cones, one per contact: s = (radius, λt), radius μλ̄n (fixed) or μλn.
-    if matches!(formulation, QpFormulation::ConeFixed(_) | QpFormulation::Cone) {
+    if matches!(
+        formulation,
+        QpFormulation::ConeFixed(_) | QpFormulation::Cone
+    ) {
         for k in 0..k_count {
             match formulation {
                 QpFormulation::ConeFixed(fixed) => {
@@ -183,7 +195,12 @@ pub fn solve_qp<const D: usize, const R: usize>(
         }
     }
     // Constraint coefficients act on λ = S x.
-    let scaled: Vec<f64> = rows.v.iter().zip(&rows.j).map(|(v, &j)| v * scale[j]).collect();
+    let scaled: Vec<f64> = rows
+        .v
+        .iter()
+        .zip(&rows.j)
+        .map(|(v, &j)| v * scale[j])
+        .collect();
     let a = CscMatrix::new_from_triplets(rows.b.len(), n, rows.i, rows.j, scaled);
     let (bc, cones) = (rows.b, rows.cones);
 

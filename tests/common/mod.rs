@@ -111,14 +111,25 @@ pub mod problems {
         bodies: std::ops::Range<usize>,
         contacts: std::ops::Range<usize>,
     ) -> impl Strategy<Value = ProblemSpec> {
-        let body = (1.0..100.0f64, (0.1..0.4f64, 0.1..0.4f64, 0.1..0.4f64), vector(3.0), vector(1.0))
+        let body = (
+            1.0..100.0f64,
+            (0.1..0.4f64, 0.1..0.4f64, 0.1..0.4f64),
+            vector(3.0),
+            vector(1.0),
+        )
             .prop_map(|(m, (a, b, c), w, x)| {
                 let mut moments = [m * a, m * b, m * c];
                 moments.sort_by(f64::total_cmp);
                 moments[2] = moments[2].min(0.99 * (moments[0] + moments[1]));
                 (m, moments, w, x)
             });
-        let contact = (0usize..8, 0usize..8, vector(0.8 / 3f64.sqrt()), unit(), vector(2.0))
+        let contact = (
+            0usize..8,
+            0usize..8,
+            vector(0.8 / 3f64.sqrt()),
+            unit(),
+            vector(2.0),
+        )
             .prop_map(|(a, b, p, n, rhs)| (a, b, p, n, SVector::<f64, 3>::from(rhs)));
         (
             proptest::collection::vec(body, bodies),
@@ -182,6 +193,7 @@ pub mod problems {
             compliance,
             stabilization: 0.0,
             slop: 0.0,
+            faults: Default::default(),
         };
         let mut problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         for (c, s) in problem.contacts.iter_mut().zip(&spec.contacts) {

@@ -1,0 +1,188 @@
+//! The checks have teeth: each deliberate bug of `rigidref::faults`, injected alone, makes at
+//! least one of the project's cross-checks or snapshots fail (docs/verification.md §"Teeth").
+//!
+//! Checks run per bug: golden traces of the canonical scenes, the snapshot summaries, PGS against
+//! clarabel on the canonical contact scenes, and the rapier3d comparison on the scenes it is
+//! documented for.
+
+mod common;
+
+use rigidref::crosscheck::{Comparison, CrosscheckSettings, check_problem};
+use rigidref::faults::Faults;
+use rigidref::golden::{
+    Tolerances, canonical_scenes, compare, golden_path, read_golden, record, summary,
+};
+use rigidref::reference::compare::{
+    compare as compare_observables, record_rapier, record_rigidref,
+};
+use rigidref::scene::{Scene, load_scene};
+use rigidref::world::World;
+
+fn scenes() -> Vec<(String, Scene)> {
+    let root = common::project_root();
+    canonical_scenes(&root.join("scenes"))
+        .unwrap()
+        .into_iter()
+        .map(|p| {
+            (
+                format!("scenes/{}", p.file_name().unwrap().to_string_lossy()),
+                load_scene(&p).unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// Canonical scenes whose golden trace the faulty code does not reproduce.
+fn golden_failures(faults: Faults) -> Vec<String> {
+    let root = common::project_root();
+    scenes()
+        .into_iter()
+        .filter(|(source, scene)| {
+            let golden = read_golden(&golden_path(
+                &root.join("golden"),
+                std::path::Path::new(source),
+            ))
+            .unwrap();
+            match record(scene, source, faults) {
+                Ok(fresh) => !compare(&golden, &fresh, &Tolerances::default()).is_empty(),
+                Err(_) => true, // a run that blows up certainly differs
+            }
+        })
+        .map(|(s, _)| s)
+        .collect()
+}
+
+/// Canonical scenes whose snapshot summary changes.
+fn snapshot_failures(faults: Faults) -> Vec<String> {
+    scenes()
+        .into_iter()
+        .filter(|(_, scene)| summary(scene, faults, 5).ok() != summary(scene, Faults::NONE, 5).ok())
+        .map(|(s, _)| s)
+        .collect()
+}
+
+/// Canonical contact scenes where, on some problem of the first second, PGS (with the faults)
+/// and clarabel disagree, or PGS cannot reach the residual tolerance (the unmodified PGS reaches
+/// it on every problem of these scenes: `the_unmodified_code_passes_every_check`); this is
+/// `rigidref crosscheck --strict`.
+fn crosscheck_failures(faults: Faults) -> Vec<String> {
+    let mut settings = CrosscheckSettings::default();
+    settings.pgs.faults = faults;
+    scenes()
+        .into_iter()
+        .filter(|(_, scene)| scene.params.check_collisions)
+        .filter(|(_, scene)| {
+            let mut world = World::new(scene).unwrap();
+            world.inject_faults(faults);
+            for _ in 0..100 {
+                if world.step().is_err() {
+                    return true;
+                }
+                for solve in &world.frame_contacts {
+                    let c = check_problem(&solve.problem, &settings).unwrap();
+                    let bad = c.residual_pgs > 1e-10
+                        || match c.comparison {
+                            Comparison::Lambda => c.lambda_difference > 1e-5,
+                            Comparison::Objective => c.objective_gap > 1e-8,
+                        };
+                    if bad {
+                        return true;
+                    }
+                }
+            }
+            false
+        })
+        .map(|(s, _)| s)
+        .collect()
+}
+
+/// Scenes documented for the rapier comparison whose observables disagree.
+fn rapier_failures(faults: Faults) -> Vec<String> {
+    scenes()
+        .into_iter()
+        .filter(|(s, _)| {
+            [
+                "scenes/sphere_drop.json",
+                "scenes/sliding_box.json",
+                "scenes/box_stack.json",
+                "scenes/dzhanibekov.json",
+            ]
+            .contains(&s.as_str())
+        })
+        .filter(|(s, scene)| {
+            let seconds = if s.contains("dzhanibekov") { 20.0 } else { 5.0 };
+            let steps = (seconds / scene.params.dt).round() as u64;
+            let ours = match record_rigidref(scene, steps, faults) {
+                Ok(t) => t,
+                Err(_) => return true,
+            };
+            let theirs = record_rapier(scene, steps).unwrap();
+            compare_observables(scene, &ours, &theirs)
+                .iter()
+                .any(|o| !o.passed)
+        })
+        .map(|(s, _)| s)
+        .collect()
+}
+
+fn report(name: &str, faults: Faults) -> usize {
+    let golden = golden_failures(faults);
+    let snapshots = snapshot_failures(faults);
+    let crosscheck = crosscheck_failures(faults);
+    let rapier = rapier_failures(faults);
+    println!(
+        "{name}:\n  golden: {golden:?}\n  snapshots: {snapshots:?}\n  clarabel: {crosscheck:?}\n  rapier3d: {rapier:?}"
+    );
+    golden.len() + snapshots.len() + crosscheck.len() + rapier.len()
+}
+
+#[test]
+fn the_unmodified_code_passes_every_check() {
+    assert_eq!(report("no bug", Faults::NONE), 0);
+}
+
+#[test]
+fn a_sign_flip_in_one_jacobian_column_is_caught() {
+    let faults = Faults {
+        jacobian_sign_flip: true,
+        ..Faults::NONE
+    };
+    assert!(!golden_failures(faults).is_empty() || !snapshot_failures(faults).is_empty());
+    assert!(report("Jacobian column sign flip", faults) > 0);
+}
+
+#[test]
+fn friction_bounds_from_the_previous_step_are_caught() {
+    let faults = Faults {
+        stale_friction_bound: true,
+        ..Faults::NONE
+    };
+    assert!(
+        !crosscheck_failures(faults).is_empty(),
+        "the clarabel cross-check should catch it"
+    );
+    assert!(report("friction bound from the previous step's λn", faults) > 0);
+}
+
+#[test]
+fn a_missing_gyroscopic_term_is_caught() {
+    let faults = Faults {
+        no_gyroscopic_term: true,
+        ..Faults::NONE
+    };
+    assert!(
+        !rapier_failures(faults).is_empty(),
+        "rapier's flip period should catch it"
+    );
+    assert!(report("missing ω × Jω", faults) > 0);
+}
+
+#[test]
+fn a_transposed_world_inertia_is_caught() {
+    let faults = Faults {
+        transposed_world_inertia: true,
+        ..Faults::NONE
+    };
+    assert!(!golden_failures(faults).is_empty());
+    assert!(report("world inertia Rᵀ J₀ R", faults) > 0);
+}
