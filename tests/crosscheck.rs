@@ -227,3 +227,87 @@ fn anitescu_relaxation_agrees_when_sticking_and_separates_when_sliding() {
     let pgs_w = problem.constraint_velocity(&[SVector::<f64, 3>::zeros()]);
     let _ = pgs_w;
 }
+
+/// `rigidref crosscheck` passes on every canonical scene and every assignment scene (5 s each,
+/// the documented tolerances), run as a user runs it.
+#[test]
+fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
+    let mut scenes: Vec<std::path::PathBuf> =
+        rigidref::golden::canonical_scenes(&common::project_root().join("scenes")).unwrap();
+    if let Some(dir) = common::rigid3d_assignment() {
+        scenes.extend((1..=7).map(|i| dir.join(format!("scenes/scene{i}.json"))));
+    }
+    let mut total = 0;
+    for path in &scenes {
+        let out = std::process::Command::new(common::rigidref_bin())
+            .args(["crosscheck", "--time", "5", "--json"])
+            .arg(path)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}: {}\n{stdout}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        let s = &v["summary"];
+        println!(
+            "{}: {} problems, {} compared (max λ difference {:.1e}, max objective gap {:.1e}), {} unverified",
+            path.display(),
+            s["problems"],
+            s["compared"],
+            s["max_lambda_difference"].as_f64().unwrap(),
+            s["max_objective_gap"].as_f64().unwrap(),
+            s["unverified"]
+        );
+        assert_eq!(s["passed"], true);
+        total += s["compared"].as_u64().unwrap();
+    }
+    assert!(total > 3000, "{total} problems compared");
+}
+
+/// The command reads the problem files `run --dump-problems` writes, in 3D; and fails, naming the
+/// problem, when a problem's numbers were tampered with so that PGS and clarabel must disagree.
+#[test]
+fn crosscheck_command_reads_dumped_problem_files() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dump = tmp.path().join("p");
+    let scenes = common::project_root().join("scenes");
+    let out = std::process::Command::new(common::rigidref_bin())
+        .args([
+            "run",
+            "sliding_box.json",
+            "--time",
+            "0.5",
+            "--quiet",
+            "--out",
+        ])
+        .arg(tmp.path().join("t.jsonl"))
+        .arg("--dump-problems")
+        .arg(&dump)
+        .current_dir(&scenes)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let out = std::process::Command::new(common::rigidref_bin())
+        .arg("crosscheck")
+        .arg(&dump)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("problems         50 (50 compared"),
+        "{stdout}"
+    );
+    // A single file works too.
+    let first = dump.join("step-000001-00.json");
+    let out = std::process::Command::new(common::rigidref_bin())
+        .arg("crosscheck")
+        .arg(&first)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+}
