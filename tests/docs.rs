@@ -39,3 +39,36 @@ fn every_test_the_docs_name_exists() {
     }
     assert!(checked >= 10, "only {checked} references found");
 }
+
+/// docs/verification.md's table lists every test function in tests/ (the other direction, that
+/// every test it names exists, is `every_test_the_docs_name_exists`).
+#[test]
+fn verification_table_lists_every_test() {
+    let root = common::project_root();
+    let table = std::fs::read_to_string(root.join("docs/verification.md")).unwrap();
+    let mut missing = Vec::new();
+    let mut count = 0;
+    for entry in std::fs::read_dir(root.join("tests")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let file = path.file_name().unwrap().to_string_lossy().into_owned();
+        let lines: Vec<String> = std::fs::read_to_string(&path).unwrap().lines().map(String::from).collect();
+        for (i, line) in lines.iter().enumerate() {
+            let trimmed = line.trim_start();
+            let Some(rest) = trimmed.strip_prefix("fn ") else { continue };
+            let is_test = lines[i.saturating_sub(3)..i].iter().any(|l| l.contains("#[test]"));
+            if !is_test {
+                continue;
+            }
+            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            count += 1;
+            if !table.contains(&format!("tests/{file}::{name}`")) {
+                missing.push(format!("tests/{file}::{name}"));
+            }
+        }
+    }
+    assert!(count >= 80, "found only {count} tests");
+    assert!(missing.is_empty(), "docs/verification.md does not list: {missing:#?}");
+}
