@@ -268,8 +268,9 @@ fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
     assert!(total > 3000, "{total} problems compared");
 }
 
-/// The command reads the problem files `run --dump-problems` writes, in 3D; and fails, naming the
-/// problem, when a problem's numbers were tampered with so that PGS and clarabel must disagree.
+/// The command reads the problem files `run --dump-problems` writes (a folder or one file), and
+/// exits with status 1, naming the worst problem, when a disagreement exceeds the tolerance (here
+/// an impossible 1e-30, since round-off alone disagrees by more).
 #[test]
 fn crosscheck_command_reads_dumped_problem_files() {
     let tmp = tempfile::tempdir().unwrap();
@@ -310,4 +311,36 @@ fn crosscheck_command_reads_dumped_problem_files() {
         .output()
         .unwrap();
     assert!(out.status.success());
+    let out = std::process::Command::new(common::rigidref_bin())
+        .args([
+            "crosscheck",
+            "--objective-tolerance",
+            "1e-30",
+            "--tolerance",
+            "1e-30",
+        ])
+        .arg(&dump)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("problems disagree beyond the tolerance (worst: ")
+            && stderr.contains("step-0000"),
+        "{stderr}"
+    );
+    // A file that is not a well-formed contact problem is a clear error.
+    let bad = tmp.path().join("bad.json");
+    std::fs::write(&bad, r#"{"format":"rigidref-contact-problem","version":1,"dof_per_body":6,"rows_per_contact":3,"friction":"box","bodies":[],"contacts":[{"bodies":[0,-1],"jacobian":[[],[]],"b":[0,0,0],"mu":0,"compliance":0,"lambda0":[0,0,0]}]}"#).unwrap();
+    let out = std::process::Command::new(common::rigidref_bin())
+        .arg("crosscheck")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("bad.json") && !stderr.contains("panicked"),
+        "{stderr}"
+    );
 }

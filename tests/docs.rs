@@ -54,15 +54,26 @@ fn verification_table_lists_every_test() {
             continue;
         }
         let file = path.file_name().unwrap().to_string_lossy().into_owned();
-        let lines: Vec<String> = std::fs::read_to_string(&path).unwrap().lines().map(String::from).collect();
+        let lines: Vec<String> = std::fs::read_to_string(&path)
+            .unwrap()
+            .lines()
+            .map(String::from)
+            .collect();
         for (i, line) in lines.iter().enumerate() {
             let trimmed = line.trim_start();
-            let Some(rest) = trimmed.strip_prefix("fn ") else { continue };
-            let is_test = lines[i.saturating_sub(3)..i].iter().any(|l| l.contains("#[test]"));
+            let Some(rest) = trimmed.strip_prefix("fn ") else {
+                continue;
+            };
+            let is_test = lines[i.saturating_sub(3)..i]
+                .iter()
+                .any(|l| l.contains("#[test]"));
             if !is_test {
                 continue;
             }
-            let name: String = rest.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
             count += 1;
             if !table.contains(&format!("tests/{file}::{name}`")) {
                 missing.push(format!("tests/{file}::{name}"));
@@ -70,5 +81,8 @@ fn verification_table_lists_every_test() {
         }
     }
     assert!(count >= 80, "found only {count} tests");
-    assert!(missing.is_empty(), "docs/verification.md does not list: {missing:#?}");
+    assert!(
+        missing.is_empty(),
+        "docs/verification.md does not list: {missing:#?}"
+    );
 }
