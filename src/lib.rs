@@ -20,6 +20,7 @@
 #![warn(missing_docs)]
 
 pub mod assemble;
+pub mod blocks;
 pub mod body;
 pub mod collide;
 pub mod contact;

@@ -6,7 +6,9 @@ mod crosscheck;
 mod golden;
 mod massprops;
 mod rapier;
+mod render;
 mod run;
+mod run2d;
 mod scene;
 
 use clap::{Parser, Subcommand};
@@ -38,6 +40,8 @@ enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Compare fresh runs of the canonical scenes with golden/ (or regenerate it with --update).
     Golden(golden::GoldenArgs),
+    /// Run a 2D image scene and write PNG frames and an animated GIF.
+    Render(render::RenderArgs),
 }
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
@@ -50,6 +54,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Contacts(args)) => contacts::contacts(args),
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
         Some(Command::Golden(args)) => golden::golden(args),
+        Some(Command::Render(args)) => render::render_command(args),
         None => run::run(cli.run),
     }
 }

@@ -1,0 +1,440 @@
+//! One step of the 2D system, in the order it runs. docs/blocks2d.md §"The step".
+//!
+//! Per step of length `step`, `substeps` substeps of h = step / substeps, each:
+//!
+//! 1. zero forces, add gravity m g (and nothing for pinned bodies);
+//! 2. velocities: v += h f/m, ω += h τ/I;
+//! 3. contacts: detect ([`super::collide`]) → assemble the shared contact problem with 3 degrees
+//!    of freedom per body ([`assemble_problem2`]) → solve with the same PGS as 3D
+//!    ([`crate::solve::solve_pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ; or, with the penalty model, spring
+//!    forces before step 2;
+//! 4. post-stabilisation (Cline and Pai): a second solve of the same problem shape for a
+//!    position-only velocity that removes the penetration beyond the slop;
+//! 5. positions: x += h (v + δv), θ += h (ω + δω).
+
+use super::body::{Body2, cross};
+use super::collide::{Contact2, detect_contacts};
+use super::image::BlockGroup;
+use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+use crate::solve::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
+use std::collections::HashMap;
+
+/// The 2D problem: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
+pub type ContactProblem2 = ContactProblem<3, 2>;
+
+/// How contacts are resolved.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactModel {
+    /// Velocity-level complementarity solved by PGS (the assignment's objective).
+    #[default]
+    Pgs,
+    /// The starter's penalty springs (frictionless), for comparison.
+    Penalty,
+}
+
+/// Parameters of the 2D system. Defaults are the assignment's starter's where it has one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Params2 {
+    /// Step size (default 0.05, the starter's).
+    pub step: f64,
+    /// Substeps per step (default 1).
+    pub substeps: u32,
+    /// Gravity magnitude, blocks per time² (default 1).
+    pub gravity: f64,
+    /// Gravity direction, degrees from +x toward +y (default 90: toward increasing image row).
+    pub gravity_angle: f64,
+    /// Friction coefficient (default 0.33, the starter's).
+    pub mu: f64,
+    /// Coefficient of restitution (default 0).
+    pub restitution: f64,
+    /// PGS sweeps per solve (default 10, the starter's).
+    pub iterations: u32,
+    /// Optional early stop on the residual.
+    pub tolerance: Option<f64>,
+    /// Contact order in PGS (default sequential).
+    pub order: ContactOrder,
+    /// Seed of the random order.
+    pub seed: u64,
+    /// Warm start (default true).
+    pub warm_start: bool,
+    /// Post-stabilisation of penetration (default true).
+    pub post_stabilization: bool,
+    /// Penetration left alone by post-stabilisation, blocks (default 0.01).
+    pub slop: f64,
+    /// PGS (default) or penalty springs.
+    pub contact_model: ContactModel,
+    /// Penalty spring stiffness, per unit penetration (default 1000).
+    pub penalty_stiffness: f64,
+    /// Penalty damping, per unit approach speed (default 10).
+    pub penalty_damping: f64,
+}
+
+impl Default for Params2 {
+    fn default() -> Self {
+        Params2 {
+            step: 0.05,
+            substeps: 1,
+            gravity: 1.0,
+            gravity_angle: 90.0,
+            mu: 0.33,
+            restitution: 0.0,
+            iterations: 10,
+            tolerance: None,
+            order: ContactOrder::Sequential,
+            seed: 0,
+            warm_start: true,
+            post_stabilization: true,
+            slop: 0.01,
+            contact_model: ContactModel::Pgs,
+            penalty_stiffness: 1000.0,
+            penalty_damping: 10.0,
+        }
+    }
+}
+
+impl Params2 {
+    /// h = step / substeps.
+    pub fn h(&self) -> f64 {
+        self.step / self.substeps as f64
+    }
+
+    /// The gravity vector. Components below 1e-15 of the magnitude are zero, so the default
+    /// 90° is exactly (0, g) (cos 90° in floating point is 6e-17).
+    pub fn gravity_vector(&self) -> Vector2<f64> {
+        let a = self.gravity_angle.to_radians();
+        let snap = |c: f64| if c.abs() < 1e-15 { 0.0 } else { c };
+        Vector2::new(snap(a.cos()), snap(a.sin())) * self.gravity
+    }
+}
+
+/// What the last substep's contact solve did (for traces, reports and tests).
+#[derive(Clone, Debug, Default)]
+pub struct Solve2 {
+    /// Contacts found.
+    pub contacts: Vec<Contact2>,
+    /// Impulses (n, t) per contact.
+    pub lambda: Vec<SVector<f64, 2>>,
+    /// The velocity solve's report (None for the penalty model or no contacts).
+    pub report: Option<SolveReport>,
+    /// Wall time of the PGS velocity solve, s.
+    pub solve_seconds: f64,
+}
+
+/// An impulse applied to a body at a given time (the scripted perturbation that shows a settled
+/// stack is not glued).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScriptedImpulse {
+    /// Applied at the start of the first step at or after this time.
+    pub time: f64,
+    /// The body.
+    pub body: usize,
+    /// The impulse (mass × length / time), world frame.
+    pub impulse: Vector2<f64>,
+    /// Where, world frame; `None` is the body's centre of mass.
+    pub point: Option<Vector2<f64>>,
+}
+
+/// Prescribed motion of a (pinned) body: v(t) = velocity · cos(2π f t), ω(t) = angular ·
+/// cos(2π f t) — the shaken container of the nut-bag challenge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shake {
+    /// The body (usually the pinned container).
+    pub body: usize,
+    /// Velocity amplitude.
+    pub velocity: Vector2<f64>,
+    /// Angular velocity amplitude.
+    pub angular: f64,
+    /// Frequency, per unit time.
+    pub frequency: f64,
+}
+
+/// A 2D simulation.
+#[derive(Clone, Debug)]
+pub struct World2 {
+    /// Parameters.
+    pub params: Params2,
+    /// Bodies.
+    pub bodies: Vec<Body2>,
+    /// Steps completed.
+    pub step: u64,
+    /// The last substep's contacts and solve.
+    pub last: Solve2,
+    /// The last problem solved (velocity level), for cross-checks and dumps.
+    pub last_problem: Option<ContactProblem2>,
+    /// Scripted impulses not yet applied.
+    pub impulses: Vec<ScriptedImpulse>,
+    /// Prescribed motions.
+    pub shakes: Vec<Shake>,
+    workspace: PgsWorkspace<3, 2>,
+    position_workspace: PgsWorkspace<3, 2>,
+    warm: HashMap<(usize, usize, usize, usize), Vector2<f64>>,
+}
+
+/// The Jacobian block of a body at lever arm r for direction rows (n, t): [d_x, d_y, r × d].
+fn jacobian_block2(n: &Vector2<f64>, t: &Vector2<f64>, r: &Vector2<f64>) -> SMatrix<f64, 2, 3> {
+    SMatrix::<f64, 2, 3>::new(n.x, n.y, cross(r, n), t.x, t.y, cross(r, t))
+}
+
+/// The tangent of a 2D contact: n turned by +90°, t = (−n_y, n_x).
+pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-n.y, n.x)
+}
+
+/// The 2D contact problem of `contacts`: M⁻¹ = diag(1/m, 1/m, 1/I) (zero for pinned bodies),
+/// u = (vx, vy, ω), J₁ = [nᵀ, r₁×n; tᵀ, r₁×t], J₂ = −[… r₂ …], b = J u with restitution on
+/// approaching normal rows (b_n = (1 + e) (J u)_n), λ₀ from `warm`. docs/blocks2d.md §"Contact
+/// problem".
+pub fn assemble_problem2(
+    bodies: &[Body2],
+    contacts: &[Contact2],
+    params: &Params2,
+    warm: Option<&HashMap<(usize, usize, usize, usize), Vector2<f64>>>,
+) -> ContactProblem2 {
+    let problem_bodies = bodies
+        .iter()
+        .map(|b| ProblemBody {
+            inverse_mass: Matrix3::from_diagonal(&Vector3::new(
+                b.inv_mass,
+                b.inv_mass,
+                b.inv_inertia,
+            )),
+            velocity: Vector3::new(b.v.x, b.v.y, b.omega),
+        })
+        .collect::<Vec<_>>();
+    let problem_contacts = contacts
+        .iter()
+        .map(|c| {
+            let t = tangent(&c.normal);
+            let j1 = jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body1].x));
+            let j2 = -jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body2].x));
+            let mut b =
+                j1 * problem_bodies[c.body1].velocity + j2 * problem_bodies[c.body2].velocity;
+            if b[0] < 0.0 {
+                b[0] *= 1.0 + params.restitution;
+            }
+            let lambda0 = warm
+                .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
+                .map_or(SVector::<f64, 2>::zeros(), |p| {
+                    SVector::<f64, 2>::new(p.dot(&c.normal), p.dot(&t))
+                });
+            ProblemContact {
+                bodies: [Some(c.body1), Some(c.body2)],
+                jacobian: [j1, j2],
+                b,
+                mu: params.mu,
+                compliance: 0.0,
+                lambda0,
+            }
+        })
+        .collect();
+    ContactProblem {
+        friction: FrictionModel::Box,
+        bodies: problem_bodies,
+        contacts: problem_contacts,
+    }
+}
+
+impl World2 {
+    /// A world of the bodies of `groups`, at rest.
+    pub fn new(groups: &[BlockGroup], params: Params2) -> World2 {
+        World2 {
+            bodies: groups.iter().map(Body2::from_group).collect(),
+            step: 0,
+            last: Solve2::default(),
+            last_problem: None,
+            impulses: Vec::new(),
+            shakes: Vec::new(),
+            workspace: PgsWorkspace::new(params.seed),
+            position_workspace: PgsWorkspace::new(params.seed),
+            warm: HashMap::new(),
+            params,
+        }
+    }
+
+    /// Time, step · step size.
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.params.step
+    }
+
+    fn pgs_settings(&self) -> PgsSettings {
+        PgsSettings {
+            max_iterations: self.params.iterations,
+            tolerance: self.params.tolerance,
+            order: self.params.order,
+            faults: crate::faults::Faults::NONE,
+        }
+    }
+
+    /// Advances one step.
+    pub fn step(&mut self) {
+        let h = self.params.h();
+        let g = self.params.gravity_vector();
+        let now = self.time();
+        let due: Vec<ScriptedImpulse> = self
+            .impulses
+            .iter()
+            .filter(|i| i.time <= now + 1e-12)
+            .copied()
+            .collect();
+        self.impulses.retain(|i| i.time > now + 1e-12);
+        for i in due {
+            if let Some(b) = self.bodies.get_mut(i.body) {
+                let point = i.point.unwrap_or(b.x);
+                b.apply_impulse_at(&i.impulse, &point);
+            }
+        }
+        for (substep, _) in (0..self.params.substeps).enumerate() {
+            let t = now + substep as f64 * h;
+            for s in &self.shakes {
+                if let Some(b) = self.bodies.get_mut(s.body) {
+                    let phase = (2.0 * std::f64::consts::PI * s.frequency * t).cos();
+                    b.v = s.velocity * phase;
+                    b.omega = s.angular * phase;
+                }
+            }
+            let mut contacts = std::mem::take(&mut self.last.contacts);
+            detect_contacts(&self.bodies, &mut contacts);
+            for b in &mut self.bodies {
+                b.force = if b.pinned {
+                    Vector2::zeros()
+                } else {
+                    g * b.mass
+                };
+                b.torque = 0.0;
+            }
+            if self.params.contact_model == ContactModel::Penalty {
+                self.add_penalty_forces(&contacts);
+            }
+            for b in &mut self.bodies {
+                b.step_velocity(h);
+            }
+            let mut corrections = vec![(Vector2::zeros(), 0.0); self.bodies.len()];
+            let mut lambda = Vec::new();
+            let mut report = None;
+            let mut solve_seconds = 0.0;
+            if self.params.contact_model == ContactModel::Pgs && !contacts.is_empty() {
+                let warm = self.params.warm_start.then_some(&self.warm);
+                let problem = assemble_problem2(&self.bodies, &contacts, &self.params, warm);
+                let settings = self.pgs_settings();
+                let started = std::time::Instant::now();
+                report = Some(solve_pgs(
+                    &problem,
+                    &settings,
+                    &mut self.workspace,
+                    &mut lambda,
+                ));
+                solve_seconds = started.elapsed().as_secs_f64();
+                for (i, b) in self.bodies.iter_mut().enumerate() {
+                    let du = self.workspace.delta_velocity(i);
+                    b.v += Vector2::new(du[0], du[1]);
+                    b.omega += du[2];
+                }
+                self.warm.clear();
+                for (c, l) in contacts.iter().zip(&lambda) {
+                    let p = c.normal * l[0] + tangent(&c.normal) * l[1];
+                    self.warm.insert((c.body1, c.body2, c.block1, c.block2), p);
+                }
+                if self.params.post_stabilization {
+                    corrections = self.post_stabilize(&contacts, &problem, h);
+                }
+                self.last_problem = Some(problem);
+            } else if contacts.is_empty() {
+                self.warm.clear();
+            }
+            for (b, (dv, dw)) in self.bodies.iter_mut().zip(&corrections) {
+                b.step_position(h, dv, *dw);
+            }
+            self.last = Solve2 {
+                contacts,
+                lambda,
+                report,
+                solve_seconds,
+            };
+        }
+        self.step += 1;
+    }
+
+    /// Cline and Pai's post-stabilisation: solve the same constraint rows for a velocity that
+    /// would remove the penetration beyond the slop in one substep, normal rows only (μ = 0),
+    /// and use it for the position update alone. docs/blocks2d.md §"Post-stabilisation".
+    fn post_stabilize(
+        &mut self,
+        contacts: &[Contact2],
+        velocity_problem: &ContactProblem2,
+        h: f64,
+    ) -> Vec<(Vector2<f64>, f64)> {
+        let mut problem = velocity_problem.clone();
+        for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
+            pc.b = SVector::<f64, 2>::new(-(c.depth - self.params.slop).max(0.0) / h, 0.0);
+            pc.mu = 0.0;
+            pc.lambda0 = SVector::zeros();
+        }
+        let mut lambda = Vec::new();
+        let settings = self.pgs_settings();
+        solve_pgs(
+            &problem,
+            &settings,
+            &mut self.position_workspace,
+            &mut lambda,
+        );
+        (0..self.bodies.len())
+            .map(|i| {
+                let du = self.position_workspace.delta_velocity(i);
+                (Vector2::new(du[0], du[1]), du[2])
+            })
+            .collect()
+    }
+
+    /// The starter's penalty contact: a spring k d plus damping c (approach speed) along the
+    /// normal, equal and opposite on the two bodies at the contact point.
+    fn add_penalty_forces(&mut self, contacts: &[Contact2]) {
+        for c in contacts {
+            let (b1, b2) = (&self.bodies[c.body1], &self.bodies[c.body2]);
+            let v1 = b1.v + Vector2::new(-(c.point - b1.x).y, (c.point - b1.x).x) * b1.omega;
+            let v2 = b2.v + Vector2::new(-(c.point - b2.x).y, (c.point - b2.x).x) * b2.omega;
+            let approach = (v1 - v2).dot(&c.normal);
+            let magnitude = (self.params.penalty_stiffness * c.depth
+                - self.params.penalty_damping * approach)
+                .max(0.0);
+            let f = c.normal * magnitude;
+            self.bodies[c.body1].add_force_at(&f, &c.point);
+            self.bodies[c.body2].add_force_at(&-f, &c.point);
+        }
+    }
+
+    /// Kinetic energy and gravitational potential −Σ m g·x of the non-pinned bodies.
+    pub fn energy(&self) -> (f64, f64) {
+        let g = self.params.gravity_vector();
+        let kinetic = self.bodies.iter().map(Body2::kinetic_energy).sum();
+        let potential = self
+            .bodies
+            .iter()
+            .filter(|b| !b.pinned)
+            .map(|b| -b.mass * g.dot(&b.x))
+            .sum();
+        (kinetic, potential)
+    }
+
+    /// Linear momentum Σ m v and angular momentum about the origin Σ (x × m v + I ω) of the
+    /// non-pinned bodies.
+    pub fn momentum(&self) -> (Vector2<f64>, f64) {
+        let moving = self.bodies.iter().filter(|b| !b.pinned);
+        let linear = moving.clone().map(|b| b.v * b.mass).sum();
+        let angular = moving
+            .map(|b| cross(&b.x, &(b.v * b.mass)) + b.inertia * b.omega)
+            .sum();
+        (linear, angular)
+    }
+}

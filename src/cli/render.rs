@@ -1,0 +1,128 @@
+//! `rigidref render IMAGE.png`: run the 2D system and write PNG frames and an animated GIF.
+
+use super::run::RunArgs;
+use anyhow::{Context, bail};
+use clap::Args;
+use image::codecs::gif::{GifEncoder, Repeat};
+use image::{Delay, Frame};
+use rigidref::blocks::render::{RenderSettings, render};
+use std::path::PathBuf;
+
+/// Arguments of `rigidref render`.
+#[derive(Args)]
+#[command(after_long_help = "\
+Runs the image scene with the same options as `rigidref run IMAGE.png` and draws every K-th step:
+blocks in their own colours, each moving body's centre of mass as a blue circle that turns solid
+when its kinetic energy is below --rest-threshold, and optionally contacts (red points, green
+normals) and root bounding discs. Frames go to DIR/frame-NNNNN.png, the animation to --gif.")]
+pub struct RenderArgs {
+    /// The run: image and 2D options (see `rigidref run --help`).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Folder for PNG frames.
+    #[arg(long, value_name = "DIR")]
+    pub frames: Option<PathBuf>,
+    /// Animated GIF of the frames.
+    #[arg(long, value_name = "FILE")]
+    pub gif: Option<PathBuf>,
+    /// Draw every K-th step.
+    #[arg(long, default_value_t = 5)]
+    pub frame_every: u64,
+    /// Pixels per block.
+    #[arg(long, default_value_t = 3.0)]
+    pub scale: f64,
+    /// Block opacity in [0, 1] (0.5 shows whether bodies interpenetrate).
+    #[arg(long, default_value_t = 1.0)]
+    pub opacity: f64,
+    /// Draw contacts.
+    #[arg(long)]
+    pub show_contacts: bool,
+    /// Draw root bounding discs.
+    #[arg(long)]
+    pub show_discs: bool,
+}
+
+/// Renders.
+pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
+    let Some(image_path) = args.run.scene.clone() else {
+        bail!("render needs an image (a .png scene)");
+    };
+    if args.frames.is_none() && args.gif.is_none() {
+        bail!("nothing to write: give --frames DIR and/or --gif FILE");
+    }
+    if !(args.scale > 0.0 && args.scale <= 64.0) {
+        bail!("--scale must be in (0, 64], got {}", args.scale);
+    }
+    if !(0.0..=1.0).contains(&args.opacity) {
+        bail!("--opacity must be in [0, 1], got {}", args.opacity);
+    }
+    if args.frame_every == 0 {
+        bail!("--frame-every must be at least 1");
+    }
+    let mut world = super::run2d::world_from_args(&image_path, &args.run)?;
+    let steps = match (args.run.steps, args.run.time) {
+        (Some(n), _) => n,
+        (None, t) => (t.unwrap_or(10.0) / world.params.step + 1e-9)
+            .floor()
+            .max(1.0) as u64,
+    };
+    let mut settings = RenderSettings::fit(&world, args.scale);
+    settings.opacity = args.opacity;
+    settings.contacts = args.show_contacts;
+    settings.discs = args.show_discs;
+    settings.rest_threshold = args.run.rest_threshold;
+    if let Some(dir) = &args.frames {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create", dir.display()))?;
+    }
+    let mut gif = match &args.gif {
+        Some(p) => {
+            let f = std::fs::File::create(p)
+                .with_context(|| format!("{}: cannot create", p.display()))?;
+            let mut e = GifEncoder::new_with_speed(std::io::BufWriter::new(f), 20);
+            e.set_repeat(Repeat::Infinite)?;
+            Some(e)
+        }
+        None => None,
+    };
+    // Frame delay: the simulated time between frames, shown in real time (at least 20 ms).
+    let delay_ms = ((world.params.step * args.frame_every as f64) * 1000.0)
+        .round()
+        .max(20.0) as u32;
+    let mut written = 0;
+    for k in 0..=steps {
+        if k > 0 {
+            world.step();
+        }
+        if k % args.frame_every != 0 && k != steps {
+            continue;
+        }
+        let img = render(&world, &settings);
+        if let Some(dir) = &args.frames {
+            let path = dir.join(format!("frame-{k:05}.png"));
+            img.save(&path)
+                .with_context(|| format!("{}: cannot write", path.display()))?;
+        }
+        if let Some(e) = &mut gif {
+            e.encode_frame(Frame::from_parts(
+                img,
+                0,
+                0,
+                Delay::from_numer_denom_ms(delay_ms, 1),
+            ))?;
+        }
+        written += 1;
+    }
+    eprintln!(
+        "{written} frames of {} ({} steps){}{}",
+        image_path.display(),
+        steps,
+        args.frames
+            .as_ref()
+            .map_or(String::new(), |d| format!(", PNG in {}", d.display())),
+        args.gif
+            .as_ref()
+            .map_or(String::new(), |g| format!(", GIF {}", g.display()))
+    );
+    Ok(())
+}

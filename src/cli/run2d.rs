@@ -1,0 +1,263 @@
+//! `rigidref run IMAGE.png`: the 2D image-block system. docs/blocks2d.md.
+
+use super::run::RunArgs;
+use anyhow::{Context, bail};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use nalgebra::Vector2;
+use rigidref::blocks::image::{ImageSettings, load_image};
+use rigidref::blocks::trace::{Record2, TraceHeader2};
+use rigidref::blocks::world::{Params2, ScriptedImpulse, World2};
+use std::io::Write;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Parses `T:BODY:JX,JY` or `T:BODY:JX,JY:PX,PY`.
+pub fn parse_impulse(text: &str) -> Result<ScriptedImpulse, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let pair = |s: &str| -> Result<Vector2<f64>, String> {
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{s:?}: {e}"))?;
+        match v.as_slice() {
+            [x, y] if x.is_finite() && y.is_finite() => Ok(Vector2::new(*x, *y)),
+            _ => Err(format!("{s:?} is not two finite numbers X,Y")),
+        }
+    };
+    if !(parts.len() == 3 || parts.len() == 4) {
+        return Err(format!(
+            "--impulse {text:?}: expected TIME:BODY:JX,JY[:PX,PY]"
+        ));
+    }
+    let time: f64 = parts[0]
+        .parse()
+        .map_err(|e| format!("--impulse {text:?}: time: {e}"))?;
+    let body: usize = parts[1]
+        .parse()
+        .map_err(|e| format!("--impulse {text:?}: body: {e}"))?;
+    if !(time.is_finite() && time >= 0.0) {
+        return Err(format!("--impulse {text:?}: time must be ≥ 0"));
+    }
+    Ok(ScriptedImpulse {
+        time,
+        body,
+        impulse: pair(parts[2]).map_err(|e| format!("--impulse {text:?}: impulse {e}"))?,
+        point: if parts.len() == 4 {
+            Some(pair(parts[3]).map_err(|e| format!("--impulse {text:?}: point {e}"))?)
+        } else {
+            None
+        },
+    })
+}
+
+/// The parameters from the command line, checked.
+pub fn params_from_args(args: &RunArgs) -> anyhow::Result<Params2> {
+    let d = Params2::default();
+    let p = Params2 {
+        step: args.step.unwrap_or(d.step),
+        substeps: args.substeps.unwrap_or(d.substeps),
+        gravity: args.gravity.unwrap_or(d.gravity),
+        gravity_angle: args.gravity_angle.unwrap_or(d.gravity_angle),
+        mu: args.mu.unwrap_or(d.mu),
+        restitution: args.restitution.unwrap_or(d.restitution),
+        iterations: args.iterations.unwrap_or(d.iterations),
+        tolerance: args.pgs_tolerance,
+        order: args.order.unwrap_or(d.order),
+        seed: args.seed.unwrap_or(d.seed),
+        warm_start: !args.no_warm_start,
+        post_stabilization: !args.no_post_stabilization,
+        slop: args.slop.unwrap_or(d.slop),
+        contact_model: args.contact_model.unwrap_or(d.contact_model),
+        ..d
+    };
+    let positive = |name: &str, x: f64| -> anyhow::Result<()> {
+        if !(x.is_finite() && x > 0.0) {
+            bail!("--{name} must be a positive number, got {x}");
+        }
+        Ok(())
+    };
+    let non_negative = |name: &str, x: f64| -> anyhow::Result<()> {
+        if !(x.is_finite() && x >= 0.0) {
+            bail!("--{name} must be a number ≥ 0, got {x}");
+        }
+        Ok(())
+    };
+    positive("step", p.step)?;
+    if p.substeps == 0 {
+        bail!("--substeps must be at least 1");
+    }
+    if p.iterations == 0 {
+        bail!("--iterations must be at least 1");
+    }
+    non_negative("gravity", p.gravity)?;
+    if !p.gravity_angle.is_finite() {
+        bail!("--gravity-angle must be finite");
+    }
+    non_negative("mu", p.mu)?;
+    non_negative("restitution", p.restitution)?;
+    if p.restitution > 1.0 {
+        bail!("--restitution must be in [0, 1], got {}", p.restitution);
+    }
+    non_negative("slop", p.slop)?;
+    if let Some(t) = p.tolerance {
+        positive("pgs-tolerance", t)?;
+    }
+    Ok(p)
+}
+
+/// Loads the image and builds the world, with the scripted impulses.
+pub fn world_from_args(image: &Path, args: &RunArgs) -> anyhow::Result<World2> {
+    let threshold = args
+        .white_threshold
+        .unwrap_or(ImageSettings::default().white_threshold);
+    if !(0.0..1.0).contains(&threshold) {
+        bail!("--white-threshold must be in [0, 1), got {threshold}");
+    }
+    let groups = load_image(
+        image,
+        &ImageSettings {
+            white_threshold: threshold,
+        },
+    )
+    .map_err(|e| anyhow::anyhow!(e))?;
+    let params = params_from_args(args)?;
+    let mut world = World2::new(&groups, params);
+    for text in &args.impulse {
+        let i = parse_impulse(text).map_err(|e| anyhow::anyhow!(e))?;
+        if i.body >= world.bodies.len() {
+            bail!(
+                "--impulse {text:?}: body {} does not exist ({} bodies in {})",
+                i.body,
+                world.bodies.len(),
+                image.display()
+            );
+        }
+        world.impulses.push(i);
+    }
+    Ok(world)
+}
+
+/// Runs an image scene and writes its 2D trace.
+pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
+    let mut world = world_from_args(image, args)?;
+    let step = world.params.step;
+    let steps = match (args.steps, args.time) {
+        (Some(n), _) => n,
+        (None, t) => {
+            let t = t.unwrap_or(10.0);
+            if !(t.is_finite() && t > 0.0) {
+                bail!("--time must be a positive number, got {t}");
+            }
+            (t / step + 1e-9).floor().max(1.0) as u64
+        }
+    };
+    if args.every == 0 {
+        bail!("--every must be at least 1");
+    }
+    let out_path = args.out.clone().unwrap_or_else(|| "trace.jsonl".into());
+    let out: Box<dyn Write> = if out_path.as_os_str() == "-" {
+        Box::new(std::io::stdout().lock())
+    } else {
+        Box::new(
+            std::fs::File::create(&out_path)
+                .with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
+        )
+    };
+    let mut out = std::io::BufWriter::new(out);
+    let name = image
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let header = TraceHeader2::for_world(&world, &name, &image.display().to_string());
+    let write_err =
+        |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
+    serde_json::to_writer(&mut out, &header)?;
+    out.write_all(b"\n").map_err(write_err)?;
+    serde_json::to_writer(&mut out, &Record2::of_world(&world))?;
+    out.write_all(b"\n").map_err(write_err)?;
+    let mut scaling = match &args.scaling_csv {
+        Some(p) => {
+            let mut f = std::io::BufWriter::new(
+                std::fs::File::create(p)
+                    .with_context(|| format!("{}: cannot create", p.display()))?,
+            );
+            writeln!(f, "step,bodies,contacts,pgs_seconds").map_err(write_err)?;
+            Some(f)
+        }
+        None => None,
+    };
+    let started = Instant::now();
+    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
+    progress.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let mut most_contacts = 0;
+    for k in 1..=steps {
+        world.step();
+        most_contacts = most_contacts.max(world.last.contacts.len());
+        if let Some(f) = &mut scaling {
+            writeln!(
+                f,
+                "{k},{},{},{:.9}",
+                world.bodies.len(),
+                world.last.contacts.len(),
+                world.last.solve_seconds
+            )
+            .map_err(write_err)?;
+        }
+        if k % args.every == 0 || k == steps {
+            serde_json::to_writer(&mut out, &Record2::of_world(&world))?;
+            out.write_all(b"\n").map_err(write_err)?;
+        }
+        if !args.quiet && started.elapsed() > Duration::from_secs(1) {
+            progress.set_draw_target(ProgressDrawTarget::stderr());
+        }
+        if k % 16 == 0 {
+            progress.set_position(k);
+        }
+    }
+    out.flush().map_err(write_err)?;
+    progress.finish_and_clear();
+    if !args.quiet {
+        let (kinetic, potential) = world.energy();
+        let p = &world.params;
+        let resting = world
+            .bodies
+            .iter()
+            .filter(|b| !b.pinned && b.kinetic_energy() < args.rest_threshold)
+            .count();
+        let moving = world.bodies.iter().filter(|b| !b.pinned).count();
+        eprintln!(
+            "image          {} ({} bodies, {} pinned)",
+            image.display(),
+            world.bodies.len(),
+            world.bodies.len() - moving
+        );
+        eprintln!(
+            "steps          {steps} × {} substeps, h = {}, t = {}",
+            p.substeps,
+            p.h(),
+            world.time()
+        );
+        eprintln!(
+            "solver         {:?}, {} iterations, order {:?}, μ {}, restitution {}, post-stabilisation {}",
+            p.contact_model, p.iterations, p.order, p.mu, p.restitution, p.post_stabilization
+        );
+        eprintln!("wall time      {:.3} s", started.elapsed().as_secs_f64());
+        eprintln!("energy         kinetic {kinetic:.6e}, potential {potential:.6e}");
+        eprintln!(
+            "at rest        {resting} of {moving} bodies below kinetic energy {}",
+            args.rest_threshold
+        );
+        eprintln!(
+            "contacts       {} now, at most {most_contacts}",
+            world.last.contacts.len()
+        );
+        eprintln!("trace          {}", out_path.display());
+    }
+    Ok(())
+}
