@@ -12,8 +12,10 @@
 pub mod body;
 pub mod collide;
 pub mod disc_tree;
+pub mod factory;
 pub mod image;
 pub mod mec;
 pub mod render;
+pub mod scaling;
 pub mod trace;
 pub mod world;

@@ -263,6 +263,11 @@ impl World2 {
         }
     }
 
+    /// Adds a body (the factory's), keeping every existing index.
+    pub fn add_body(&mut self, body: Body2) {
+        self.bodies.push(body);
+    }
+
     /// Time, step · step size.
     pub fn time(&self) -> f64 {
         self.step as f64 * self.params.step

@@ -3,6 +3,7 @@
 
 mod contacts;
 mod crosscheck;
+mod factory;
 mod golden;
 mod massprops;
 mod rapier;
@@ -42,6 +43,8 @@ enum Command {
     Golden(golden::GoldenArgs),
     /// Run a 2D image scene and write PNG frames and an animated GIF.
     Render(render::RenderArgs),
+    /// Drop random bodies into a container (2D stress test), with the scaling report.
+    Factory(factory::FactoryArgs),
 }
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
@@ -55,6 +58,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
         Some(Command::Golden(args)) => golden::golden(args),
         Some(Command::Render(args)) => render::render_command(args),
+        Some(Command::Factory(args)) => factory::factory(args).map(|_| ()),
         None => run::run(cli.run),
     }
 }

@@ -143,6 +143,14 @@ pub struct RunArgs {
         help_heading = "Image scenes (2D, SCENE is a .png)"
     )]
     pub rest_threshold: f64,
+    /// 2D: prescribed motion BODY:VX,VY:OMEGA:FREQ: the body's velocity is (VX,VY)·cos(2π FREQ t)
+    /// and its angular velocity OMEGA·cos(2π FREQ t) (shaking the nut bag's container).
+    #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    pub shake: Vec<String>,
+    /// 2D: write, per recorded step, where the heaviest fifth of the moving bodies is relative to
+    /// the rest (the nut-bag challenge) to this CSV.
+    #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    pub nut_report: Option<PathBuf>,
     /// 2D: write step, bodies, contacts, PGS solve seconds per step to this CSV.
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub scaling_csv: Option<PathBuf>,

@@ -51,6 +51,58 @@ pub fn parse_impulse(text: &str) -> Result<ScriptedImpulse, String> {
     })
 }
 
+/// Parses `BODY:VX,VY:OMEGA:FREQ`.
+pub fn parse_shake(text: &str) -> Result<rigidref::blocks::world::Shake, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let bad = || format!("--shake {text:?}: expected BODY:VX,VY:OMEGA:FREQ");
+    if parts.len() != 4 {
+        return Err(bad());
+    }
+    let body: usize = parts[0].parse().map_err(|_| bad())?;
+    let v: Vec<f64> = parts[1]
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let angular: f64 = parts[2].parse().map_err(|_| bad())?;
+    let frequency: f64 = parts[3].parse().map_err(|_| bad())?;
+    if v.len() != 2
+        || !v
+            .iter()
+            .chain([angular, frequency].iter())
+            .all(|x| x.is_finite())
+        || frequency < 0.0
+    {
+        return Err(bad());
+    }
+    Ok(rigidref::blocks::world::Shake {
+        body,
+        velocity: Vector2::new(v[0], v[1]),
+        angular,
+        frequency,
+    })
+}
+
+/// Where the heaviest fifth of the moving bodies is: (mean height of the heaviest, mean height of
+/// the rest, fraction of the heaviest in the upper half of the moving bodies), height = −y.
+pub fn nut_statistics(world: &World2) -> (f64, f64, f64) {
+    let mut moving: Vec<&rigidref::blocks::body::Body2> =
+        world.bodies.iter().filter(|b| !b.pinned).collect();
+    if moving.len() < 2 {
+        return (f64::NAN, f64::NAN, f64::NAN);
+    }
+    moving.sort_by(|a, b| b.mass.total_cmp(&a.mass));
+    let heavy = (moving.len() / 5).max(1);
+    let mean = |s: &[&rigidref::blocks::body::Body2]| {
+        s.iter().map(|b| -b.x.y).sum::<f64>() / s.len() as f64
+    };
+    let mut heights: Vec<f64> = moving.iter().map(|b| -b.x.y).collect();
+    heights.sort_by(f64::total_cmp);
+    let median = heights[heights.len() / 2];
+    let upper = moving[..heavy].iter().filter(|b| -b.x.y >= median).count() as f64 / heavy as f64;
+    (mean(&moving[..heavy]), mean(&moving[heavy..]), upper)
+}
+
 /// The parameters from the command line, checked.
 pub fn params_from_args(args: &RunArgs) -> anyhow::Result<Params2> {
     let d = Params2::default();
@@ -135,6 +187,18 @@ pub fn world_from_args(image: &Path, args: &RunArgs) -> anyhow::Result<World2> {
         }
         world.impulses.push(i);
     }
+    for text in &args.shake {
+        let s = parse_shake(text).map_err(|e| anyhow::anyhow!(e))?;
+        if s.body >= world.bodies.len() {
+            bail!(
+                "--shake {text:?}: body {} does not exist ({} bodies in {})",
+                s.body,
+                world.bodies.len(),
+                image.display()
+            );
+        }
+        world.shakes.push(s);
+    }
     Ok(world)
 }
 
@@ -187,6 +251,21 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         }
         None => None,
     };
+    let mut nuts = match &args.nut_report {
+        Some(p) => {
+            let mut f = std::io::BufWriter::new(
+                std::fs::File::create(p)
+                    .with_context(|| format!("{}: cannot create", p.display()))?,
+            );
+            writeln!(
+                f,
+                "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half"
+            )
+            .map_err(write_err)?;
+            Some(f)
+        }
+        None => None,
+    };
     let started = Instant::now();
     let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
     progress.set_style(
@@ -212,6 +291,10 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         if k % args.every == 0 || k == steps {
             serde_json::to_writer(&mut out, &Record2::of_world(&world))?;
             out.write_all(b"\n").map_err(write_err)?;
+            if let Some(f) = &mut nuts {
+                let (heavy, others, upper) = nut_statistics(&world);
+                writeln!(f, "{},{heavy},{others},{upper}", world.time()).map_err(write_err)?;
+            }
         }
         if !args.quiet && started.elapsed() > Duration::from_secs(1) {
             progress.set_draw_target(ProgressDrawTarget::stderr());
@@ -221,6 +304,12 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         }
     }
     out.flush().map_err(write_err)?;
+    if let Some(f) = &mut nuts {
+        f.flush().map_err(write_err)?;
+    }
+    if let Some(f) = &mut scaling {
+        f.flush().map_err(write_err)?;
+    }
     progress.finish_and_clear();
     if !args.quiet {
         let (kinetic, potential) = world.energy();
