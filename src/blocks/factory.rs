@@ -17,7 +17,10 @@ pub enum Pieces {
     Tetris,
 }
 
-const TETROMINOES: [([(i64, i64); 4], [f64; 3]); 7] = [
+/// A tetromino: its four cells and its colour.
+type Tetromino = ([(i64, i64); 4], [f64; 3]);
+
+const TETROMINOES: [Tetromino; 7] = [
     ([(0, 0), (1, 0), (2, 0), (3, 0)], [0.0, 0.55, 0.55]), // I
     ([(0, 0), (1, 0), (0, 1), (1, 1)], [0.75, 0.65, 0.0]), // O
     ([(0, 0), (1, 0), (2, 0), (1, 1)], [0.5, 0.0, 0.5]),   // T

@@ -17,5 +17,6 @@ pub mod image;
 pub mod mec;
 pub mod render;
 pub mod scaling;
+pub mod scene;
 pub mod trace;
 pub mod world;

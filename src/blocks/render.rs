@@ -57,9 +57,9 @@ fn blend(img: &mut RgbaImage, x: i64, y: i64, colour: [f64; 3], alpha: f64) {
         return;
     }
     let p = img.get_pixel_mut(x as u32, y as u32);
-    for c in 0..3 {
-        let v = f64::from(p.0[c]) * (1.0 - alpha) + colour[c] * 255.0 * alpha;
-        p.0[c] = v.round().clamp(0.0, 255.0) as u8;
+    for (channel, c) in p.0.iter_mut().zip(colour) {
+        let v = f64::from(*channel) * (1.0 - alpha) + c * 255.0 * alpha;
+        *channel = v.round().clamp(0.0, 255.0) as u8;
     }
 }
 

@@ -20,6 +20,9 @@ use crate::solve::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_p
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
 use std::collections::HashMap;
 
+/// Warm-start impulses by contact: (body 1, body 2, block 1, block 2) → world impulse.
+pub type WarmStart2 = HashMap<(usize, usize, usize, usize), Vector2<f64>>;
+
 /// The 2D problem: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
 pub type ContactProblem2 = ContactProblem<3, 2>;
 
@@ -179,7 +182,7 @@ pub struct World2 {
     pub shakes: Vec<Shake>,
     workspace: PgsWorkspace<3, 2>,
     position_workspace: PgsWorkspace<3, 2>,
-    warm: HashMap<(usize, usize, usize, usize), Vector2<f64>>,
+    warm: WarmStart2,
 }
 
 /// The Jacobian block of a body at lever arm r for direction rows (n, t): [d_x, d_y, r × d].
@@ -200,7 +203,7 @@ pub fn assemble_problem2(
     bodies: &[Body2],
     contacts: &[Contact2],
     params: &Params2,
-    warm: Option<&HashMap<(usize, usize, usize, usize), Vector2<f64>>>,
+    warm: Option<&WarmStart2>,
 ) -> ContactProblem2 {
     let problem_bodies = bodies
         .iter()

@@ -159,9 +159,7 @@ pub struct RunArgs {
 /// Runs a scene. A run that fails midway keeps the trace written so far, flushed and valid.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.scene
-        && path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        && super::run2d::is_2d(path)
     {
         return super::run2d::run(path, &args);
     }

@@ -158,8 +158,63 @@ pub fn params_from_args(args: &RunArgs) -> anyhow::Result<Params2> {
     Ok(p)
 }
 
+/// Whether `path` is a 2D scene: a .png image, or a JSON file with an `image` key.
+pub fn is_2d(path: &Path) -> bool {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return true;
+    }
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        && std::fs::read_to_string(path).is_ok_and(|t| rigidref::blocks::scene::is_scene2(&t))
+}
+
+/// The world of a 2D scene: an image with the command line's options, or a 2D scene file (whose
+/// parameters, impulses and shakes come from the file; giving 2D physics options as well is an
+/// error rather than a silent choice between the two).
+pub fn world_from_args(path: &Path, args: &RunArgs) -> anyhow::Result<World2> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        let given = [
+            args.step.is_some(),
+            args.substeps.is_some(),
+            args.gravity.is_some(),
+            args.gravity_angle.is_some(),
+            args.mu.is_some(),
+            args.restitution.is_some(),
+            args.iterations.is_some(),
+            args.pgs_tolerance.is_some(),
+            args.order.is_some(),
+            args.seed.is_some(),
+            args.no_warm_start,
+            args.no_post_stabilization,
+            args.slop.is_some(),
+            args.contact_model.is_some(),
+            args.white_threshold.is_some(),
+            !args.impulse.is_empty(),
+            !args.shake.is_empty(),
+        ];
+        if given.iter().any(|g| *g) {
+            bail!(
+                "{}: a 2D scene file sets its own parameters; the 2D options on the command line apply to .png scenes only",
+                path.display()
+            );
+        }
+        let scene = rigidref::blocks::scene::load_scene2(path)?;
+        for w in &scene.warnings {
+            eprintln!("warning: {w}");
+        }
+        return Ok(scene.world);
+    }
+    world_from_image(path, args)
+}
+
 /// Loads the image and builds the world, with the scripted impulses.
-pub fn world_from_args(image: &Path, args: &RunArgs) -> anyhow::Result<World2> {
+pub fn world_from_image(image: &Path, args: &RunArgs) -> anyhow::Result<World2> {
     let threshold = args
         .white_threshold
         .unwrap_or(ImageSettings::default().white_threshold);

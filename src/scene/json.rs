@@ -100,7 +100,7 @@ struct BodyFileJson {
 }
 
 /// Deserialises `text`, naming `source` in errors and warning about keys nobody reads.
-pub(super) fn from_str<T: for<'de> Deserialize<'de>>(
+pub(crate) fn from_str<T: for<'de> Deserialize<'de>>(
     text: &str,
     source: &str,
     warnings: &mut Vec<String>,

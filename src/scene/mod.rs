@@ -3,7 +3,7 @@
 //! meaningful. The format, the defaults and the keys this project adds: docs/scene-format.md.
 
 mod embedded;
-mod json;
+pub(crate) mod json;
 pub mod values;
 
 pub use embedded::{DEFAULT_SCENE_NAME, default_scene};
