@@ -90,10 +90,16 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         .round()
         .max(20.0) as u32;
     let mut written = 0;
+    let started = std::time::Instant::now();
+    let progress = indicatif::ProgressBar::with_draw_target(Some(steps), indicatif::ProgressDrawTarget::hidden());
     for k in 0..=steps {
         if k > 0 {
             world.step();
         }
+        if !args.run.quiet && started.elapsed() > std::time::Duration::from_secs(1) {
+            progress.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+        progress.set_position(k);
         if k % args.frame_every != 0 && k != steps {
             continue;
         }
@@ -113,6 +119,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         }
         written += 1;
     }
+    progress.finish_and_clear();
     eprintln!(
         "{written} frames of {} ({} steps){}{}",
         image_path.display(),

@@ -52,8 +52,9 @@ with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the sa
 #[derive(Args)]
 #[command(after_long_help = SCENE_KEYS)]
 pub struct RunArgs {
-    /// Scene file (the assignment's JSON format). Without one, the built-in default scene
-    /// (the project's Dzhanibekov-effect scene) runs.
+    /// Scene file: the 3D assignment's JSON, a 2D image (.png), or a 2D scene file (JSON naming
+    /// an image; docs/blocks2d.md). Without one, the built-in default 3D scene (the project's
+    /// Dzhanibekov-effect scene) runs.
     pub scene: Option<PathBuf>,
     /// Simulated time to run, s [default: 10].
     #[arg(long, conflicts_with = "steps", allow_negative_numbers = true)]
