@@ -3,12 +3,11 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rigidref::crosscheck::{Comparison, CrosscheckSettings, ProblemCheck, check_problem};
 use rigidref::problem::json::ProblemFile;
 use rigidref::world::World;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `rigidref crosscheck`.
 #[derive(Args)]
@@ -213,13 +212,8 @@ fn check_scene(
     let steps = (time / scene.params.dt + 1e-9).floor().max(1.0) as u64;
     let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
     let started = Instant::now();
-    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
-    progress.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
+    let mut shown = false;
     let mut rows = Vec::new();
     for k in 1..=steps {
         world
@@ -232,9 +226,7 @@ fn check_scene(
                 check,
             });
         }
-        if started.elapsed() > Duration::from_secs(1) {
-            progress.set_draw_target(ProgressDrawTarget::stderr());
-        }
+        super::show_progress_after_a_second(&progress, started, false, &mut shown);
         progress.set_position(k);
     }
     progress.finish_and_clear();

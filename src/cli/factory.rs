@@ -3,7 +3,6 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::Vector2;
 use rigidref::blocks::factory::{Factory, Pieces, container};
 use rigidref::blocks::image::{ImageSettings, load_image};
@@ -11,7 +10,7 @@ use rigidref::blocks::scaling::{linear_fit, plot};
 use rigidref::blocks::world::{Params2, World2};
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Arguments of `rigidref factory`.
 #[derive(Args)]
@@ -147,13 +146,11 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     let mut points = Vec::new();
     let (mut dropped, mut max_contacts, mut pgs_seconds) = (0usize, 0usize, 0.0);
     let started = Instant::now();
-    let progress = ProgressBar::with_draw_target(Some(total_steps), ProgressDrawTarget::hidden());
-    progress.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps, {msg}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    let progress = super::progress_bar(
+        total_steps,
+        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps, {msg}",
     );
+    let mut shown = false;
     for k in 0..total_steps {
         if k % steps_per_batch == 0 && dropped < args.bodies {
             let n = args.batch.min(args.bodies - dropped);
@@ -180,9 +177,7 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         if contacts > 0 {
             points.push((contacts as f64, world.last.solve_seconds));
         }
-        if !args.quiet && started.elapsed() > Duration::from_secs(1) {
-            progress.set_draw_target(ProgressDrawTarget::stderr());
-        }
+        super::show_progress_after_a_second(&progress, started, args.quiet, &mut shown);
         if k % 20 == 0 {
             progress.set_position(k);
             progress.set_message(format!(

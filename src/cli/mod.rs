@@ -74,3 +74,34 @@ fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigid
     }
     Ok(scene)
 }
+
+/// A progress bar over `steps` steps, hidden until [`show_progress_after_a_second`] reveals it
+/// (runs shorter than about a second get none; indicatif hides it when stderr is not a terminal).
+fn progress_bar(steps: u64, template: &str) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(steps),
+        indicatif::ProgressDrawTarget::hidden(),
+    );
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+/// The progress template of a run.
+const STEPS_TEMPLATE: &str =
+    "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})";
+
+/// Shows `bar` once a run has taken more than a second (unless `quiet`); `shown` remembers it.
+fn show_progress_after_a_second(
+    bar: &indicatif::ProgressBar,
+    started: std::time::Instant,
+    quiet: bool,
+    shown: &mut bool,
+) {
+    if !quiet && !*shown && started.elapsed() > std::time::Duration::from_secs(1) {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        *shown = true;
+    }
+}

@@ -91,14 +91,13 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         .max(20.0) as u32;
     let mut written = 0;
     let started = std::time::Instant::now();
-    let progress = indicatif::ProgressBar::with_draw_target(Some(steps), indicatif::ProgressDrawTarget::hidden());
+    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
+    let mut shown = false;
     for k in 0..=steps {
         if k > 0 {
             world.step();
         }
-        if !args.run.quiet && started.elapsed() > std::time::Duration::from_secs(1) {
-            progress.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        }
+        super::show_progress_after_a_second(&progress, started, args.run.quiet, &mut shown);
         progress.set_position(k);
         if k % args.frame_every != 0 && k != steps {
             continue;

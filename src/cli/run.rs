@@ -2,7 +2,7 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::ProgressDrawTarget;
 use rigidref::scene::DEFAULT_SCENE_NAME;
 use rigidref::trace::{TraceFormat, TraceHeader, TraceRecord, TraceWriter};
 use rigidref::world::World;
@@ -227,13 +227,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     let start_energy = world.energy();
     let start_momentum = world.momentum();
     let started = Instant::now();
-    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
-    progress.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
     let mut progress_shown = false;
     let mut contact_stats = ContactStats::default();
     let mut stopped_at_contact = None;

@@ -2,14 +2,13 @@
 
 use super::run::RunArgs;
 use anyhow::{Context, bail};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use nalgebra::Vector2;
 use rigidref::blocks::image::{ImageSettings, load_image};
 use rigidref::blocks::trace::{Record2, TraceHeader2};
 use rigidref::blocks::world::{Params2, ScriptedImpulse, World2};
 use std::io::Write;
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Parses `T:BODY:JX,JY` or `T:BODY:JX,JY:PX,PY`.
 pub fn parse_impulse(text: &str) -> Result<ScriptedImpulse, String> {
@@ -322,13 +321,8 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         None => None,
     };
     let started = Instant::now();
-    let progress = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::hidden());
-    progress.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
+    let mut shown = false;
     let mut most_contacts = 0;
     for k in 1..=steps {
         world.step();
@@ -351,9 +345,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
                 writeln!(f, "{},{heavy},{others},{upper}", world.time()).map_err(write_err)?;
             }
         }
-        if !args.quiet && started.elapsed() > Duration::from_secs(1) {
-            progress.set_draw_target(ProgressDrawTarget::stderr());
-        }
+        super::show_progress_after_a_second(&progress, started, args.quiet, &mut shown);
         if k % 16 == 0 {
             progress.set_position(k);
         }

@@ -83,7 +83,7 @@ pub fn winding_number(mesh: &TriMesh, p: &Vector3<f64>) -> f64 {
 /// Signed distance from `p` to `mesh` by visiting every triangle. Inside when the winding number
 /// exceeds ½.
 pub fn brute_force_signed_distance(mesh: &TriMesh, p: &Vector3<f64>) -> SignedDistance {
-    let mut best = (f64::INFINITY, Vector3::zeros(), 0);
+    let mut best = (f64::INFINITY, Vector3::zeros(), 0usize);
     for (index, t) in mesh.triangles.iter().enumerate() {
         let q = closest_point_on_triangle(
             p,
@@ -97,25 +97,41 @@ pub fn brute_force_signed_distance(mesh: &TriMesh, p: &Vector3<f64>) -> SignedDi
         }
     }
     let (distance_squared, closest, triangle) = best;
-    let distance = distance_squared.sqrt();
+    let _ = distance_squared;
     let inside = winding_number(mesh, p) > 0.5;
-    let t = mesh.triangles[triangle];
-    let face_normal = (mesh.vertices[t[1]] - mesh.vertices[t[0]])
-        .cross(&(mesh.vertices[t[2]] - mesh.vertices[t[0]]))
-        .normalize();
-    let normal = if distance > 1e-12 * mesh.bounding_radius() {
-        if inside {
-            (closest - p) / distance
+    SignedDistance::new(mesh, p, closest, inside, triangle)
+}
+
+impl SignedDistance {
+    /// The signed distance of `p` given its closest surface point (on `triangle`) and whether it
+    /// is inside: the distance negated inside; the normal from the closest point toward `p`
+    /// outside, from `p` toward it inside, and the triangle's normal when `p` is on the surface
+    /// (closer than 1e-12 of the mesh's radius, where that direction is undefined). Shared by the
+    /// oracle and the fast path, which differ in how they find the closest point and the side.
+    pub fn new(
+        mesh: &TriMesh,
+        p: &Vector3<f64>,
+        closest: Vector3<f64>,
+        inside: bool,
+        triangle: usize,
+    ) -> SignedDistance {
+        let distance = (closest - p).norm();
+        let t = mesh.triangles[triangle];
+        let v = &mesh.vertices;
+        let normal = if distance > 1e-12 * mesh.bounding_radius() {
+            if inside {
+                (closest - p) / distance
+            } else {
+                (p - closest) / distance
+            }
         } else {
-            (p - closest) / distance
+            (v[t[1]] - v[t[0]]).cross(&(v[t[2]] - v[t[0]])).normalize()
+        };
+        SignedDistance {
+            distance: if inside { -distance } else { distance },
+            closest,
+            normal,
+            triangle,
         }
-    } else {
-        face_normal
-    };
-    SignedDistance {
-        distance: if inside { -distance } else { distance },
-        closest,
-        normal,
-        triangle,
     }
 }

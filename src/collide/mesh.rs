@@ -77,30 +77,13 @@ impl MeshCollider {
         let (projection, (triangle, _)) = self
             .shape
             .project_local_point_and_get_location(to_parry(p), false);
-        let closest = from_parry(projection.point);
-        let distance = (closest - p).norm();
-        let t = self.mesh.triangles[triangle as usize];
-        let v = &self.mesh.vertices;
-        let face_normal = (v[t[1]] - v[t[0]]).cross(&(v[t[2]] - v[t[0]])).normalize();
-        let normal = if distance > 1e-12 * self.mesh.bounding_radius() {
-            if projection.is_inside {
-                (closest - p) / distance
-            } else {
-                (p - closest) / distance
-            }
-        } else {
-            face_normal
-        };
-        SignedDistance {
-            distance: if projection.is_inside {
-                -distance
-            } else {
-                distance
-            },
-            closest,
-            normal,
-            triangle: triangle as usize,
-        }
+        SignedDistance::new(
+            &self.mesh,
+            p,
+            from_parry(projection.point),
+            projection.is_inside,
+            triangle as usize,
+        )
     }
 
     /// Whether a body-frame point is inside this mesh's bounding box (a cheap first test).
