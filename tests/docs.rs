@@ -40,6 +40,56 @@ fn every_test_the_docs_name_exists() {
     assert!(checked >= 10, "only {checked} references found");
 }
 
+/// Every `src/FILE.rs::ITEM` (or `src/FILE.rs::TYPE::METHOD`) a doc names as the implementation of
+/// a derivation exists in that file, as a function, type or constant.
+#[test]
+fn every_function_the_docs_name_exists() {
+    let root = common::project_root();
+    let mut checked = 0;
+    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "md") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (at, _) in text.match_indices("src/") {
+            let rest = &text[at..];
+            let Some(rs) = rest.find(".rs::") else {
+                continue;
+            };
+            let file = &rest[..rs + 3];
+            if file.contains(|c: char| c.is_whitespace() || c == '`') {
+                continue;
+            }
+            let path_text: String = rest[rs + 5..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
+                .collect();
+            let Some(name) = path_text.trim_end_matches(':').rsplit("::").next() else {
+                continue;
+            };
+            let source = std::fs::read_to_string(root.join(file))
+                .unwrap_or_else(|_| panic!("{}: names missing file {file}", path.display()));
+            let defined = ["fn", "struct", "enum", "const", "type", "trait"]
+                .iter()
+                .any(|kind| {
+                    source.contains(&format!("{kind} {name}("))
+                        || source.contains(&format!("{kind} {name}<"))
+                        || source.contains(&format!("{kind} {name} "))
+                        || source.contains(&format!("{kind} {name}:"))
+                        || source.contains(&format!("{kind} {name};"))
+                });
+            assert!(
+                defined,
+                "{}: names {file}::{path_text}, which does not exist",
+                path.display()
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20, "only {checked} references found");
+}
+
 /// docs/verification.md's table lists every test function in tests/ (the other direction, that
 /// every test it names exists, is `every_test_the_docs_name_exists`).
 #[test]
