@@ -571,6 +571,87 @@ fn canonical_2d_scenes_run_and_their_scripted_impulses_act() {
     }
 }
 
+/// `run IMAGE --dump-problems DIR` writes the 2D contact problems the run solved (3 degrees of
+/// freedom per body, 2 rows per contact): one file per step with contacts (one substep), none for
+/// a step without; each file's λ is the trace's, and the shared PGS re-run on the file (the
+/// starter's 10 sweeps in order, from the file's warm start) gives that λ bit for bit.
+#[test]
+fn dump_problems_writes_the_2d_problems_the_run_solved() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (trace, dump) = (tmp.path().join("t.jsonl"), tmp.path().join("problems"));
+    let out = rigidref(
+        &[
+            "run",
+            "scenes/blocks/stack.png",
+            "--time",
+            "8",
+            "--dump-problems",
+            dump.to_str().unwrap(),
+            "--quiet",
+            "--out",
+            trace.to_str().unwrap(),
+        ],
+        &common::project_root(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let records: Vec<serde_json::Value> = std::fs::read_to_string(&trace)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: 10,
+        tolerance: None,
+        order: ContactOrder::Sequential,
+        faults: Default::default(),
+    };
+    let mut with_contacts = 0;
+    for record in records.iter().skip(1) {
+        let step = record["step"].as_u64().unwrap();
+        let contacts = record["contacts"].as_array().unwrap();
+        let path = dump.join(format!("step-{step:06}-00.json"));
+        if contacts.is_empty() {
+            assert!(
+                !path.exists(),
+                "{} written for a step without contacts",
+                path.display()
+            );
+            continue;
+        }
+        with_contacts += 1;
+        let file = rigidref::problem::json::ProblemFile::read(&path).unwrap();
+        assert_eq!((file.dof_per_body, file.rows_per_contact), (3, 2));
+        assert_eq!(file.step, Some(step));
+        let problem: rigidref::blocks::world::ContactProblem2 = file.to_problem().unwrap();
+        let solution = file.solution.as_ref().unwrap();
+        assert_eq!(solution.lambda.len(), contacts.len());
+        for (l, c) in solution.lambda.iter().zip(contacts) {
+            let traced: Vec<f64> = serde_json::from_value(c["lambda"].clone()).unwrap();
+            assert_eq!(l, &traced);
+        }
+        let mut workspace = rigidref::solve::PgsWorkspace::<3, 2>::new(0);
+        let mut lambda = Vec::new();
+        rigidref::solve::solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
+        for (mine, theirs) in lambda.iter().zip(&solution.lambda) {
+            assert_eq!(mine.as_slice(), theirs.as_slice());
+        }
+    }
+    println!(
+        "{with_contacts} of {} steps had contacts and a problem file",
+        records.len() - 1
+    );
+    assert!(
+        with_contacts >= 10,
+        "only {with_contacts} steps with contacts"
+    );
+    assert_eq!(std::fs::read_dir(&dump).unwrap().count(), with_contacts);
+}
+
 #[test]
 fn run_and_render_commands_write_2d_traces_frames_and_gifs() {
     let tmp = tempfile::tempdir().unwrap();

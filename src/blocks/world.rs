@@ -15,6 +15,7 @@
 use super::body::{Body2, cross};
 use super::collide::{Contact2, detect_contacts};
 use super::image::BlockGroup;
+use crate::problem::json::{GeometryJson, ProblemFile, SolutionJson};
 use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
 use crate::solve::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
@@ -135,6 +136,49 @@ pub struct Solve2 {
     pub solve_seconds: f64,
 }
 
+/// One substep's velocity-level contact solve, kept when [`World2::record_problems`] is on (for
+/// `rigidref run --dump-problems`).
+#[derive(Clone, Debug)]
+pub struct SubstepSolve2 {
+    /// The substep within its step (0-based).
+    pub substep: u32,
+    /// The problem solved.
+    pub problem: ContactProblem2,
+    /// The contacts it came from.
+    pub contacts: Vec<Contact2>,
+    /// The impulses (n, t) PGS returned and the world applied.
+    pub lambda: Vec<SVector<f64, 2>>,
+    /// PGS's report.
+    pub report: SolveReport,
+}
+
+impl SubstepSolve2 {
+    /// The problem as a contact-problem file (docs/contact-problem-format.md; 3 degrees of
+    /// freedom per body, 2 rows per contact), with the contacts' geometry, where it came from
+    /// (`scene`, step `step`, substep length `h`) and the PGS solution.
+    pub fn problem_file(&self, scene: &str, step: u64, h: f64) -> ProblemFile {
+        let mut file = ProblemFile::new(&self.problem);
+        file.scene = Some(scene.to_string());
+        file.step = Some(step);
+        file.substep = Some(self.substep);
+        file.h = Some(h);
+        for (json, c) in file.contacts.iter_mut().zip(&self.contacts) {
+            json.geometry = Some(GeometryJson {
+                p: vec![c.point.x, c.point.y],
+                n: vec![c.normal.x, c.normal.y],
+                depth: c.depth,
+            });
+        }
+        file.solution = Some(SolutionJson {
+            solver: "pgs".into(),
+            lambda: self.lambda.iter().map(|l| vec![l[0], l[1]]).collect(),
+            iterations: self.report.iterations,
+            residual: self.report.residual,
+        });
+        file
+    }
+}
+
 /// An impulse applied to a body at a given time (the scripted perturbation that shows a settled
 /// stack is not glued).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -180,6 +224,11 @@ pub struct World2 {
     pub impulses: Vec<ScriptedImpulse>,
     /// Prescribed motions.
     pub shakes: Vec<Shake>,
+    /// Keep every substep's velocity-level problem of the last step in [`World2::frame_solves`]
+    /// (off by default: it copies each problem).
+    pub record_problems: bool,
+    /// The last step's solves, one per substep that had contacts, when `record_problems` is on.
+    pub frame_solves: Vec<SubstepSolve2>,
     workspace: PgsWorkspace<3, 2>,
     position_workspace: PgsWorkspace<3, 2>,
     warm: WarmStart2,
@@ -259,6 +308,8 @@ impl World2 {
             last_problem: None,
             impulses: Vec::new(),
             shakes: Vec::new(),
+            record_problems: false,
+            frame_solves: Vec::new(),
             workspace: PgsWorkspace::new(params.seed),
             position_workspace: PgsWorkspace::new(params.seed),
             warm: HashMap::new(),
@@ -290,6 +341,7 @@ impl World2 {
         let h = self.params.h();
         let g = self.params.gravity_vector();
         let now = self.time();
+        self.frame_solves.clear();
         let due: Vec<ScriptedImpulse> = self
             .impulses
             .iter()
@@ -303,8 +355,8 @@ impl World2 {
                 b.apply_impulse_at(&i.impulse, &point);
             }
         }
-        for (substep, _) in (0..self.params.substeps).enumerate() {
-            let t = now + substep as f64 * h;
+        for substep in 0..self.params.substeps {
+            let t = now + f64::from(substep) * h;
             for s in &self.shakes {
                 if let Some(b) = self.bodies.get_mut(s.body) {
                     let phase = (2.0 * std::f64::consts::PI * s.frequency * t).cos();
@@ -356,6 +408,17 @@ impl World2 {
                 }
                 if self.params.post_stabilization {
                     corrections = self.post_stabilize(&contacts, &problem, h);
+                }
+                if self.record_problems
+                    && let Some(report) = report
+                {
+                    self.frame_solves.push(SubstepSolve2 {
+                        substep,
+                        problem: problem.clone(),
+                        contacts: contacts.clone(),
+                        lambda: lambda.clone(),
+                        report,
+                    });
                 }
                 self.last_problem = Some(problem);
             } else if contacts.is_empty() {

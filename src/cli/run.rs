@@ -75,7 +75,8 @@ pub struct RunArgs {
     #[arg(long)]
     pub no_collisions: bool,
     /// Write each contact problem to DIR as step-KKKKKK-SS.json (frame K, substep S;
-    /// docs/contact-problem-format.md), with the contacts' geometry and the PGS solution.
+    /// docs/contact-problem-format.md), with the contacts' geometry and the PGS solution
+    /// (3D and 2D: 6 or 3 degrees of freedom per body).
     #[arg(long, value_name = "DIR")]
     pub dump_problems: Option<PathBuf>,
     /// Print no progress bar and no summary.

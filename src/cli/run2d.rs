@@ -320,6 +320,11 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         }
         None => None,
     };
+    if let Some(dir) = &args.dump_problems {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create the problem directory", dir.display()))?;
+        world.record_problems = true;
+    }
     let started = Instant::now();
     let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
     let mut shown = false;
@@ -327,6 +332,15 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     for k in 1..=steps {
         world.step();
         most_contacts = most_contacts.max(world.last.contacts.len());
+        if let Some(dir) = &args.dump_problems {
+            for solve in &world.frame_solves {
+                let path = dir.join(format!("step-{k:06}-{:02}.json", solve.substep));
+                let file = solve.problem_file(&name, k, world.params.h());
+                let text = serde_json::to_string(&file).context("serialising a contact problem")?;
+                std::fs::write(&path, text + "\n")
+                    .with_context(|| format!("{}: cannot write", path.display()))?;
+            }
+        }
         if let Some(f) = &mut scaling {
             writeln!(
                 f,
