@@ -15,7 +15,7 @@ use crate::body::RigidBody;
 use crate::collide::{Contact, MeshCollider, detect_contacts};
 use crate::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::problem::ContactProblem3;
-use crate::problem::json::{GeometryJson, ProblemFile, SolutionJson};
+use crate::problem::json::{GeometryJson, ProblemFile, RunOrigin};
 use crate::scene::{Scene, SimParameters};
 use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use crate::warm_start::WarmStart;
@@ -60,29 +60,18 @@ impl SubstepContacts {
     /// The problem as a contact-problem file (docs/contact-problem-format.md), with the contacts'
     /// geometry, where it came from (`scene`, frame `step`, step size `h`) and the PGS solution.
     pub fn problem_file(&self, scene: &str, step: u64, h: f64) -> ProblemFile {
-        let mut file = ProblemFile::new(&self.problem);
-        file.scene = Some(scene.to_string());
-        file.step = Some(step);
-        file.substep = Some(self.substep);
-        file.h = Some(h);
-        for (json, c) in file.contacts.iter_mut().zip(&self.contacts) {
-            json.geometry = Some(GeometryJson {
-                p: c.point.iter().copied().collect(),
-                n: c.frame.n.iter().copied().collect(),
-                depth: c.depth,
-            });
-        }
-        file.solution = Some(SolutionJson {
-            solver: "pgs".into(),
-            lambda: self
-                .lambda
-                .iter()
-                .map(|l| l.iter().copied().collect())
-                .collect(),
-            iterations: self.report.iterations,
-            residual: self.report.residual,
+        let origin = RunOrigin {
+            scene,
+            step,
+            substep: self.substep,
+            h,
+        };
+        let geometry = self.contacts.iter().map(|c| GeometryJson {
+            p: c.point.iter().copied().collect(),
+            n: c.frame.n.iter().copied().collect(),
+            depth: c.depth,
         });
-        file
+        ProblemFile::of_run(&self.problem, origin, geometry, &self.lambda, &self.report)
     }
 }
 

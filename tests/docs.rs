@@ -2,57 +2,37 @@
 
 mod common;
 
-/// Every `tests/FILE.rs::NAME` or `src/…` unit-test reference in docs/*.md names a function that
-/// exists in that file.
-#[test]
-fn every_test_the_docs_name_exists() {
-    let root = common::project_root();
-    let mut checked = 0;
-    for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "md") {
-            continue;
-        }
-        let text = std::fs::read_to_string(&path).unwrap();
-        for (at, _) in text.match_indices("tests/") {
-            let rest = &text[at..];
-            let Some(rs) = rest.find(".rs::") else {
-                continue;
-            };
-            let file = &rest[..rs + 3];
-            if file.contains(char::is_whitespace) {
-                continue;
-            }
-            let name: String = rest[rs + 5..]
-                .chars()
-                .take_while(|c| c.is_alphanumeric() || *c == '_')
-                .collect();
-            let source = std::fs::read_to_string(root.join(file))
-                .unwrap_or_else(|_| panic!("{}: names missing file {file}", path.display()));
-            assert!(
-                source.contains(&format!("fn {name}(")),
-                "{}: names {file}::{name}, which does not exist",
-                path.display()
-            );
-            checked += 1;
-        }
-    }
-    assert!(checked >= 10, "only {checked} references found");
+/// A reference `DIR/FILE.rs::ITEM` (or `DIR/FILE.rs::TYPE::METHOD`) in a doc.
+struct Reference {
+    /// The doc it is in.
+    doc: std::path::PathBuf,
+    /// `DIR/FILE.rs`, relative to the project root.
+    file: String,
+    /// What follows `::`.
+    item: String,
+    /// The source of `file`.
+    source: String,
 }
 
-/// Every `src/FILE.rs::ITEM` (or `src/FILE.rs::TYPE::METHOD`) a doc names as the implementation of
-/// a derivation exists in that file, as a function, type or constant.
-#[test]
-fn every_function_the_docs_name_exists() {
+impl Reference {
+    /// The last segment of `item`: the function, type or constant named.
+    fn name(&self) -> &str {
+        self.item.rsplit("::").next().unwrap_or(&self.item)
+    }
+}
+
+/// Every reference into `dir` (`"tests/"` or `"src/"`) in docs/*.md. Panics naming the doc when
+/// a referenced file does not exist.
+fn references(dir: &str) -> Vec<Reference> {
     let root = common::project_root();
-    let mut checked = 0;
+    let mut found = Vec::new();
     for entry in std::fs::read_dir(root.join("docs")).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "md") {
+        let doc = entry.unwrap().path();
+        if doc.extension().is_none_or(|e| e != "md") {
             continue;
         }
-        let text = std::fs::read_to_string(&path).unwrap();
-        for (at, _) in text.match_indices("src/") {
+        let text = std::fs::read_to_string(&doc).unwrap();
+        for (at, _) in text.match_indices(dir) {
             let rest = &text[at..];
             let Some(rs) = rest.find(".rs::") else {
                 continue;
@@ -61,33 +41,62 @@ fn every_function_the_docs_name_exists() {
             if file.contains(|c: char| c.is_whitespace() || c == '`') {
                 continue;
             }
-            let path_text: String = rest[rs + 5..]
+            let item: String = rest[rs + 5..]
                 .chars()
                 .take_while(|c| c.is_alphanumeric() || *c == '_' || *c == ':')
                 .collect();
-            let Some(name) = path_text.trim_end_matches(':').rsplit("::").next() else {
-                continue;
-            };
             let source = std::fs::read_to_string(root.join(file))
-                .unwrap_or_else(|_| panic!("{}: names missing file {file}", path.display()));
-            let defined = ["fn", "struct", "enum", "const", "type", "trait"]
-                .iter()
-                .any(|kind| {
-                    source.contains(&format!("{kind} {name}("))
-                        || source.contains(&format!("{kind} {name}<"))
-                        || source.contains(&format!("{kind} {name} "))
-                        || source.contains(&format!("{kind} {name}:"))
-                        || source.contains(&format!("{kind} {name};"))
-                });
-            assert!(
-                defined,
-                "{}: names {file}::{path_text}, which does not exist",
-                path.display()
-            );
-            checked += 1;
+                .unwrap_or_else(|_| panic!("{}: names missing file {file}", doc.display()));
+            found.push(Reference {
+                doc: doc.clone(),
+                file: file.to_string(),
+                item: item.trim_end_matches(':').to_string(),
+                source,
+            });
         }
     }
-    assert!(checked >= 20, "only {checked} references found");
+    found
+}
+
+/// Every `tests/FILE.rs::NAME` in docs/*.md names a test function that exists in that file.
+#[test]
+fn every_test_the_docs_name_exists() {
+    let found = references("tests/");
+    for r in &found {
+        assert!(
+            r.source.contains(&format!("fn {}(", r.name())),
+            "{}: names {}::{}, which does not exist",
+            r.doc.display(),
+            r.file,
+            r.item
+        );
+    }
+    assert!(found.len() >= 10, "only {} references found", found.len());
+}
+
+/// Every `src/FILE.rs::ITEM` (or `src/FILE.rs::TYPE::METHOD`) a doc names as the implementation of
+/// a derivation exists in that file, as a function, type or constant.
+#[test]
+fn every_function_the_docs_name_exists() {
+    let found = references("src/");
+    for r in &found {
+        let name = r.name();
+        let defined = ["fn", "struct", "enum", "const", "type", "trait"]
+            .iter()
+            .any(|kind| {
+                ["(", "<", " ", ":", ";"]
+                    .iter()
+                    .any(|after| r.source.contains(&format!("{kind} {name}{after}")))
+            });
+        assert!(
+            defined,
+            "{}: names {}::{}, which does not exist",
+            r.doc.display(),
+            r.file,
+            r.item
+        );
+    }
+    assert!(found.len() >= 20, "only {} references found", found.len());
 }
 
 /// docs/verification.md's table lists every test function in tests/ (the other direction, that

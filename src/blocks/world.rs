@@ -15,7 +15,7 @@
 use super::body::{Body2, cross};
 use super::collide::{Contact2, detect_contacts};
 use super::image::BlockGroup;
-use crate::problem::json::{GeometryJson, ProblemFile, SolutionJson};
+use crate::problem::json::{GeometryJson, ProblemFile, RunOrigin};
 use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
 use crate::solve::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
@@ -157,25 +157,18 @@ impl SubstepSolve2 {
     /// freedom per body, 2 rows per contact), with the contacts' geometry, where it came from
     /// (`scene`, step `step`, substep length `h`) and the PGS solution.
     pub fn problem_file(&self, scene: &str, step: u64, h: f64) -> ProblemFile {
-        let mut file = ProblemFile::new(&self.problem);
-        file.scene = Some(scene.to_string());
-        file.step = Some(step);
-        file.substep = Some(self.substep);
-        file.h = Some(h);
-        for (json, c) in file.contacts.iter_mut().zip(&self.contacts) {
-            json.geometry = Some(GeometryJson {
-                p: vec![c.point.x, c.point.y],
-                n: vec![c.normal.x, c.normal.y],
-                depth: c.depth,
-            });
-        }
-        file.solution = Some(SolutionJson {
-            solver: "pgs".into(),
-            lambda: self.lambda.iter().map(|l| vec![l[0], l[1]]).collect(),
-            iterations: self.report.iterations,
-            residual: self.report.residual,
+        let origin = RunOrigin {
+            scene,
+            step,
+            substep: self.substep,
+            h,
+        };
+        let geometry = self.contacts.iter().map(|c| GeometryJson {
+            p: vec![c.point.x, c.point.y],
+            n: vec![c.normal.x, c.normal.y],
+            depth: c.depth,
         });
-        file
+        ProblemFile::of_run(&self.problem, origin, geometry, &self.lambda, &self.report)
     }
 }
 

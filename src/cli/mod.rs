@@ -77,6 +77,39 @@ fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigid
 
 /// A progress bar over `steps` steps, hidden until [`show_progress_after_a_second`] reveals it
 /// (runs shorter than about a second get none; indicatif hides it when stderr is not a terminal).
+/// The number of steps of `run`: `--steps`, else `--time` (default 10) over the step size `dt`,
+/// rounded to the nearest whole step (the 1e-9 guards 0.3/0.1 = 2.9999999999999996), at least 1.
+/// Also checks `--every`. `unit` names the time unit in the error ("seconds" in 3D).
+fn steps_of(args: &run::RunArgs, dt: f64, unit: &str) -> anyhow::Result<u64> {
+    if args.every == 0 {
+        anyhow::bail!("--every must be at least 1");
+    }
+    match (args.steps, args.time) {
+        (Some(n), _) => Ok(n),
+        (None, time) => {
+            let time = time.unwrap_or(10.0);
+            if !(time.is_finite() && time > 0.0) {
+                anyhow::bail!("--time must be a positive number{unit}, got {time}");
+            }
+            Ok((time / dt + 1e-9).floor().max(1.0) as u64)
+        }
+    }
+}
+
+/// The trace's destination: `-` is standard output, anything else a file created (or truncated)
+/// now, so that an unwritable path fails before the run starts.
+fn create_trace_output(path: &std::path::Path) -> anyhow::Result<Box<dyn std::io::Write>> {
+    use anyhow::Context;
+    Ok(if path.as_os_str() == "-" {
+        Box::new(std::io::stdout().lock())
+    } else {
+        Box::new(
+            std::fs::File::create(path)
+                .with_context(|| format!("{}: cannot create trace file", path.display()))?,
+        )
+    })
+}
+
 fn progress_bar(steps: u64, template: &str) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(steps),

@@ -6,7 +6,6 @@ use indicatif::ProgressDrawTarget;
 use rigidref::scene::DEFAULT_SCENE_NAME;
 use rigidref::trace::{TraceFormat, TraceHeader, TraceRecord, TraceWriter};
 use rigidref::world::World;
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -170,20 +169,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         scene.params.check_collisions = false;
     }
     let dt = scene.params.dt;
-    let steps = match (args.steps, args.time) {
-        (Some(n), _) => n,
-        (None, time) => {
-            let time = time.unwrap_or(10.0);
-            if !(time.is_finite() && time > 0.0) {
-                bail!("--time must be a positive number of seconds, got {time}");
-            }
-            // Nearest whole number of frames; the 1e-9 guards 0.3/0.1 = 2.9999999999999996.
-            (time / dt + 1e-9).floor().max(1.0) as u64
-        }
-    };
-    if args.every == 0 {
-        bail!("--every must be at least 1");
-    }
+    let steps = super::steps_of(&args, dt, " of seconds")?;
     if let Some(dir) = &args.dump_problems {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create the problem directory", dir.display()))?;
@@ -199,14 +185,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
             "trace.jsonl"
         })
     });
-    let out: Box<dyn Write> = if out_path.as_os_str() == "-" {
-        Box::new(std::io::stdout().lock())
-    } else {
-        Box::new(
-            std::fs::File::create(&out_path)
-                .with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
-        )
-    };
+    let out = super::create_trace_output(&out_path)?;
     let source = if args.scene.is_some() {
         scene.source.clone()
     } else {

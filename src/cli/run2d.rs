@@ -259,29 +259,9 @@ pub fn world_from_image(image: &Path, args: &RunArgs) -> anyhow::Result<World2> 
 /// Runs an image scene and writes its 2D trace.
 pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let mut world = world_from_args(image, args)?;
-    let step = world.params.step;
-    let steps = match (args.steps, args.time) {
-        (Some(n), _) => n,
-        (None, t) => {
-            let t = t.unwrap_or(10.0);
-            if !(t.is_finite() && t > 0.0) {
-                bail!("--time must be a positive number, got {t}");
-            }
-            (t / step + 1e-9).floor().max(1.0) as u64
-        }
-    };
-    if args.every == 0 {
-        bail!("--every must be at least 1");
-    }
+    let steps = super::steps_of(args, world.params.step, "")?;
     let out_path = args.out.clone().unwrap_or_else(|| "trace.jsonl".into());
-    let out: Box<dyn Write> = if out_path.as_os_str() == "-" {
-        Box::new(std::io::stdout().lock())
-    } else {
-        Box::new(
-            std::fs::File::create(&out_path)
-                .with_context(|| format!("{}: cannot create trace file", out_path.display()))?,
-        )
-    };
+    let out = super::create_trace_output(&out_path)?;
     let mut out = std::io::BufWriter::new(out);
     let name = image
         .file_stem()

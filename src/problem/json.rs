@@ -45,6 +45,19 @@ pub struct ProblemFile {
     pub solution: Option<SolutionJson>,
 }
 
+/// Where a problem written by a run came from.
+#[derive(Clone, Copy, Debug)]
+pub struct RunOrigin<'a> {
+    /// The scene's name.
+    pub scene: &'a str,
+    /// The frame being computed, 1-based.
+    pub step: u64,
+    /// The substep within it, 0-based.
+    pub substep: u32,
+    /// The substep length h.
+    pub h: f64,
+}
+
 /// One body.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -165,6 +178,33 @@ impl ProblemFile {
                 .collect(),
             solution: None,
         }
+    }
+
+    /// The file of a problem a run solved (`rigidref run --dump-problems`, 3D and 2D): where it
+    /// came from (`scene`, frame `step`, `substep`, step size `h`), each contact's geometry (point
+    /// and normal in the world frame, depth) and the PGS solution the run applied.
+    pub fn of_run<const D: usize, const R: usize>(
+        problem: &ContactProblem<D, R>,
+        origin: RunOrigin<'_>,
+        geometry: impl IntoIterator<Item = GeometryJson>,
+        lambda: &[SVector<f64, R>],
+        report: &crate::solve::SolveReport,
+    ) -> ProblemFile {
+        let mut file = ProblemFile::new(problem);
+        file.scene = Some(origin.scene.to_string());
+        file.step = Some(origin.step);
+        file.substep = Some(origin.substep);
+        file.h = Some(origin.h);
+        for (json, g) in file.contacts.iter_mut().zip(geometry) {
+            json.geometry = Some(g);
+        }
+        file.solution = Some(SolutionJson {
+            solver: "pgs".into(),
+            lambda: lambda.iter().map(|l| l.iter().copied().collect()).collect(),
+            iterations: report.iterations,
+            residual: report.residual,
+        });
+        file
     }
 
     /// The problem in the file, checked: dimensions D and R must match the file's, every array
