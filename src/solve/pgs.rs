@@ -213,7 +213,6 @@ fn solve_contact<const D: usize, const R: usize>(
 ) {
     let contact = &problem.contacts[k];
     let diagonal = workspace.scales[k].diagonal;
-    let start_normal = project_feasible(&contact.lambda0, contact.mu, problem.friction)[0];
 
     // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
     if diagonal[0] > 0.0 {
@@ -225,7 +224,8 @@ fn solve_contact<const D: usize, const R: usize>(
 
     // Friction rows, bounded by μ times the normal impulse just computed.
     let bound = if settings.faults.stale_friction_bound {
-        contact.mu * start_normal
+        // The deliberate bug: the bound from the starting λn instead of the one just computed.
+        contact.mu * project_feasible(&contact.lambda0, contact.mu, problem.friction)[0]
     } else {
         contact.mu * lambda[0]
     };
