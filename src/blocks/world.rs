@@ -109,6 +109,20 @@ impl Default for Params2 {
 }
 
 impl Params2 {
+    /// The settings under which the assignment's four demonstration images (delicate, tower100,
+    /// wallWideSparseHigh, wallWideDenseHigh) come to rest and stay at rest: 4 substeps of the
+    /// starter's 0.05 step, 200 PGS sweeps in seeded random order, the rest at the defaults. On
+    /// the command line: `--substeps 4 --iterations 200 --order random`. Why these and not the
+    /// starter's 10 sweeps in order: docs/blocks2d.md §"Demonstration settings".
+    pub fn demonstration() -> Params2 {
+        Params2 {
+            substeps: 4,
+            iterations: 200,
+            order: ContactOrder::Random,
+            ..Params2::default()
+        }
+    }
+
     /// h = step / substeps.
     pub fn h(&self) -> f64 {
         self.step / self.substeps as f64
@@ -134,6 +148,10 @@ pub struct Solve2 {
     pub report: Option<SolveReport>,
     /// Wall time of the PGS velocity solve, s.
     pub solve_seconds: f64,
+    /// CPU time this thread spent in the PGS velocity solve, s: unlike the wall time, it does not
+    /// count time the thread was preempted by other processes on a shared machine. 0 where the
+    /// platform cannot measure it.
+    pub solve_cpu_seconds: f64,
 }
 
 /// One substep's velocity-level contact solve, kept when [`World2::record_problems`] is on (for
@@ -223,8 +241,20 @@ pub struct World2 {
     /// The last step's solves, one per substep that had contacts, when `record_problems` is on.
     pub frame_solves: Vec<SubstepSolve2>,
     workspace: PgsWorkspace<3, 2>,
+    /// Post-stabilisation's problem, impulses and workspace, reused from substep to substep.
+    position_problem: ContactProblem2,
+    position_lambda: Vec<SVector<f64, 2>>,
     position_workspace: PgsWorkspace<3, 2>,
     warm: WarmStart2,
+}
+
+/// A problem with no bodies and no contacts: a buffer to assemble into.
+fn empty_problem2() -> ContactProblem2 {
+    ContactProblem {
+        friction: FrictionModel::Box,
+        bodies: Vec::new(),
+        contacts: Vec::new(),
+    }
 }
 
 /// The Jacobian block of a body at lever arm r for direction rows (n, t): [d_x, d_y, r × d].
@@ -237,58 +267,48 @@ pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
     Vector2::new(-n.y, n.x)
 }
 
-/// The 2D contact problem of `contacts`: M⁻¹ = diag(1/m, 1/m, 1/I) (zero for pinned bodies),
-/// u = (vx, vy, ω), J₁ = [nᵀ, r₁×n; tᵀ, r₁×t], J₂ = −[… r₂ …], b = J u with restitution on
-/// approaching normal rows (b_n = (1 + e) (J u)_n), λ₀ from `warm`. docs/blocks2d.md §"Contact
-/// problem".
+/// The 2D contact problem of `contacts`, assembled into `problem` (its buffers reused, so that a
+/// substep does not allocate once they have grown): M⁻¹ = diag(1/m, 1/m, 1/I) (zero for pinned
+/// bodies), u = (vx, vy, ω), J₁ = [nᵀ, r₁×n; tᵀ, r₁×t], J₂ = −[… r₂ …], b = J u with restitution
+/// on approaching normal rows (b_n = (1 + e) (J u)_n), λ₀ from `warm`. docs/blocks2d.md
+/// §"Contact problem".
 pub fn assemble_problem2(
     bodies: &[Body2],
     contacts: &[Contact2],
     params: &Params2,
     warm: Option<&WarmStart2>,
-) -> ContactProblem2 {
-    let problem_bodies = bodies
-        .iter()
-        .map(|b| ProblemBody {
-            inverse_mass: Matrix3::from_diagonal(&Vector3::new(
-                b.inv_mass,
-                b.inv_mass,
-                b.inv_inertia,
-            )),
-            velocity: Vector3::new(b.v.x, b.v.y, b.omega),
-        })
-        .collect::<Vec<_>>();
-    let problem_contacts = contacts
-        .iter()
-        .map(|c| {
-            let t = tangent(&c.normal);
-            let j1 = jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body1].x));
-            let j2 = -jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body2].x));
-            let mut b =
-                j1 * problem_bodies[c.body1].velocity + j2 * problem_bodies[c.body2].velocity;
-            if b[0] < 0.0 {
-                b[0] *= 1.0 + params.restitution;
-            }
-            let lambda0 = warm
-                .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
-                .map_or(SVector::<f64, 2>::zeros(), |p| {
-                    SVector::<f64, 2>::new(p.dot(&c.normal), p.dot(&t))
-                });
-            ProblemContact {
-                bodies: [Some(c.body1), Some(c.body2)],
-                jacobian: [j1, j2],
-                b,
-                mu: params.mu,
-                compliance: 0.0,
-                lambda0,
-            }
-        })
-        .collect();
-    ContactProblem {
-        friction: FrictionModel::Box,
-        bodies: problem_bodies,
-        contacts: problem_contacts,
-    }
+    problem: &mut ContactProblem2,
+) {
+    problem.friction = FrictionModel::Box;
+    problem.bodies.clear();
+    problem.bodies.extend(bodies.iter().map(|b| ProblemBody {
+        inverse_mass: Matrix3::from_diagonal(&Vector3::new(b.inv_mass, b.inv_mass, b.inv_inertia)),
+        velocity: Vector3::new(b.v.x, b.v.y, b.omega),
+    }));
+    let problem_bodies = &problem.bodies;
+    problem.contacts.clear();
+    problem.contacts.extend(contacts.iter().map(|c| {
+        let t = tangent(&c.normal);
+        let j1 = jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body1].x));
+        let j2 = -jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body2].x));
+        let mut b = j1 * problem_bodies[c.body1].velocity + j2 * problem_bodies[c.body2].velocity;
+        if b[0] < 0.0 {
+            b[0] *= 1.0 + params.restitution;
+        }
+        let lambda0 = warm
+            .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
+            .map_or(SVector::<f64, 2>::zeros(), |p| {
+                SVector::<f64, 2>::new(p.dot(&c.normal), p.dot(&t))
+            });
+        ProblemContact {
+            bodies: [Some(c.body1), Some(c.body2)],
+            jacobian: [j1, j2],
+            b,
+            mu: params.mu,
+            compliance: 0.0,
+            lambda0,
+        }
+    }));
 }
 
 impl World2 {
@@ -304,6 +324,8 @@ impl World2 {
             record_problems: false,
             frame_solves: Vec::new(),
             workspace: PgsWorkspace::new(params.seed),
+            position_problem: empty_problem2(),
+            position_lambda: Vec::new(),
             position_workspace: PgsWorkspace::new(params.seed),
             warm: HashMap::new(),
             params,
@@ -373,15 +395,18 @@ impl World2 {
             for b in &mut self.bodies {
                 b.step_velocity(h);
             }
-            let mut corrections = vec![(Vector2::zeros(), 0.0); self.bodies.len()];
-            let mut lambda = Vec::new();
+            let mut lambda = std::mem::take(&mut self.last.lambda);
+            lambda.clear();
             let mut report = None;
-            let mut solve_seconds = 0.0;
+            let (mut solve_seconds, mut solve_cpu_seconds) = (0.0, 0.0);
+            let mut stabilised = false;
             if self.params.contact_model == ContactModel::Pgs && !contacts.is_empty() {
                 let warm = self.params.warm_start.then_some(&self.warm);
-                let problem = assemble_problem2(&self.bodies, &contacts, &self.params, warm);
+                let mut problem = self.last_problem.take().unwrap_or_else(empty_problem2);
+                assemble_problem2(&self.bodies, &contacts, &self.params, warm, &mut problem);
                 let settings = self.pgs_settings();
                 let started = std::time::Instant::now();
+                let started_cpu = cpu_time::ThreadTime::try_now().ok();
                 report = Some(solve_pgs(
                     &problem,
                     &settings,
@@ -389,6 +414,9 @@ impl World2 {
                     &mut lambda,
                 ));
                 solve_seconds = started.elapsed().as_secs_f64();
+                solve_cpu_seconds = started_cpu
+                    .and_then(|t| t.try_elapsed().ok())
+                    .map_or(0.0, |d| d.as_secs_f64());
                 for (i, b) in self.bodies.iter_mut().enumerate() {
                     let du = self.workspace.delta_velocity(i);
                     b.v += Vector2::new(du[0], du[1]);
@@ -400,7 +428,8 @@ impl World2 {
                     self.warm.insert((c.body1, c.body2, c.block1, c.block2), p);
                 }
                 if self.params.post_stabilization {
-                    corrections = self.post_stabilize(&contacts, &problem, h);
+                    self.post_stabilize(&contacts, &problem, h);
+                    stabilised = true;
                 }
                 if self.record_problems
                     && let Some(report) = report
@@ -417,14 +446,20 @@ impl World2 {
             } else if contacts.is_empty() {
                 self.warm.clear();
             }
-            for (b, (dv, dw)) in self.bodies.iter_mut().zip(&corrections) {
-                b.step_position(h, dv, *dw);
+            for (i, b) in self.bodies.iter_mut().enumerate() {
+                if stabilised {
+                    let du = self.position_workspace.delta_velocity(i);
+                    b.step_position(h, &Vector2::new(du[0], du[1]), du[2]);
+                } else {
+                    b.step_position(h, &Vector2::zeros(), 0.0);
+                }
             }
             self.last = Solve2 {
                 contacts,
                 lambda,
                 report,
                 solve_seconds,
+                solve_cpu_seconds,
             };
         }
         self.step += 1;
@@ -432,33 +467,25 @@ impl World2 {
 
     /// Cline and Pai's post-stabilisation: solve the same constraint rows for a velocity that
     /// would remove the penetration beyond the slop in one substep, normal rows only (μ = 0),
-    /// and use it for the position update alone. docs/blocks2d.md §"Post-stabilisation".
-    fn post_stabilize(
-        &mut self,
-        contacts: &[Contact2],
-        velocity_problem: &ContactProblem2,
-        h: f64,
-    ) -> Vec<(Vector2<f64>, f64)> {
-        let mut problem = velocity_problem.clone();
+    /// for the position update alone; the velocity change is left in `position_workspace`.
+    /// docs/blocks2d.md §"Post-stabilisation".
+    fn post_stabilize(&mut self, contacts: &[Contact2], velocity_problem: &ContactProblem2, h: f64) {
+        let problem = &mut self.position_problem;
+        problem.friction = velocity_problem.friction;
+        problem.bodies.clone_from(&velocity_problem.bodies);
+        problem.contacts.clone_from(&velocity_problem.contacts);
         for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
             pc.b = SVector::<f64, 2>::new(-(c.depth - self.params.slop).max(0.0) / h, 0.0);
             pc.mu = 0.0;
             pc.lambda0 = SVector::zeros();
         }
-        let mut lambda = Vec::new();
         let settings = self.pgs_settings();
         solve_pgs(
-            &problem,
+            &self.position_problem,
             &settings,
             &mut self.position_workspace,
-            &mut lambda,
+            &mut self.position_lambda,
         );
-        (0..self.bodies.len())
-            .map(|i| {
-                let du = self.position_workspace.delta_velocity(i);
-                (Vector2::new(du[0], du[1]), du[2])
-            })
-            .collect()
     }
 
     /// The starter's penalty contact: a spring k d plus damping c (approach speed) along the
@@ -476,6 +503,37 @@ impl World2 {
             self.bodies[c.body1].add_force_at(&f, &c.point);
             self.bodies[c.body2].add_force_at(&-f, &c.point);
         }
+    }
+
+    /// Checks every body's state (x, θ, v, ω) and the energies are finite; otherwise says which
+    /// body and which quantity, at which step. A run must stop there: contacts of a non-finite
+    /// body are meaningless, and JSON has no NaN (an absurd gravity can overflow the potential
+    /// energy −m g·x before any state does).
+    pub fn check_finite(&self) -> Result<(), String> {
+        for (i, b) in self.bodies.iter().enumerate() {
+            let quantities = [
+                ("position x", b.x.iter().all(|c| c.is_finite())),
+                ("angle θ", b.theta.is_finite()),
+                ("velocity v", b.v.iter().all(|c| c.is_finite())),
+                ("angular velocity ω", b.omega.is_finite()),
+            ];
+            if let Some((quantity, _)) = quantities.iter().find(|(_, ok)| !ok) {
+                return Err(format!(
+                    "non-finite {quantity} in body {i} at step {} (t = {})",
+                    self.step,
+                    self.time()
+                ));
+            }
+        }
+        let (kinetic, potential) = self.energy();
+        if !(kinetic.is_finite() && potential.is_finite()) {
+            return Err(format!(
+                "non-finite energy (kinetic {kinetic}, potential {potential}) at step {} (t = {})",
+                self.step,
+                self.time()
+            ));
+        }
+        Ok(())
     }
 
     /// Kinetic energy and gravitational potential −Σ m g·x of the non-pinned bodies.
