@@ -1,8 +1,71 @@
 //! The scaling report: PGS solve time against the number of contacts, a least-squares line and
 //! its R², as CSV and an SVG plot. docs/blocks2d.md §"Scaling".
 
+use crate::problem::ContactProblem;
+use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
 use plotters::prelude::*;
+use rand::SeedableRng;
+use rand::seq::SliceRandom;
+use rand_chacha::ChaCha8Rng;
 use std::path::Path;
+
+/// Runs `f` and returns its result with the thread CPU time it took, s (the wall time where the
+/// platform has no thread clock).
+fn cpu_seconds<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    match cpu_time::ThreadTime::try_now() {
+        Ok(start) => {
+            let value = f();
+            let seconds = start.try_elapsed().map_or(0.0, |d| d.as_secs_f64());
+            (value, seconds)
+        }
+        Err(_) => {
+            let start = std::time::Instant::now();
+            let value = f();
+            (value, start.elapsed().as_secs_f64())
+        }
+    }
+}
+
+/// PGS solve time of each of `problems`, measured side by side: `rounds` rounds, each solving
+/// every problem once in a fresh random order (seeded), and for each problem its number of
+/// contacts with the median of its rounds' thread CPU times, s.
+///
+/// Why not the times taken during the run: in a factory the contact count grows with time, so
+/// the machine's slow and fast spells (other tenants, clock changes, shared caches) are tied to
+/// the contact counts of the moment and bend the fit. Interleaved, every size sees every spell.
+/// Each problem carries its warm start, so a re-solve does the run's work exactly.
+pub fn retime<const D: usize, const R: usize>(
+    problems: &[ContactProblem<D, R>],
+    settings: &PgsSettings,
+    rounds: usize,
+    seed: u64,
+) -> Vec<(f64, f64)> {
+    let mut workspace = PgsWorkspace::<D, R>::new(seed);
+    let mut lambda = Vec::new();
+    // Grow the buffers to the largest problem first, so that no timed solve allocates.
+    if let Some(largest) = problems.iter().max_by_key(|p| p.contacts.len()) {
+        solve_pgs(largest, settings, &mut workspace, &mut lambda);
+    }
+    let mut times = vec![Vec::with_capacity(rounds); problems.len()];
+    let mut order: Vec<usize> = (0..problems.len()).collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    for _ in 0..rounds {
+        order.shuffle(&mut rng);
+        for &i in &order {
+            let (_, seconds) =
+                cpu_seconds(|| solve_pgs(&problems[i], settings, &mut workspace, &mut lambda));
+            times[i].push(seconds);
+        }
+    }
+    problems
+        .iter()
+        .zip(times)
+        .map(|(p, mut t)| {
+            t.sort_by(f64::total_cmp);
+            (p.contacts.len() as f64, t[t.len() / 2])
+        })
+        .collect()
+}
 
 /// y ≈ slope x + intercept, and the coefficient of determination R².
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
@@ -15,6 +78,19 @@ pub struct LinearFit {
     pub r_squared: f64,
     /// Points fitted.
     pub points: usize,
+}
+
+impl LinearFit {
+    /// "t = a ms × contacts ± c ms, R² = r", for seconds fitted against contacts.
+    pub fn describe_ms(&self) -> String {
+        let sign = if self.intercept < 0.0 { '−' } else { '+' };
+        format!(
+            "t = {:.3e} ms × contacts {sign} {:.3e} ms, R² = {:.3}",
+            self.slope * 1e3,
+            self.intercept.abs() * 1e3,
+            self.r_squared
+        )
+    }
 }
 
 /// Least-squares line through `points` (x, y); `None` for fewer than two distinct x.
@@ -50,9 +126,12 @@ pub fn linear_fit(points: &[(f64, f64)]) -> Option<LinearFit> {
     })
 }
 
-/// Plots solve time (ms) against contacts with the fitted line, as SVG.
+/// Plots solve time (ms) against contacts as SVG: `points` (the fitted measurements) in blue
+/// with the fitted line in red, and `background` (other measurements of the same, for
+/// comparison) in light grey underneath.
 pub fn plot(
     points: &[(f64, f64)],
+    background: &[(f64, f64)],
     fit: &LinearFit,
     path: &Path,
     title: &str,
@@ -60,17 +139,13 @@ pub fn plot(
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     let err = |e: &dyn std::fmt::Display| format!("{}: cannot draw: {e}", path.display());
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    let x_max = points.iter().map(|p| p.0).fold(1.0, f64::max);
-    let y_max = points.iter().map(|p| p.1 * 1e3).fold(1e-3, f64::max);
+    let all = || points.iter().chain(background);
+    let x_max = all().map(|p| p.0).fold(1.0, f64::max);
+    let y_max = all().map(|p| p.1 * 1e3).fold(1e-3, f64::max);
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            format!(
-                "{title}: t = {:.3e} ms × contacts + {:.3e} ms, R² = {:.3}",
-                fit.slope * 1e3,
-                fit.intercept * 1e3,
-                fit.r_squared
-            ),
-            ("sans-serif", 18),
+            format!("{title}: {}", fit.describe_ms()),
+            ("sans-serif", 16),
         )
         .margin(20)
         .x_label_area_size(40)
@@ -83,13 +158,16 @@ pub fn plot(
         .y_desc("PGS solve time (ms)")
         .draw()
         .map_err(|e| err(&e))?;
-    chart
-        .draw_series(
-            points
-                .iter()
-                .map(|p| Circle::new((p.0, p.1 * 1e3), 1, BLUE.filled())),
-        )
-        .map_err(|e| err(&e))?;
+    let grey = RGBColor(200, 200, 200);
+    for (series, colour, size) in [(background, grey, 1), (points, BLUE, 2)] {
+        chart
+            .draw_series(
+                series
+                    .iter()
+                    .map(|p| Circle::new((p.0, p.1 * 1e3), size, colour.filled())),
+            )
+            .map_err(|e| err(&e))?;
+    }
     chart
         .draw_series(LineSeries::new(
             [0.0, x_max]

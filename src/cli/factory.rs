@@ -1,25 +1,49 @@
 //! `rigidref factory`: random bodies dropped into a container, the stress test and scaling
 //! report of the 2D system (and, with a container image and --pieces tetris, the Tetris tube).
+//! docs/blocks2d.md §"Challenges", §"Scaling".
 
 use anyhow::{Context, bail};
 use clap::Args;
-use nalgebra::Vector2;
-use rigidref::blocks::factory::{Factory, Pieces, container};
+use rigidref::blocks::factory::{DropZone, Factory, Pieces, container, container_size};
 use rigidref::blocks::image::{ImageSettings, load_image};
-use rigidref::blocks::scaling::{linear_fit, plot};
-use rigidref::blocks::world::{Params2, World2};
+use rigidref::blocks::scaling::{LinearFit, linear_fit, plot, retime};
+use rigidref::blocks::world::{ContactProblem2, Params2, World2};
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// Drops in a row that place nothing before the container counts as full.
+const FULL_AFTER: u32 = 20;
+
+/// Contact problems kept during the run for re-timing (spread evenly over the planned steps).
+const RETIMED_PROBLEMS: u64 = 100;
+
+/// Rounds of re-timing: each problem's time is the median of this many solves.
+const RETIME_ROUNDS: usize = 5;
 
 /// Arguments of `rigidref factory`.
 #[derive(Args)]
 #[command(after_long_help = "\
 Drops --batch bodies every --interval time units into a container until --bodies have been
-dropped, then lets them settle for --settle. Writes DIR/scaling.csv (per step: time, bodies,
-contacts, PGS solve seconds), DIR/scaling.svg (solve time against contacts with a least-squares
-line and its R²) and DIR/report.json. Timing figures are measurements of this machine; the
-report states them, no test asserts them.")]
+dropped, then lets them settle for --settle. Bodies are placed a few blocks above the top of the
+pile, not at the rim, so that they land slowly however deep the container; a body is never
+placed where it would overlap another (the drop waits instead). When the pile reaches the rim,
+or 20 drops in a row find no free place, the container is full and dropping stops, with a note.
+
+The scaling report: the run keeps 100 of its contact problems, spread over the run, and at the
+end re-times PGS on them side by side (5 rounds, each in a fresh random order; the median
+thread CPU time per problem). That is the fitted measurement: timing each step as the run reaches
+it would tie the machine's slow and fast spells to the contact count of the moment, because in
+a factory the contact count grows with time. The in-run times are kept too, and fitted for
+comparison.
+
+Writes DIR/scaling.csv (per step: step, t, bodies, contacts, PGS wall and thread CPU seconds),
+DIR/retimed.csv (contacts, median CPU seconds per re-timed problem), DIR/scaling.svg (re-timed
+points in blue with the least-squares line and R², in-run points in grey) and DIR/report.json.
+Timing figures are measurements of this machine; the report states them, no test asserts them.
+
+The scaling demonstration (at least 2 000 bodies and 10 000 contacts; docs/blocks2d.md):
+  rigidref factory --pieces bricks --bodies 2500 --out factory/")]
 pub struct FactoryArgs {
     /// Bodies to drop.
     #[arg(long, default_value_t = 2000)]
@@ -28,19 +52,25 @@ pub struct FactoryArgs {
     #[arg(long, default_value_t = 10)]
     pub batch: usize,
     /// Time between batches.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub interval: f64,
+    /// Downward speed of a dropped body, blocks per time unit (so that a batch has left the drop
+    /// zone when the next comes: under the default gravity a body at rest falls only ½ block in
+    /// the first time unit).
+    #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
+    pub drop_speed: f64,
     /// Time to run after the last drop.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 20.0, allow_negative_numbers = true)]
     pub settle: f64,
-    /// Width of the generated container, blocks.
-    #[arg(long, default_value_t = 150)]
-    pub width: usize,
-    /// Depth of the generated container, blocks.
-    #[arg(long, default_value_t = 100)]
-    pub depth: usize,
-    /// Use the pinned bodies of this image as the container instead (e.g. tetrisTube.png).
+    /// Width of the generated container, blocks [default: sized for --bodies, with the depth].
     #[arg(long)]
+    pub width: Option<usize>,
+    /// Depth of the generated container, blocks [default: room for --bodies pieces, twice their
+    /// blocks' area, five wide for three deep].
+    #[arg(long)]
+    pub depth: Option<usize>,
+    /// Use the pinned bodies of this image as the container instead (e.g. tetrisTube.png).
+    #[arg(long, conflicts_with_all = ["width", "depth"])]
     pub container: Option<PathBuf>,
     /// What to drop.
     #[arg(long, value_enum, default_value_t = Pieces::Random)]
@@ -68,22 +98,46 @@ pub struct FactoryArgs {
 /// The report written to DIR/report.json.
 #[derive(serde::Serialize)]
 pub struct FactoryReport {
-    /// Bodies at the end (dropped plus the container).
+    /// Bodies at the end (dropped plus the container's image's bodies).
     pub bodies: usize,
+    /// Bodies dropped.
+    pub dropped: usize,
+    /// Dropping stopped early because the drop zone stayed occupied.
+    pub container_full: bool,
+    /// The generated container's width and depth, blocks (none with --container).
+    pub container: Option<[usize; 2]>,
     /// Most contacts in one step.
     pub max_contacts: usize,
+    /// The deepest disc overlap among the last step's contacts, blocks (the pile's health: the
+    /// post-stabilisation slop is 0.01; a block disc's diameter is √2).
+    pub deepest_overlap_at_end: f64,
+    /// Total kinetic energy at the end.
+    pub kinetic_energy_at_end: f64,
+    /// Moving bodies outside the container at the end (escaped through its floor or walls, or
+    /// spilled over): 0 in a sound run.
+    pub outside_container_at_end: usize,
     /// Steps run.
     pub steps: u64,
-    /// Fit of solve seconds against contacts.
-    pub fit: Option<rigidref::blocks::scaling::LinearFit>,
-    /// Total PGS seconds.
+    /// The scaling figure: PGS solve CPU seconds against contacts, re-timed side by side on the
+    /// problems kept during the run (median of `retime_rounds` rounds each).
+    pub fit: Option<LinearFit>,
+    /// Problems re-timed.
+    pub retimed_problems: usize,
+    /// Rounds of re-timing.
+    pub retime_rounds: usize,
+    /// For comparison: the same fitted to the thread CPU time each step's solve took in the run.
+    pub fit_in_run: Option<LinearFit>,
+    /// For comparison: the same fitted to the wall time each step's solve took in the run.
+    pub fit_in_run_wall: Option<LinearFit>,
+    /// Total PGS wall seconds in the run.
     pub pgs_seconds: f64,
-    /// Wall seconds.
+    /// Total PGS thread CPU seconds in the run.
+    pub pgs_cpu_seconds: f64,
+    /// Wall seconds of the whole command.
     pub wall_seconds: f64,
 }
 
-/// Runs the factory.
-pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
+fn check_args(args: &FactoryArgs) -> anyhow::Result<()> {
     if args.bodies == 0
         || args.batch == 0
         || args.iterations == 0
@@ -92,27 +146,51 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     {
         bail!("--bodies, --batch, --iterations, --substeps and --piece-scale must be at least 1");
     }
-    if !(args.interval > 0.0 && args.settle >= 0.0) {
-        bail!("--interval must be positive and --settle ≥ 0");
+    if !(args.interval.is_finite() && args.interval > 0.0) {
+        bail!("--interval must be a positive number, got {}", args.interval);
     }
-    if args.width < 10 || args.depth < 5 {
+    if !(args.settle.is_finite() && args.settle >= 0.0) {
+        bail!("--settle must be a number ≥ 0, got {}", args.settle);
+    }
+    if !(args.drop_speed.is_finite() && args.drop_speed >= 0.0) {
+        bail!("--drop-speed must be a number ≥ 0, got {}", args.drop_speed);
+    }
+    if args.width.is_some_and(|w| w < 10) || args.depth.is_some_and(|d| d < 5) {
         bail!("the container must be at least 10 wide and 5 deep");
     }
+    Ok(())
+}
+
+/// Creates `path` for writing, naming it in the error.
+fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    Ok(std::io::BufWriter::new(std::fs::File::create(path).with_context(|| {
+        format!("{}: cannot create", path.display())
+    })?))
+}
+
+/// Runs the factory.
+pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
+    check_args(&args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create", args.out.display()))?;
-    let groups = match &args.container {
+    let (groups, size) = match &args.container {
+        // The generated container's inside is `size`; its walls and floor are
+        // CONTAINER_WALL blocks thick around it.
         Some(p) => {
-            let g: Vec<_> =
-                load_image(p, &ImageSettings::default()).map_err(|e| anyhow::anyhow!(e))?;
+            let g = load_image(p, &ImageSettings::default()).map_err(|e| anyhow::anyhow!(e))?;
             if !g.iter().any(|g| g.pinned) {
                 bail!(
                     "{}: no pinned (blue) body to use as a container",
                     p.display()
                 );
             }
-            g
+            (g, None)
         }
-        None => vec![container(args.width, args.depth)],
+        None => {
+            let (w, d) = container_size(args.bodies, args.pieces, args.piece_scale);
+            let (w, d) = (args.width.unwrap_or(w), args.depth.unwrap_or(d));
+            (vec![container(w, d)], Some([w, d]))
+        }
     };
     let params = Params2 {
         iterations: args.iterations,
@@ -121,64 +199,86 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         seed: args.seed,
         ..Params2::default()
     };
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: params.iterations,
+        tolerance: params.tolerance,
+        order: params.order,
+        faults: rigidref::faults::Faults::NONE,
+    };
     let mut world = World2::new(&groups, params);
-    // Drop zone: across the pinned bodies' extent, above their top.
-    let (mut lo, mut hi) = (
-        Vector2::repeat(f64::INFINITY),
-        Vector2::repeat(f64::NEG_INFINITY),
-    );
-    for b in world.bodies.iter().filter(|b| b.pinned) {
-        for block in &b.blocks {
-            let p = b.to_world(&block.local);
-            lo = lo.inf(&p);
-            hi = hi.sup(&p);
-        }
-    }
-    let span = (hi.x - lo.x - 8.0).max(4.0);
+    let zone = DropZone::above_pinned(&world).context("no pinned body to drop into")?;
     let mut factory = Factory::new(args.seed, args.pieces);
     factory.scale = args.piece_scale;
-    let steps_per_batch = (args.interval / world.params.step).round().max(1.0) as u64;
-    let batches = args.bodies.div_ceil(args.batch);
-    let total_steps =
-        batches as u64 * steps_per_batch + (args.settle / world.params.step).round() as u64;
-    let mut csv = std::io::BufWriter::new(std::fs::File::create(args.out.join("scaling.csv"))?);
-    writeln!(csv, "step,t,bodies,contacts,pgs_seconds")?;
-    let mut points = Vec::new();
-    let (mut dropped, mut max_contacts, mut pgs_seconds) = (0usize, 0usize, 0.0);
+    let steps_per_drop = (args.interval / world.params.step).round().max(1.0) as u64;
+    let settle_steps = (args.settle / world.params.step).round() as u64;
+    // The length of the run if every drop places a whole batch; drops that must wait (the drop
+    // zone still occupied) lengthen it.
+    let planned_steps = args.bodies.div_ceil(args.batch) as u64 * steps_per_drop + settle_steps;
+    let keep_every = (planned_steps / RETIMED_PROBLEMS).max(1);
+    let csv_path = args.out.join("scaling.csv");
+    let mut csv = create(&csv_path)?;
+    let csv_err = |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", csv_path.display());
+    writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds").map_err(csv_err)?;
+    let (mut in_run_wall, mut in_run_cpu) = (Vec::new(), Vec::new());
+    let mut kept: Vec<ContactProblem2> = Vec::new();
+    let (mut dropped, mut max_contacts) = (0usize, 0usize);
+    let (mut pgs_seconds, mut pgs_cpu_seconds) = (0.0, 0.0);
+    // Drops in a row that placed nothing; after FULL_AFTER of them the container is full.
+    let (mut fruitless, mut full) = (0u32, false);
+    let mut settled = 0u64;
     let started = Instant::now();
     let progress = super::progress_bar(
-        total_steps,
+        planned_steps,
         "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps, {msg}",
     );
     let mut shown = false;
-    for k in 0..total_steps {
-        if k % steps_per_batch == 0 && dropped < args.bodies {
-            let n = args.batch.min(args.bodies - dropped);
-            let slot = span / n as f64;
-            for s in 0..n {
-                let x = lo.x + 4.0 + slot * (s as f64 + 0.5) + factory.uniform(-0.25, 0.25) * slot;
-                world.add_body(factory.make(Vector2::new(x, lo.y - 6.0)));
+    let mut k = 0u64;
+    while settled < settle_steps || (dropped < args.bodies && !full) {
+        let dropping = dropped < args.bodies && !full;
+        if dropping && k % steps_per_drop == 0 {
+            if zone.is_full(&world) {
+                full = true;
+            } else {
+                let n = args.batch.min(args.bodies - dropped);
+                let placed = factory.drop_batch(&mut world, &zone, n, args.drop_speed);
+                dropped += placed;
+                fruitless = if placed == 0 { fruitless + 1 } else { 0 };
+                full = fruitless >= FULL_AFTER;
             }
-            dropped += n;
+        }
+        if !dropping {
+            settled += 1;
         }
         world.step();
+        k += 1;
         let contacts = world.last.contacts.len();
         max_contacts = max_contacts.max(contacts);
-        pgs_seconds += world.last.solve_seconds;
+        let (wall, cpu) = (world.last.solve_seconds, world.last.solve_cpu_seconds);
+        pgs_seconds += wall;
+        pgs_cpu_seconds += cpu;
         writeln!(
             csv,
-            "{},{},{},{},{:.9}",
+            "{},{},{},{},{wall:.9},{cpu:.9}",
             world.step,
             world.time(),
             world.bodies.len(),
             contacts,
-            world.last.solve_seconds
-        )?;
+        )
+        .map_err(csv_err)?;
         if contacts > 0 {
-            points.push((contacts as f64, world.last.solve_seconds));
+            in_run_wall.push((contacts as f64, wall));
+            in_run_cpu.push((contacts as f64, cpu));
+            if k % keep_every == 0
+                && let Some(problem) = &world.last_problem
+            {
+                kept.push(problem.clone());
+            }
         }
         super::show_progress_after_a_second(&progress, started, args.quiet, &mut shown);
         if k % 20 == 0 {
+            if k > planned_steps {
+                progress.set_length(k + settle_steps);
+            }
             progress.set_position(k);
             progress.set_message(format!(
                 "{} bodies, {contacts} contacts",
@@ -187,52 +287,100 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         }
     }
     progress.finish_and_clear();
-    csv.flush()?;
-    let fit = linear_fit(&points);
+    csv.flush().map_err(csv_err)?;
+    if full {
+        eprintln!(
+            "note: the container is full (the pile reached its rim, or {FULL_AFTER} drops in a row found no free place): {dropped} of {} bodies were dropped",
+            args.bodies
+        );
+    }
+
+    let retimed = retime(&kept, &settings, RETIME_ROUNDS, args.seed);
+    let retimed_path = args.out.join("retimed.csv");
+    let mut retimed_csv = create(&retimed_path)?;
+    let retimed_err =
+        |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", retimed_path.display());
+    writeln!(retimed_csv, "contacts,pgs_cpu_seconds_median").map_err(retimed_err)?;
+    for (contacts, seconds) in &retimed {
+        writeln!(retimed_csv, "{contacts},{seconds:.9}").map_err(retimed_err)?;
+    }
+    retimed_csv.flush().map_err(retimed_err)?;
+    let fit = linear_fit(&retimed);
     if let Some(f) = &fit {
         plot(
-            &points,
+            &retimed,
+            &in_run_cpu,
             f,
             &args.out.join("scaling.svg"),
-            "PGS solve time against contacts",
+            "PGS solve CPU time (re-timed)",
         )
         .map_err(|e| anyhow::anyhow!(e))?;
     }
     let report = FactoryReport {
         bodies: world.bodies.len(),
+        dropped,
+        container_full: full,
+        container: size,
         max_contacts,
+        deepest_overlap_at_end: world.last.contacts.iter().map(|c| c.depth).fold(0.0, f64::max),
+        kinetic_energy_at_end: world.energy().0,
+        outside_container_at_end: world
+            .bodies
+            .iter()
+            .filter(|b| !b.pinned && zone.is_outside(b))
+            .count(),
         steps: world.step,
         fit,
+        retimed_problems: retimed.len(),
+        retime_rounds: RETIME_ROUNDS,
+        fit_in_run: linear_fit(&in_run_cpu),
+        fit_in_run_wall: linear_fit(&in_run_wall),
         pgs_seconds,
+        pgs_cpu_seconds,
         wall_seconds: started.elapsed().as_secs_f64(),
     };
-    std::fs::write(
-        args.out.join("report.json"),
-        serde_json::to_string_pretty(&report)? + "\n",
-    )?;
+    let report_path = args.out.join("report.json");
+    std::fs::write(&report_path, serde_json::to_string_pretty(&report)? + "\n")
+        .with_context(|| format!("{}: cannot write", report_path.display()))?;
     if !args.quiet {
-        eprintln!("bodies         {} ({} dropped)", report.bodies, dropped);
-        eprintln!(
-            "steps          {}, most contacts in a step {}",
-            report.steps, report.max_contacts
-        );
-        if let Some(f) = &report.fit {
-            eprintln!(
-                "PGS time       {:.3e} ms per contact + {:.3e} ms, R² = {:.3} over {} steps",
-                f.slope * 1e3,
-                f.intercept * 1e3,
-                f.r_squared,
-                f.points
-            );
-        }
-        eprintln!(
-            "wall time      {:.1} s ({:.1} s in PGS)",
-            report.wall_seconds, report.pgs_seconds
-        );
-        eprintln!(
-            "report         {}/scaling.csv, scaling.svg, report.json",
-            args.out.display()
-        );
+        print_report(&report, &args.out);
     }
     Ok(report)
+}
+
+fn print_report(report: &FactoryReport, out: &Path) {
+    eprintln!(
+        "bodies         {} ({} dropped){}",
+        report.bodies,
+        report.dropped,
+        report
+            .container
+            .map_or(String::new(), |[w, d]| format!(", container {w} × {d}"))
+    );
+    eprintln!(
+        "steps          {}, most contacts in a step {}",
+        report.steps, report.max_contacts
+    );
+    eprintln!(
+        "at the end     deepest overlap {:.4} blocks, kinetic energy {:.3e}, {} bodies outside the container",
+        report.deepest_overlap_at_end, report.kinetic_energy_at_end, report.outside_container_at_end
+    );
+    let fits = [
+        ("PGS re-timed ", &report.fit),
+        ("in-run CPU   ", &report.fit_in_run),
+        ("in-run wall  ", &report.fit_in_run_wall),
+    ];
+    for (what, fit) in fits {
+        if let Some(f) = fit {
+            eprintln!("{what}  {}, over {} points", f.describe_ms(), f.points);
+        }
+    }
+    eprintln!(
+        "wall time      {:.1} s ({:.1} s in PGS during the run)",
+        report.wall_seconds, report.pgs_seconds
+    );
+    eprintln!(
+        "report         {}/scaling.csv, retimed.csv, scaling.svg, report.json",
+        out.display()
+    );
 }
