@@ -26,10 +26,10 @@ Coupled friction is not a monotone problem; where PGS cannot converge, the probl
 as unverified, not compared (with --strict, it fails the check). Exit status 1 when any
 comparison exceeds its tolerance or clarabel fails. Formulations: docs/contact.md §\"Convex formulations\".")]
 pub struct CrosscheckArgs {
-    /// A scene file, a contact-problem file (from `run --dump-problems`), or a folder of them.
-    /// Without one, the built-in default scene.
+    /// A scene file (3D, or 2D: an image or a 2D scene file), a contact-problem file (from
+    /// `run --dump-problems`), or a folder of them. Without one, the built-in default scene.
     pub input: Option<PathBuf>,
-    /// Simulated time to run a scene, s.
+    /// Simulated time to run a scene, s (2D: time units).
     #[arg(long, default_value_t = 5.0)]
     pub time: f64,
     /// Largest relative λ difference accepted where λ is unique.
@@ -93,6 +93,10 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         Some(path) if is_problem_file(path) => (
             path.display().to_string(),
             vec![check_file(path, &settings)?],
+        ),
+        Some(path) if super::run2d::is_2d(path) => (
+            path.display().to_string(),
+            check_scene2(path, args.time, &settings)?,
         ),
         other => {
             let scene = super::load_scene_or_default(other.as_deref())?;
@@ -220,6 +224,42 @@ fn check_scene(
             .step()
             .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
         for solve in &world.frame_contacts {
+            let check = check_problem(&solve.problem, settings).map_err(|e| anyhow::anyhow!(e))?;
+            rows.push(Row {
+                source: format!("step {k} substep {}", solve.substep),
+                check,
+            });
+        }
+        super::show_progress_after_a_second(&progress, started, false, &mut shown);
+        progress.set_position(k);
+    }
+    progress.finish_and_clear();
+    Ok(rows)
+}
+
+/// Every contact problem of a 2D run (an image with the default parameters, or a 2D scene file
+/// with its own), one row per substep with contacts.
+fn check_scene2(
+    path: &Path,
+    time: f64,
+    settings: &CrosscheckSettings,
+) -> anyhow::Result<Vec<Row>> {
+    if !(time.is_finite() && time > 0.0) {
+        bail!("--time must be a positive number, got {time}");
+    }
+    let mut world = super::run2d::world_of_scene(path)?;
+    world.record_problems = true;
+    let steps = (time / world.params.step + 1e-9).floor().max(1.0) as u64;
+    let started = Instant::now();
+    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
+    let mut shown = false;
+    let mut rows = Vec::new();
+    for k in 1..=steps {
+        world.step();
+        world
+            .check_finite()
+            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", path.display()))?;
+        for solve in &world.frame_solves {
             let check = check_problem(&solve.problem, settings).map_err(|e| anyhow::anyhow!(e))?;
             rows.push(Row {
                 source: format!("step {k} substep {}", solve.substep),

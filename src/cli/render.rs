@@ -29,10 +29,10 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 5)]
     pub frame_every: u64,
     /// Pixels per block.
-    #[arg(long, default_value_t = 3.0)]
+    #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
     pub scale: f64,
     /// Block opacity in [0, 1] (0.5 shows whether bodies interpenetrate).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub opacity: f64,
     /// Draw contacts.
     #[arg(long)]
@@ -60,12 +60,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         bail!("--frame-every must be at least 1");
     }
     let mut world = super::run2d::world_from_args(&image_path, &args.run)?;
-    let steps = match (args.run.steps, args.run.time) {
-        (Some(n), _) => n,
-        (None, t) => (t.unwrap_or(10.0) / world.params.step + 1e-9)
-            .floor()
-            .max(1.0) as u64,
-    };
+    let steps = super::steps_of(&args.run, world.params.step, "")?;
     let mut settings = RenderSettings::fit(&world, args.scale);
     settings.opacity = args.opacity;
     settings.contacts = args.show_contacts;
@@ -96,6 +91,9 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     for k in 0..=steps {
         if k > 0 {
             world.step();
+            world
+                .check_finite()
+                .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", image_path.display()))?;
         }
         super::show_progress_after_a_second(&progress, started, args.run.quiet, &mut shown);
         progress.set_position(k);
@@ -119,6 +117,9 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         written += 1;
     }
     progress.finish_and_clear();
+    if args.run.quiet {
+        return Ok(());
+    }
     eprintln!(
         "{written} frames of {} ({} steps){}{}",
         image_path.display(),

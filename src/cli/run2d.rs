@@ -174,6 +174,12 @@ pub fn is_2d(path: &Path) -> bool {
 /// parameters, impulses and shakes come from the file; giving 2D physics options as well is an
 /// error rather than a silent choice between the two).
 pub fn world_from_args(path: &Path, args: &RunArgs) -> anyhow::Result<World2> {
+    if !(args.rest_threshold.is_finite() && args.rest_threshold >= 0.0) {
+        bail!(
+            "--rest-threshold must be a number ≥ 0, got {}",
+            args.rest_threshold
+        );
+    }
     if path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
@@ -203,13 +209,31 @@ pub fn world_from_args(path: &Path, args: &RunArgs) -> anyhow::Result<World2> {
                 path.display()
             );
         }
-        let scene = rigidref::blocks::scene::load_scene2(path)?;
-        for w in &scene.warnings {
-            eprintln!("warning: {w}");
-        }
-        return Ok(scene.world);
+        return world_of_scene_file(path);
     }
     world_from_image(path, args)
+}
+
+/// The world of a 2D scene file, its warnings printed.
+fn world_of_scene_file(path: &Path) -> anyhow::Result<World2> {
+    let scene = rigidref::blocks::scene::load_scene2(path)?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(scene.world)
+}
+
+/// The world of a 2D scene as it stands: a 2D scene file with its parameters, or an image with
+/// the default parameters (for commands without the 2D options, such as `crosscheck`).
+pub fn world_of_scene(path: &Path) -> anyhow::Result<World2> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
+        return world_of_scene_file(path);
+    }
+    let groups = load_image(path, &ImageSettings::default()).map_err(|e| anyhow::anyhow!(e))?;
+    Ok(World2::new(&groups, Params2::default()))
 }
 
 /// Loads the image and builds the world, with the scripted impulses.
@@ -259,6 +283,9 @@ pub fn world_from_image(image: &Path, args: &RunArgs) -> anyhow::Result<World2> 
 /// Runs an image scene and writes its 2D trace.
 pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let mut world = world_from_args(image, args)?;
+    world
+        .check_finite()
+        .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
     let steps = super::steps_of(args, world.params.step, "")?;
     let out_path = args.out.clone().unwrap_or_else(|| "trace.jsonl".into());
     let out = super::create_trace_output(&out_path)?;
@@ -311,6 +338,15 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let mut most_contacts = 0;
     for k in 1..=steps {
         world.step();
+        if let Err(e) = world.check_finite() {
+            out.flush().map_err(write_err)?;
+            bail!(
+                "{}: the run stopped: {e}; the trace so far (to step {}) is kept in {}",
+                image.display(),
+                k - 1,
+                out_path.display()
+            );
+        }
         most_contacts = most_contacts.max(world.last.contacts.len());
         if let Some(dir) = &args.dump_problems {
             for solve in &world.frame_solves {
