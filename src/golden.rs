@@ -360,3 +360,62 @@ pub fn summary(scene: &Scene, faults: Faults, seconds: u32) -> Result<String, St
     );
     Ok(out)
 }
+
+/// The 2D counterpart of [`summary`]: every `every` time units up to `until`, a 2D world's
+/// energies, contact count and each body's x, θ, v, ω to four decimals; then the deepest disc
+/// overlap seen. For insta snapshots of the project's 2D scenes.
+pub fn summary2(mut world: crate::blocks::world::World2, every: f64, until: f64) -> String {
+    use std::fmt::Write;
+    let r = |x: f64| {
+        // Four decimals, with −0 shown as 0.
+        let v = (x * 1e4).round() / 1e4;
+        if v == 0.0 { 0.0 } else { v }
+    };
+    let p = &world.params;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{} bodies ({} pinned), step {}, {} substeps, {} iterations {:?}, μ {}",
+        world.bodies.len(),
+        world.bodies.iter().filter(|b| b.pinned).count(),
+        p.step,
+        p.substeps,
+        p.iterations,
+        p.order,
+        p.mu
+    );
+    let steps_per_report = (every / p.step).round().max(1.0) as u64;
+    let reports = (until / every).round() as u64;
+    let mut deepest: f64 = 0.0;
+    for report in 0..=reports {
+        if report > 0 {
+            for _ in 0..steps_per_report {
+                world.step();
+                deepest = world.last.contacts.iter().map(|c| c.depth).fold(deepest, f64::max);
+            }
+        }
+        let (kinetic, potential) = world.energy();
+        let _ = writeln!(
+            out,
+            "t = {}: kinetic {}, potential {}, {} contacts",
+            r(world.time()),
+            r(kinetic),
+            r(potential),
+            world.last.contacts.len()
+        );
+        for (i, b) in world.bodies.iter().enumerate().filter(|(_, b)| !b.pinned) {
+            let _ = writeln!(
+                out,
+                "  body {i}: x [{}, {}]  θ {}  v [{}, {}]  ω {}",
+                r(b.x.x),
+                r(b.x.y),
+                r(b.theta),
+                r(b.v.x),
+                r(b.v.y),
+                r(b.omega)
+            );
+        }
+    }
+    let _ = writeln!(out, "deepest disc overlap: {} blocks", r(deepest));
+    out
+}

@@ -32,3 +32,55 @@ fn assignment_scene_summaries_are_unchanged() {
         insta::assert_snapshot!(format!("assignment_scene{i}"), text);
     }
 }
+
+/// The project's 2D scenes (scenes/blocks/*.json): every 4 time units to 20, energies, contacts
+/// and every moving body's state, to four decimals.
+#[test]
+fn blocks_scene_summaries_are_unchanged() {
+    let dir = common::project_root().join("scenes/blocks");
+    for name in ["stack", "pyramid", "dominoes"] {
+        let scene =
+            rigidref::blocks::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
+        let text = rigidref::golden::summary2(scene.world, 4.0, 20.0);
+        insta::assert_snapshot!(format!("blocks_{name}"), text);
+    }
+}
+
+/// Every image of the 2D assignment, as loaded: its bodies, pinned bodies, blocks and the total
+/// mass of its moving bodies. A change in loading (threshold, connectivity, mass formula) shows
+/// here as a diff.
+#[test]
+fn assignment_image_loading_is_unchanged() {
+    let Some(dir) = common::blocks2d_assignment() else {
+        return;
+    };
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "png"))
+        .collect();
+    paths.sort();
+    let mut text = String::new();
+    for path in paths {
+        let groups = rigidref::blocks::image::load_image(
+            &path,
+            &rigidref::blocks::image::ImageSettings::default(),
+        )
+        .unwrap();
+        let blocks: usize = groups.iter().map(|g| g.blocks.len()).sum();
+        let moving_mass: f64 = groups
+            .iter()
+            .filter(|g| !g.pinned)
+            .flat_map(|g| &g.blocks)
+            .map(|b| b.mass)
+            .sum();
+        text += &format!(
+            "{}: {} bodies, {} pinned, {blocks} blocks, moving mass {:.4}\n",
+            path.file_name().unwrap().to_string_lossy(),
+            groups.len(),
+            groups.iter().filter(|g| g.pinned).count(),
+            moving_mass
+        );
+    }
+    insta::assert_snapshot!("blocks2d_images", text);
+}
