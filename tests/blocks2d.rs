@@ -61,7 +61,9 @@ fn every_assignment_image_loads_with_the_documented_bodies() {
             let groups = load_image(&path, &ImageSettings::default()).unwrap();
             for g in groups.iter().filter(|g| g.pinned) {
                 assert!(
-                    g.blocks.iter().all(|b| b.colour == [0.0, 0.0, 163.0 / 255.0]),
+                    g.blocks
+                        .iter()
+                        .all(|b| b.colour == [0.0, 0.0, 163.0 / 255.0]),
                     "{}: a pinned body is not RGB (0, 0, 163)",
                     path.display()
                 );
@@ -391,11 +393,21 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
     // And on a 2D scene directly: every problem of 4 time units of the project's stack. Its
     // step 79 is a problem where clarabel reports "Solved" short of the optimum (residual 1.8e-3,
     // PGS 9e-13 with an objective 6e-9 lower): it must count as agreement, not as PGS's error.
-    let out = rigidref(&["crosscheck", "stack.json", "--time", "4"], &common::project_root().join("scenes/blocks"));
+    let out = rigidref(
+        &["crosscheck", "stack.json", "--time", "4"],
+        &common::project_root().join("scenes/blocks"),
+    );
     let stdout = String::from_utf8_lossy(&out.stdout);
     println!("{stdout}");
-    assert!(out.status.success(), "{stdout}{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("problems         178 (178 compared"), "{stdout}");
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("problems         178 (178 compared"),
+        "{stdout}"
+    );
     assert!(stdout.contains("result           agree"), "{stdout}");
 }
 
@@ -428,12 +440,22 @@ fn largest_overlap(world: &World2) -> f64 {
 ///   higher, within its horizontal extent) by more than 0.1 block, within 2 time units.
 ///
 /// Returns the world after the strike, for checks particular to the image.
-fn demonstrate(name: &str, rest_by: f64, hold: f64, struck: usize) -> Option<(World2, Vec<Vector2<f64>>)> {
+fn demonstrate(
+    name: &str,
+    rest_by: f64,
+    hold: f64,
+    struck: usize,
+) -> Option<(World2, Vec<Vector2<f64>>)> {
     let dir = common::blocks2d_assignment()?;
     let groups = load_image(&dir.join(format!("{name}.png")), &ImageSettings::default()).unwrap();
     let mut world = World2::new(&groups, Params2::demonstration());
     let start: Vec<Vector2<f64>> = world.bodies.iter().map(|b| b.x).collect();
-    let max_ke = |w: &World2| w.bodies.iter().map(|b| b.kinetic_energy()).fold(0.0, f64::max);
+    let max_ke = |w: &World2| {
+        w.bodies
+            .iter()
+            .map(|b| b.kinetic_energy())
+            .fold(0.0, f64::max)
+    };
     let mut moving_until = 0.0;
     let mut held_max: f64 = 0.0;
     while world.time() < rest_by + hold - 1e-9 {
@@ -461,15 +483,23 @@ fn demonstrate(name: &str, rest_by: f64, hold: f64, struck: usize) -> Option<(Wo
         moving_until < rest_by,
         "{name}: a body still moved (KE ≥ {REST}) at t = {moving_until}"
     );
-    assert!(overlap <= 0.1 * 2.0 * BLOCK_RADIUS, "{name}: overlap {overlap}");
-    assert!(drift < 2.0, "{name}: a body drifted {drift} blocks sideways");
+    assert!(
+        overlap <= 0.1 * 2.0 * BLOCK_RADIUS,
+        "{name}: overlap {overlap}"
+    );
+    assert!(
+        drift < 2.0,
+        "{name}: a body drifted {drift} blocks sideways"
+    );
 
     let before: Vec<Vector2<f64>> = world.bodies.iter().map(|b| b.x).collect();
     let extent = world.bodies[struck]
         .blocks
         .iter()
         .map(|b| world.bodies[struck].to_world(&b.local).x)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+            (lo.min(x), hi.max(x))
+        });
     let above: Vec<usize> = (0..world.bodies.len())
         .filter(|&k| {
             !world.bodies[k].pinned
@@ -477,7 +507,10 @@ fn demonstrate(name: &str, rest_by: f64, hold: f64, struck: usize) -> Option<(Wo
                 && (extent.0..=extent.1).contains(&before[k].x)
         })
         .collect();
-    assert!(!above.is_empty(), "{name}: body {struck} has nothing above it");
+    assert!(
+        !above.is_empty(),
+        "{name}: body {struck} has nothing above it"
+    );
     let m = world.bodies[struck].mass;
     world.impulses.push(ScriptedImpulse {
         time: world.time(),
@@ -537,12 +570,22 @@ fn demonstration_tower100_comes_to_rest_stands_and_is_not_glued() {
     };
     // The levels keep their order from the top (body 0) to the bottom.
     for k in 1..100 {
-        assert!(before[k - 1].y < before[k].y, "levels {} and {k} swapped", k - 1);
+        assert!(
+            before[k - 1].y < before[k].y,
+            "levels {} and {k} swapped",
+            k - 1
+        );
     }
     // The level under the struck one stays behind: it was held by friction, not glue.
     let moved = |k: usize| (world.bodies[k].x - before[k]).norm();
-    println!("tower100: the level below the struck one moved {:.3}", moved(11));
-    assert!(moved(11) < 0.5 * moved(10), "the level below moved with it: glued?");
+    println!(
+        "tower100: the level below the struck one moved {:.3}",
+        moved(11)
+    );
+    assert!(
+        moved(11) < 0.5 * moved(10),
+        "the level below moved with it: glued?"
+    );
 }
 
 /// The README's render commands for the four images use the documented settings.
@@ -554,14 +597,23 @@ fn readme_renders_the_demonstration_images_with_the_documented_settings() {
         "--substeps {} --iterations {} --order random",
         p.substeps, p.iterations
     );
-    for image in ["delicate", "wallWideSparseHigh", "wallWideDenseHigh", "tower100"] {
+    for image in [
+        "delicate",
+        "wallWideSparseHigh",
+        "wallWideDenseHigh",
+        "tower100",
+    ] {
         assert!(readme.contains(image), "README does not render {image}");
     }
     let renders: Vec<&str> = readme
         .lines()
         .filter(|l| l.contains("-- render ../shared/assignments/blocks2d/"))
         .collect();
-    assert_eq!(renders.len(), 4, "one render command per demonstration image");
+    assert_eq!(
+        renders.len(),
+        4,
+        "one render command per demonstration image"
+    );
     for line in renders {
         assert!(line.contains(&flags), "{line} does not use {flags}");
     }
@@ -578,7 +630,9 @@ fn readme_renders_the_demonstration_images_with_the_documented_settings() {
 fn factory_reaches_two_thousand_bodies_and_ten_thousand_contacts_in_a_sound_pile() {
     let tmp = tempfile::tempdir().unwrap();
     let out = std::process::Command::new(common::rigidref_bin())
-        .args(["factory", "--pieces", "bricks", "--bodies", "3000", "--quiet", "--out"])
+        .args([
+            "factory", "--pieces", "bricks", "--bodies", "3000", "--quiet", "--out",
+        ])
         .arg(tmp.path())
         .output()
         .unwrap();

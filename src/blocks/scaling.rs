@@ -9,26 +9,24 @@ use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 use std::path::Path;
 
-/// Runs `f` and returns its result with the thread CPU time it took, s (the wall time where the
-/// platform has no thread clock).
-fn cpu_seconds<T>(f: impl FnOnce() -> T) -> (T, f64) {
-    match cpu_time::ThreadTime::try_now() {
-        Ok(start) => {
-            let value = f();
-            let seconds = start.try_elapsed().map_or(0.0, |d| d.as_secs_f64());
-            (value, seconds)
-        }
-        Err(_) => {
-            let start = std::time::Instant::now();
-            let value = f();
-            (value, start.elapsed().as_secs_f64())
-        }
-    }
+/// Runs `f` and returns its result with the wall time and the thread CPU time it took, s (the
+/// CPU time `None` where the platform has no thread clock). Thread CPU time does not count the
+/// time the thread was preempted by other processes on a shared machine.
+pub fn timed<T>(f: impl FnOnce() -> T) -> (T, f64, Option<f64>) {
+    let cpu_start = cpu_time::ThreadTime::try_now().ok();
+    let wall_start = std::time::Instant::now();
+    let value = f();
+    let wall = wall_start.elapsed().as_secs_f64();
+    let cpu = cpu_start
+        .and_then(|t| t.try_elapsed().ok())
+        .map(|d| d.as_secs_f64());
+    (value, wall, cpu)
 }
 
 /// PGS solve time of each of `problems`, measured side by side: `rounds` rounds, each solving
 /// every problem once in a fresh random order (seeded), and for each problem its number of
-/// contacts with the median of its rounds' thread CPU times, s.
+/// contacts with the median of its rounds' thread CPU times (wall times where there is no thread
+/// clock), s.
 ///
 /// Why not the times taken during the run: in a factory the contact count grows with time, so
 /// the machine's slow and fast spells (other tenants, clock changes, shared caches) are tied to
@@ -52,9 +50,9 @@ pub fn retime<const D: usize, const R: usize>(
     for _ in 0..rounds {
         order.shuffle(&mut rng);
         for &i in &order {
-            let (_, seconds) =
-                cpu_seconds(|| solve_pgs(&problems[i], settings, &mut workspace, &mut lambda));
-            times[i].push(seconds);
+            let (_, wall, cpu) =
+                timed(|| solve_pgs(&problems[i], settings, &mut workspace, &mut lambda));
+            times[i].push(cpu.unwrap_or(wall));
         }
     }
     problems

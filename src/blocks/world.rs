@@ -405,18 +405,11 @@ impl World2 {
                 let mut problem = self.last_problem.take().unwrap_or_else(empty_problem2);
                 assemble_problem2(&self.bodies, &contacts, &self.params, warm, &mut problem);
                 let settings = self.pgs_settings();
-                let started = std::time::Instant::now();
-                let started_cpu = cpu_time::ThreadTime::try_now().ok();
-                report = Some(solve_pgs(
-                    &problem,
-                    &settings,
-                    &mut self.workspace,
-                    &mut lambda,
-                ));
-                solve_seconds = started.elapsed().as_secs_f64();
-                solve_cpu_seconds = started_cpu
-                    .and_then(|t| t.try_elapsed().ok())
-                    .map_or(0.0, |d| d.as_secs_f64());
+                let (solved, wall, cpu) = super::scaling::timed(|| {
+                    solve_pgs(&problem, &settings, &mut self.workspace, &mut lambda)
+                });
+                report = Some(solved);
+                (solve_seconds, solve_cpu_seconds) = (wall, cpu.unwrap_or(0.0));
                 for (i, b) in self.bodies.iter_mut().enumerate() {
                     let du = self.workspace.delta_velocity(i);
                     b.v += Vector2::new(du[0], du[1]);
@@ -469,7 +462,12 @@ impl World2 {
     /// would remove the penetration beyond the slop in one substep, normal rows only (μ = 0),
     /// for the position update alone; the velocity change is left in `position_workspace`.
     /// docs/blocks2d.md §"Post-stabilisation".
-    fn post_stabilize(&mut self, contacts: &[Contact2], velocity_problem: &ContactProblem2, h: f64) {
+    fn post_stabilize(
+        &mut self,
+        contacts: &[Contact2],
+        velocity_problem: &ContactProblem2,
+        h: f64,
+    ) {
         let problem = &mut self.position_problem;
         problem.friction = velocity_problem.friction;
         problem.bodies.clone_from(&velocity_problem.bodies);

@@ -204,32 +204,55 @@ fn check_scene(
     time: f64,
     settings: &CrosscheckSettings,
 ) -> anyhow::Result<Vec<Row>> {
-    if !(time.is_finite() && time > 0.0) {
-        bail!("--time must be a positive number of seconds, got {time}");
-    }
     if !scene.params.check_collisions {
         eprintln!(
             "note: {}: check_collisions is false: no contact problems to check",
             scene.source
         );
     }
-    let steps = (time / scene.params.dt + 1e-9).floor().max(1.0) as u64;
     let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
+    check_run(time, scene.params.dt, |k| {
+        world
+            .step()
+            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
+        let solved = world.frame_contacts.iter().map(|s| (s.substep, &s.problem));
+        check_step(k, solved, settings)
+    })
+}
+
+/// Every contact problem of a 2D run (an image with the default parameters, or a 2D scene file
+/// with its own), one row per substep with contacts.
+fn check_scene2(path: &Path, time: f64, settings: &CrosscheckSettings) -> anyhow::Result<Vec<Row>> {
+    let mut world = super::run2d::world_of_scene(path)?;
+    world.record_problems = true;
+    let step = world.params.step;
+    check_run(time, step, |k| {
+        world.step();
+        world
+            .check_finite()
+            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", path.display()))?;
+        let solved = world.frame_solves.iter().map(|s| (s.substep, &s.problem));
+        check_step(k, solved, settings)
+    })
+}
+
+/// Runs `time` (in steps of `dt`) with a progress bar; `step(k)` advances to step k and returns
+/// the rows of the problems solved in it.
+fn check_run(
+    time: f64,
+    dt: f64,
+    mut step: impl FnMut(u64) -> anyhow::Result<Vec<Row>>,
+) -> anyhow::Result<Vec<Row>> {
+    if !(time.is_finite() && time > 0.0) {
+        bail!("--time must be a positive number, got {time}");
+    }
+    let steps = (time / dt + 1e-9).floor().max(1.0) as u64;
     let started = Instant::now();
     let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
     let mut shown = false;
     let mut rows = Vec::new();
     for k in 1..=steps {
-        world
-            .step()
-            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
-        for solve in &world.frame_contacts {
-            let check = check_problem(&solve.problem, settings).map_err(|e| anyhow::anyhow!(e))?;
-            rows.push(Row {
-                source: format!("step {k} substep {}", solve.substep),
-                check,
-            });
-        }
+        rows.extend(step(k)?);
         super::show_progress_after_a_second(&progress, started, false, &mut shown);
         progress.set_position(k);
     }
@@ -237,40 +260,21 @@ fn check_scene(
     Ok(rows)
 }
 
-/// Every contact problem of a 2D run (an image with the default parameters, or a 2D scene file
-/// with its own), one row per substep with contacts.
-fn check_scene2(
-    path: &Path,
-    time: f64,
+/// The rows of step `k`'s problems, given as (substep, problem).
+fn check_step<'a, const D: usize, const R: usize>(
+    k: u64,
+    solved: impl Iterator<Item = (u32, &'a rigidref::problem::ContactProblem<D, R>)>,
     settings: &CrosscheckSettings,
 ) -> anyhow::Result<Vec<Row>> {
-    if !(time.is_finite() && time > 0.0) {
-        bail!("--time must be a positive number, got {time}");
-    }
-    let mut world = super::run2d::world_of_scene(path)?;
-    world.record_problems = true;
-    let steps = (time / world.params.step + 1e-9).floor().max(1.0) as u64;
-    let started = Instant::now();
-    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
-    let mut shown = false;
-    let mut rows = Vec::new();
-    for k in 1..=steps {
-        world.step();
-        world
-            .check_finite()
-            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", path.display()))?;
-        for solve in &world.frame_solves {
-            let check = check_problem(&solve.problem, settings).map_err(|e| anyhow::anyhow!(e))?;
-            rows.push(Row {
-                source: format!("step {k} substep {}", solve.substep),
+    solved
+        .map(|(substep, problem)| {
+            let check = check_problem(problem, settings).map_err(|e| anyhow::anyhow!(e))?;
+            Ok(Row {
+                source: format!("step {k} substep {substep}"),
                 check,
-            });
-        }
-        super::show_progress_after_a_second(&progress, started, false, &mut shown);
-        progress.set_position(k);
-    }
-    progress.finish_and_clear();
-    Ok(rows)
+            })
+        })
+        .collect()
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

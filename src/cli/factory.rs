@@ -43,7 +43,7 @@ points in blue with the least-squares line and R², in-run points in grey) and D
 Timing figures are measurements of this machine; the report states them, no test asserts them.
 
 The scaling demonstration (at least 2 000 bodies and 10 000 contacts; docs/blocks2d.md):
-  rigidref factory --pieces bricks --bodies 2500 --out factory/")]
+  rigidref factory --pieces bricks --bodies 3000 --out factory/")]
 pub struct FactoryArgs {
     /// Bodies to drop.
     #[arg(long, default_value_t = 2000)]
@@ -102,7 +102,8 @@ pub struct FactoryReport {
     pub bodies: usize,
     /// Bodies dropped.
     pub dropped: usize,
-    /// Dropping stopped early because the drop zone stayed occupied.
+    /// Dropping stopped early because the container was full: the pile reached its rim, or 20
+    /// drops in a row found no free place.
     pub container_full: bool,
     /// The generated container's width and depth, blocks (none with --container).
     pub container: Option<[usize; 2]>,
@@ -147,7 +148,10 @@ fn check_args(args: &FactoryArgs) -> anyhow::Result<()> {
         bail!("--bodies, --batch, --iterations, --substeps and --piece-scale must be at least 1");
     }
     if !(args.interval.is_finite() && args.interval > 0.0) {
-        bail!("--interval must be a positive number, got {}", args.interval);
+        bail!(
+            "--interval must be a positive number, got {}",
+            args.interval
+        );
     }
     if !(args.settle.is_finite() && args.settle >= 0.0) {
         bail!("--settle must be a number ≥ 0, got {}", args.settle);
@@ -163,9 +167,10 @@ fn check_args(args: &FactoryArgs) -> anyhow::Result<()> {
 
 /// Creates `path` for writing, naming it in the error.
 fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
-    Ok(std::io::BufWriter::new(std::fs::File::create(path).with_context(|| {
-        format!("{}: cannot create", path.display())
-    })?))
+    Ok(std::io::BufWriter::new(
+        std::fs::File::create(path)
+            .with_context(|| format!("{}: cannot create", path.display()))?,
+    ))
 }
 
 /// Runs the factory.
@@ -235,7 +240,7 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     let mut k = 0u64;
     while settled < settle_steps || (dropped < args.bodies && !full) {
         let dropping = dropped < args.bodies && !full;
-        if dropping && k % steps_per_drop == 0 {
+        if dropping && k.is_multiple_of(steps_per_drop) {
             if zone.is_full(&world) {
                 full = true;
             } else {
@@ -268,14 +273,14 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         if contacts > 0 {
             in_run_wall.push((contacts as f64, wall));
             in_run_cpu.push((contacts as f64, cpu));
-            if k % keep_every == 0
+            if k.is_multiple_of(keep_every)
                 && let Some(problem) = &world.last_problem
             {
                 kept.push(problem.clone());
             }
         }
         super::show_progress_after_a_second(&progress, started, args.quiet, &mut shown);
-        if k % 20 == 0 {
+        if k.is_multiple_of(20) {
             if k > planned_steps {
                 progress.set_length(k + settle_steps);
             }
@@ -322,7 +327,12 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         container_full: full,
         container: size,
         max_contacts,
-        deepest_overlap_at_end: world.last.contacts.iter().map(|c| c.depth).fold(0.0, f64::max),
+        deepest_overlap_at_end: world
+            .last
+            .contacts
+            .iter()
+            .map(|c| c.depth)
+            .fold(0.0, f64::max),
         kinetic_energy_at_end: world.energy().0,
         outside_container_at_end: world
             .bodies
@@ -363,7 +373,9 @@ fn print_report(report: &FactoryReport, out: &Path) {
     );
     eprintln!(
         "at the end     deepest overlap {:.4} blocks, kinetic energy {:.3e}, {} bodies outside the container",
-        report.deepest_overlap_at_end, report.kinetic_energy_at_end, report.outside_container_at_end
+        report.deepest_overlap_at_end,
+        report.kinetic_energy_at_end,
+        report.outside_container_at_end
     );
     let fits = [
         ("PGS re-timed ", &report.fit),

@@ -83,13 +83,21 @@ pub struct RunArgs {
     pub quiet: bool,
 
     /// 2D: step size [default: 0.05, the starter's].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub step: Option<f64>,
     /// 2D: substeps per step [default: 1].
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub substeps: Option<u32>,
     /// 2D: gravity magnitude, blocks per time² [default: 1].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub gravity: Option<f64>,
     /// 2D: gravity direction, degrees from +x (image column) toward +y (image row, down)
     /// [default: 90, toward increasing row].
@@ -100,10 +108,18 @@ pub struct RunArgs {
     )]
     pub gravity_angle: Option<f64>,
     /// 2D: friction coefficient [default: 0.33].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub mu: Option<f64>,
     /// 2D: coefficient of restitution in [0, 1] [default: 0].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub restitution: Option<f64>,
     /// 2D: PGS iterations per solve [default: 10, the starter's; the demonstration images
     /// come to rest with 200, 4 substeps and random order: docs/blocks2d.md §"Demonstration
@@ -111,7 +127,11 @@ pub struct RunArgs {
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub iterations: Option<u32>,
     /// 2D: stop PGS when its residual is below this.
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub pgs_tolerance: Option<f64>,
     /// 2D: contact order in PGS [default: sequential].
     #[arg(long, value_enum, help_heading = "Image scenes (2D, SCENE is a .png)")]
@@ -126,13 +146,21 @@ pub struct RunArgs {
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub no_post_stabilization: bool,
     /// 2D: penetration left alone by post-stabilisation, blocks [default: 0.01].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub slop: Option<f64>,
     /// 2D: contact model [default: pgs].
     #[arg(long, value_enum, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub contact_model: Option<rigidref::blocks::world::ContactModel>,
     /// 2D: near-white threshold: a pixel is empty when every channel is ≥ 1 − this [default: 0.05].
-    #[arg(long, allow_negative_numbers = true, help_heading = "Image scenes (2D, SCENE is a .png)")]
+    #[arg(
+        long,
+        allow_negative_numbers = true,
+        help_heading = "Image scenes (2D, SCENE is a .png)"
+    )]
     pub white_threshold: Option<f64>,
     /// 2D: apply an impulse TIME:BODY:JX,JY[:PX,PY] (at the body's centre of mass unless a world
     /// point is given); repeatable.
