@@ -5,6 +5,13 @@ mod cli;
 use clap::Parser;
 
 fn main() {
+    // `rigidref contacts scene.json | head` closes the pipe early: end quietly, as Unix tools do,
+    // instead of panicking on the failed write (Rust ignores SIGPIPE by default).
+    #[cfg(unix)]
+    // SAFETY: restoring the default action of one signal at start-up, before any thread exists.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let args = cli::Cli::parse();
     if let Err(err) = cli::dispatch(args) {
         // One line, naming the file and what is wrong; the cause chain is joined with ": ".

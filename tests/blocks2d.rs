@@ -1216,3 +1216,113 @@ fn tetris_tube_and_nut_bag_challenges_run() {
     let last: serde_json::Value = serde_json::from_str(trace.lines().last().unwrap()).unwrap();
     assert!(last["bodies"][0]["v"][0].as_f64().unwrap().abs() > 0.1);
 }
+
+/// `rigidref contacts IMAGE` prints every quantity of a 2D contact solve: the frame, the 2 × 6
+/// Jacobian, the 2 × 2 Delassus block, b, λ₀ and λ. They agree with the problem file `run
+/// --dump-problems` writes for the same step (two inspection paths, one problem), the Delassus
+/// block is symmetric with a positive diagonal, n ⟂ t, and λ is feasible (λn ≥ 0, |λt| ≤ μ λn).
+#[test]
+fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = common::project_root().join("scenes/blocks");
+    let out = rigidref(&["contacts", "stack.png", "--json"], &dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let shown: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(shown["dimension"], 2);
+    let step = shown["step"].as_u64().unwrap();
+    let substep = shown["substep"].as_u64().unwrap();
+    let mu = shown["mu"].as_f64().unwrap();
+    let contacts = shown["contacts"].as_array().unwrap();
+    assert!(!contacts.is_empty());
+
+    let dump = tmp.path().join("p");
+    let out = rigidref(
+        &[
+            "run",
+            "stack.png",
+            "--steps",
+            &step.to_string(),
+            "--quiet",
+            "--out",
+            tmp.path().join("t.jsonl").to_str().unwrap(),
+            "--dump-problems",
+            dump.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(out.status.success());
+    let file: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dump.join(format!("step-{step:06}-{substep:02}.json"))).unwrap(),
+    )
+    .unwrap();
+    let file_contacts = file["contacts"].as_array().unwrap();
+    let lambdas = file["solution"]["lambda"].as_array().unwrap();
+    assert_eq!(file_contacts.len(), contacts.len());
+    let numbers = |v: &serde_json::Value| -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut stack = vec![v.clone()];
+        while let Some(v) = stack.pop() {
+            match v {
+                serde_json::Value::Array(a) => stack.extend(a.into_iter().rev()),
+                serde_json::Value::Number(n) => out.push(n.as_f64().unwrap()),
+                _ => panic!("not a number: {v}"),
+            }
+        }
+        out
+    };
+    for ((c, f), l) in contacts.iter().zip(file_contacts).zip(lambdas) {
+        assert_eq!(numbers(&c["jacobian"]).len(), 12);
+        // The printed Jacobian is [J₁ | J₂] row by row; the file's is J₁ then J₂.
+        let j = numbers(&c["jacobian"]);
+        let jf = numbers(&f["jacobian"]);
+        let joined: Vec<f64> = (0..2)
+            .flat_map(|r| [&jf[3 * r..3 * r + 3], &jf[6 + 3 * r..6 + 3 * r + 3]].concat())
+            .collect();
+        assert_eq!(j, joined);
+        assert_eq!(numbers(&c["b"]), numbers(&f["b"]));
+        assert_eq!(numbers(&c["lambda0"]), numbers(&f["lambda0"]));
+        assert_eq!(numbers(&c["lambda"]), numbers(l));
+        // A = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ from the file's own inverse masses; 1e-12 relative
+        // leaves room for a different summation order only.
+        let a = numbers(&c["delassus"]);
+        let mut expected = [0.0; 4];
+        for (side, body) in f["bodies"].as_array().unwrap().iter().enumerate() {
+            let Some(b) = body.as_i64().filter(|&b| b >= 0) else {
+                continue;
+            };
+            let minv = numbers(&file["bodies"][b as usize]["inverse_mass"]);
+            let js = &jf[6 * side..6 * side + 6];
+            for r in 0..2 {
+                for c in 0..2 {
+                    for i in 0..3 {
+                        for k in 0..3 {
+                            expected[2 * r + c] += js[3 * r + i] * minv[3 * i + k] * js[3 * c + k];
+                        }
+                    }
+                }
+            }
+        }
+        for (x, y) in a.iter().zip(expected) {
+            assert!(
+                (x - y).abs() <= 1e-12 * y.abs().max(1.0),
+                "{a:?} vs {expected:?}"
+            );
+        }
+        assert!(a[0] > 0.0 && a[3] > 0.0, "{a:?}");
+        let (n, t) = (numbers(&c["n"]), numbers(&c["t"]));
+        assert!((n[0] * t[0] + n[1] * t[1]).abs() < 1e-15);
+        let lambda = numbers(&c["lambda"]);
+        assert!(lambda[0] >= 0.0 && lambda[1].abs() <= mu * lambda[0] * (1.0 + 1e-12));
+    }
+    // The table form names the Delassus block, and a step without contacts is a clear error.
+    let out = rigidref(&["contacts", "stack.png"], &dir);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("A      = J M⁻¹ Jᵀ"));
+    let out = rigidref(&["contacts", "stack.png", "--step", "1"], &dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("step 1 has no contacts"), "{stderr}");
+}

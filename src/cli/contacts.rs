@@ -16,9 +16,15 @@ the body it penetrates, −1 the ground), the point p and frame (n, t1, t2) in w
 the depth, the 3×12 Jacobian [J₁ | J₂] (columns v₁, ω₁, v₂, ω₂), the 3×3 Delassus block
 A = J M⁻¹ Jᵀ, b = J u − stabilisation bias, the warm-start λ₀ and the solved impulse λ
 (N·s; force = λ / h). Sign convention: n points from body 2 into body 1 and λn ≥ 0 pushes body 1
-along +n. Definitions: docs/contact.md.")]
+along +n. Definitions: docs/contact.md.
+
+2D (an image or a 2D scene): per contact the two bodies and blocks, p, the normal n (from body 2's
+block toward body 1's) and tangent t = (−n_y, n_x), the depth in blocks, the 2×6 Jacobian
+(columns vx₁, vy₁, ω₁, vx₂, vy₂, ω₂), the 2×2 Delassus block, b, λ₀ and λ (mass × blocks per time
+unit). Definitions: docs/blocks2d.md, section Contact problem.")]
 pub struct ContactsArgs {
-    /// Scene file. Without one, the built-in default scene.
+    /// Scene file (3D; or 2D: an image, run with the default parameters, or a 2D scene file).
+    /// Without one, the built-in default scene.
     pub scene: Option<PathBuf>,
     /// The frame to show (1-based). Default: the first frame that has contacts.
     #[arg(long)]
@@ -26,7 +32,7 @@ pub struct ContactsArgs {
     /// Which substep of that frame (0-based). Default: the last one that had contacts.
     #[arg(long)]
     pub substep: Option<u32>,
-    /// Give up looking for a first contact after this much simulated time, s.
+    /// Give up looking for a first contact after this much simulated time, s (2D: time units).
     #[arg(long, default_value_t = 10.0)]
     pub time: f64,
     /// Print JSON instead of a table.
@@ -69,8 +75,72 @@ fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>>
         .collect()
 }
 
+/// Steps a run (`step` advances one step and says whether it had contacts) to the chosen step,
+/// or without --step to the first step with contacts within --time (in steps of `dt`; `unit`
+/// names the time unit in messages). Errors name `source`.
+fn step_to_contacts(
+    args: &ContactsArgs,
+    dt: f64,
+    source: &str,
+    unit: &str,
+    mut step: impl FnMut() -> anyhow::Result<bool>,
+) -> anyhow::Result<()> {
+    if !(args.time.is_finite() && args.time > 0.0) {
+        bail!("--time must be a positive number, got {}", args.time);
+    }
+    if args.step == Some(0) {
+        bail!(
+            "--step counts frames from 1 (step 0 is the initial state, before any contact solve)"
+        );
+    }
+    let limit = match args.step {
+        Some(k) => k,
+        None => (args.time / dt).ceil().max(1.0) as u64,
+    };
+    for k in 1..=limit {
+        let touching = step()?;
+        if k == limit || (args.step.is_none() && touching) {
+            if touching {
+                return Ok(());
+            }
+            break;
+        }
+    }
+    match args.step {
+        Some(k) => bail!("{source}: step {k} has no contacts"),
+        None => bail!(
+            "{source}: no contacts in the first {} {unit} (use --time to look further)",
+            args.time
+        ),
+    }
+}
+
+/// The step's solve of the chosen --substep, or the last one with contacts.
+fn choose_substep<'a, T>(
+    args: &ContactsArgs,
+    step: u64,
+    solves: &'a [T],
+    substep_of: impl Fn(&T) -> u32,
+) -> anyhow::Result<&'a T> {
+    match args.substep {
+        None => solves.last().context("no contacts"),
+        Some(s) => solves.iter().find(|c| substep_of(c) == s).with_context(|| {
+            let had: Vec<String> = solves.iter().map(|c| substep_of(c).to_string()).collect();
+            format!(
+                "substep {s} of step {step} has no contacts (substeps with contacts: {})",
+                had.join(", ")
+            )
+        }),
+    }
+}
+
 /// Runs the scene to the chosen step and prints its contacts.
 pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.scene
+        && super::run2d::is_2d(path)
+    {
+        return contacts2(path, &args);
+    }
     let mut scene = super::load_scene_or_default(args.scene.as_deref())?;
     if !scene.params.check_collisions {
         eprintln!(
@@ -79,59 +149,15 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
         );
         scene.params.check_collisions = true;
     }
-    if !(args.time.is_finite() && args.time > 0.0) {
-        bail!(
-            "--time must be a positive number of seconds, got {}",
-            args.time
-        );
-    }
-    if args.step == Some(0) {
-        bail!(
-            "--step counts frames from 1 (step 0 is the initial state, before any contact solve)"
-        );
-    }
     let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
-    let limit = match args.step {
-        Some(k) => k,
-        None => (args.time / scene.params.dt).ceil() as u64,
-    };
-    loop {
+    step_to_contacts(&args, scene.params.dt, &scene.source, "s", || {
         world
             .step()
             .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
-        if world.step == limit || (args.step.is_none() && !world.frame_contacts.is_empty()) {
-            break;
-        }
-    }
-    if world.frame_contacts.is_empty() {
-        match args.step {
-            Some(k) => bail!("{}: step {k} has no contacts", scene.source),
-            None => bail!(
-                "{}: no contacts in the first {} s (use --time to look further)",
-                scene.source,
-                args.time
-            ),
-        }
-    }
-    let solve: &SubstepContacts = match args.substep {
-        None => world.frame_contacts.last().context("no contacts")?,
-        Some(s) => world
-            .frame_contacts
-            .iter()
-            .find(|c| c.substep == s)
-            .with_context(|| {
-                let had: Vec<String> = world
-                    .frame_contacts
-                    .iter()
-                    .map(|c| c.substep.to_string())
-                    .collect();
-                format!(
-                    "substep {s} of step {} has no contacts (substeps with contacts: {})",
-                    world.step,
-                    had.join(", ")
-                )
-            })?,
-    };
+        Ok(!world.frame_contacts.is_empty())
+    })?;
+    let solve: &SubstepContacts =
+        choose_substep(&args, world.step, &world.frame_contacts, |c| c.substep)?;
     let out = ContactsJson {
         scene: world.params.name.clone(),
         step: world.step,
@@ -229,4 +255,114 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
 
 fn fmt3(v: &[f64; 3]) -> String {
     format!("[{:>13.6e}, {:>13.6e}, {:>13.6e}]", v[0], v[1], v[2])
+}
+
+/// One 2D contact as printed.
+#[derive(Serialize)]
+struct Contact2Json {
+    bodies: [usize; 2],
+    blocks: [usize; 2],
+    p: [f64; 2],
+    n: [f64; 2],
+    t: [f64; 2],
+    depth: f64,
+    jacobian: Vec<Vec<f64>>,
+    delassus: Vec<Vec<f64>>,
+    b: [f64; 2],
+    lambda0: [f64; 2],
+    lambda: [f64; 2],
+}
+
+/// The 2D counterpart: the contacts of one substep of an image or 2D scene file (docs/blocks2d.md
+/// §"Contact problem"), with the 2 × 6 Jacobian [J₁ | J₂] (columns vx₁ vy₁ ω₁ vx₂ vy₂ ω₂) and the
+/// 2 × 2 Delassus block.
+fn contacts2(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> {
+    let mut world = super::run2d::world_of_scene(path)?;
+    world.record_problems = true;
+    let source = path.display().to_string();
+    step_to_contacts(args, world.params.step, &source, "time units", || {
+        world.step();
+        world
+            .check_finite()
+            .map_err(|e| anyhow::anyhow!("{source}: the run stopped: {e}"))?;
+        Ok(!world.frame_solves.is_empty())
+    })?;
+    let solve = choose_substep(args, world.step, &world.frame_solves, |s| s.substep)?;
+    let contacts: Vec<Contact2Json> = solve
+        .contacts
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let pc = &solve.problem.contacts[k];
+            let mut j = SMatrix::<f64, 2, 6>::zeros();
+            j.fixed_view_mut::<2, 3>(0, 0).copy_from(&pc.jacobian[0]);
+            j.fixed_view_mut::<2, 3>(0, 3).copy_from(&pc.jacobian[1]);
+            let t = rigidref::blocks::world::tangent(&c.normal);
+            Contact2Json {
+                bodies: [c.body1, c.body2],
+                blocks: [c.block1, c.block2],
+                p: c.point.into(),
+                n: c.normal.into(),
+                t: t.into(),
+                depth: c.depth,
+                jacobian: rows(&j),
+                delassus: rows(&solve.problem.delassus_block(k)),
+                b: pc.b.into(),
+                lambda0: pc.lambda0.into(),
+                lambda: solve.lambda[k].into(),
+            }
+        })
+        .collect();
+    let p = &world.params;
+    if args.json {
+        let out = serde_json::json!({
+            "scene": source, "dimension": 2, "step": world.step, "t": world.time(),
+            "substep": solve.substep, "h": p.h(), "mu": p.mu,
+            "iterations": solve.report.iterations, "residual": solve.report.residual,
+            "contacts": contacts,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+        return Ok(());
+    }
+    println!(
+        "{source}, step {} (t = {}), substep {}, h = {}, μ = {}",
+        world.step,
+        world.time(),
+        solve.substep,
+        p.h(),
+        p.mu
+    );
+    println!(
+        "{} contacts; PGS {} sweeps, residual {:.3e} blocks per time unit",
+        contacts.len(),
+        solve.report.iterations,
+        solve.report.residual
+    );
+    for (k, c) in contacts.iter().enumerate() {
+        println!();
+        println!(
+            "contact {k}: body 1 = {} (block {}), body 2 = {} (block {})",
+            c.bodies[0], c.blocks[0], c.bodies[1], c.blocks[1]
+        );
+        println!("  p      = {}", fmt2(&c.p));
+        println!("  n      = {}   depth = {:.6e} blocks", fmt2(&c.n), c.depth);
+        println!("  t      = {}", fmt2(&c.t));
+        println!("  J      =        vx1        vy1         ω1        vx2        vy2         ω2");
+        for (row, name) in c.jacobian.iter().zip(["n", "t"]) {
+            let cells: Vec<String> = row.iter().map(|x| format!("{x:>10.4}")).collect();
+            println!("    {name}      {}", cells.join(" "));
+        }
+        println!("  A      = J M⁻¹ Jᵀ");
+        for row in &c.delassus {
+            println!("           [{:>13.6e} {:>13.6e}]", row[0], row[1]);
+        }
+        println!("  b      = {}", fmt2(&c.b));
+        println!("  λ0     = {}", fmt2(&c.lambda0));
+        println!("  λ      = {}", fmt2(&c.lambda));
+    }
+    Ok(())
+}
+
+fn fmt2(v: &[f64; 2]) -> String {
+    format!("[{:>13.6e}, {:>13.6e}]", v[0], v[1])
 }
