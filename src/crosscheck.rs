@@ -8,7 +8,7 @@
 use crate::problem::{ContactProblem, FrictionModel};
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::{PgsSettings, PgsWorkspace, residual, solve_pgs};
-use nalgebra::{DMatrix, SVector};
+use nalgebra::{DMatrix, DVector, SVector};
 use serde::Serialize;
 
 /// Velocities below this (m/s) set no scale for comparing impulses (see [`check_problem`]).
@@ -18,10 +18,12 @@ pub const VELOCITY_FLOOR: f64 = 0.1;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Comparison {
-    /// The objective is strictly convex on the free rows: λ is unique and compared directly.
+    /// The objective is strictly convex on the free rows, so λ is unique, and clarabel's answer
+    /// is provably close to it (`lambda_uncertainty` within the limit): λ is compared directly.
     Lambda,
-    /// It is not (e.g. four corners of a rigid brick share its weight in infinitely many ways):
-    /// only the optimal value is unique, so the objectives are compared.
+    /// It is not (e.g. four corners of a rigid brick share its weight in infinitely many ways),
+    /// or it is so ill-conditioned that clarabel's λ does not pin the minimiser down: only the
+    /// optimal value is unique or resolved, so the objectives are compared.
     Objective,
 }
 
@@ -44,6 +46,9 @@ pub struct ProblemCheck {
     pub objective_gap: f64,
     /// f(λ_pgs) − f(λ_qp), signed, unscaled (negative: PGS found the lower objective).
     pub objective_difference: f64,
+    /// An upper bound on ‖λ_qp − λ*‖ / max(‖λ_qp‖, λ_ref), λ* the program's exact minimiser,
+    /// from clarabel's natural residual ([`distance_bound`]); `None` where λ* is not unique.
+    pub lambda_uncertainty: Option<f64>,
     /// The number held against the tolerance: `lambda_difference` or `objective_gap`.
     pub disagreement: f64,
     /// PGS's residual (docs/contact.md §"Residual"), m/s.
@@ -71,6 +76,9 @@ pub struct CrosscheckSettings {
     /// Smallest eigenvalue over largest of the objective's Hessian on the free rows below which
     /// λ counts as not unique.
     pub uniqueness_threshold: f64,
+    /// λ is compared only where clarabel's answer is provably this close (relative, as
+    /// `lambda_difference`) to the exact minimiser; otherwise the objectives are.
+    pub lambda_uncertainty_limit: f64,
 }
 
 impl Default for CrosscheckSettings {
@@ -84,6 +92,8 @@ impl Default for CrosscheckSettings {
             },
             qp: QpSettings::default(),
             uniqueness_threshold: 1e-8,
+            // A tenth of the λ tolerance the tests and the command use (1e-5).
+            lambda_uncertainty_limit: 1e-6,
         }
     }
 }
@@ -117,6 +127,57 @@ fn solve_precisely<const D: usize, const R: usize>(
     } else {
         first
     })
+}
+
+/// The projection of one contact's λ onto the feasible set of `formulation` (λn ≥ 0; friction
+/// rows zero, clamped to ±μλ̄n, or projected onto the disk of radius μλ̄n).
+fn project_feasible<const R: usize>(
+    formulation: &QpFormulation,
+    mu: f64,
+    k: usize,
+    lambda: &SVector<f64, R>,
+) -> SVector<f64, R> {
+    let mut p = *lambda;
+    p[0] = p[0].max(0.0);
+    match formulation {
+        QpFormulation::Frictionless => (1..R).for_each(|r| p[r] = 0.0),
+        QpFormulation::BoxFixed(fixed) => {
+            let bound = mu * fixed[k].max(0.0);
+            (1..R).for_each(|r| p[r] = p[r].clamp(-bound, bound));
+        }
+        QpFormulation::ConeFixed(fixed) => {
+            let bound = mu * fixed[k].max(0.0);
+            let t = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
+            if t > bound {
+                (1..R).for_each(|r| p[r] *= bound / t);
+            }
+        }
+        QpFormulation::Cone => unreachable!("the Anitescu cone is not compared by λ"),
+    }
+    p
+}
+
+/// An upper bound on ‖λ − λ*‖ (N·s), λ* the exact minimiser of f over the feasible set K of
+/// `formulation`, from λ's natural residual (docs/verification.md §"clarabel"): with H = A + C,
+/// L = its largest eigenvalue, m > 0 its smallest on the free rows (the subspace K lies in) and
+/// r = λ − Π_K(λ − (Hλ + b)/L), ‖λ − λ*‖ ≤ (2 + m/L)(L/m) ‖r‖. It needs nothing of how λ was
+/// found, so it says how far clarabel's answer can be from the true one.
+fn distance_bound<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    formulation: &QpFormulation,
+    hessian: &DMatrix<f64>,
+    lambda: &[SVector<f64, R>],
+    (m, l): (f64, f64),
+) -> f64 {
+    let flat = DVector::from_iterator(R * lambda.len(), lambda.iter().flatten().copied());
+    let w = hessian * &flat + problem.dense_b();
+    let mut r2 = 0.0;
+    for (k, (c, x)) in problem.contacts.iter().zip(lambda).enumerate() {
+        let step = x - SVector::<f64, R>::from_fn(|r, _| w[R * k + r] / l);
+        let r = x - project_feasible(formulation, c.mu, k, &step);
+        r2 += r.norm_squared();
+    }
+    (2.0 + m / l) * (l / m) * r2.sqrt()
 }
 
 /// Runs PGS to convergence and clarabel on `problem` and compares them.
@@ -173,10 +234,26 @@ pub fn check_problem<const D: usize, const R: usize>(
         .max(0.5 * b_norm * lambda_ref)
         .max(1e-300);
     let objective_gap = (f_pgs - qp.objective).max(0.0) / f_scale;
-    let comparison = if unique {
-        Comparison::Lambda
-    } else {
-        Comparison::Objective
+    // λ is compared only where clarabel's answer provably pins the minimiser down: on a nearly
+    // singular problem with b ≈ 0 clarabel "Solved" at 9e-8 m/s stopped 3% of λ_ref from the
+    // exact λ* = 0 that PGS found (an objective 2e-11 above PGS's).
+    let lambda_uncertainty = unique.then(|| {
+        if eigenvalues.is_empty() {
+            return 0.0;
+        }
+        let largest = hessian.symmetric_eigenvalues().max();
+        let bound = distance_bound(
+            problem,
+            &formulation,
+            &hessian,
+            &qp.lambda,
+            (eigenvalues.min(), largest),
+        );
+        bound / lambda_scale
+    });
+    let comparison = match lambda_uncertainty {
+        Some(u) if u <= settings.lambda_uncertainty_limit => Comparison::Lambda,
+        _ => Comparison::Objective,
     };
     let anitescu = if !frictionless && problem.friction == FrictionModel::Cone {
         let relaxed = solve_precisely(problem, &QpFormulation::Cone, &settings.qp)?;
@@ -202,10 +279,10 @@ pub fn check_problem<const D: usize, const R: usize>(
         lambda_difference,
         objective_gap,
         objective_difference: f_pgs - qp.objective,
-        disagreement: if unique {
-            lambda_difference
-        } else {
-            objective_gap
+        lambda_uncertainty,
+        disagreement: match comparison {
+            Comparison::Lambda => lambda_difference,
+            Comparison::Objective => objective_gap,
         },
         residual_pgs: report.residual,
         residual_qp: residual(problem, &qp.lambda),

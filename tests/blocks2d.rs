@@ -130,7 +130,7 @@ fn points() -> impl Strategy<Value = Vec<Vector2<f64>>> {
 
 #[test]
 fn minimum_enclosing_circle_contains_every_point_and_matches_brute_force() {
-    proptest!(ProptestConfig::with_cases(1000), |(p in points())| {
+    proptest!(common::seeded(1000), |(p in points())| {
         let c = min_enclosing_circle(&p).unwrap();
         for q in &p {
             prop_assert!(c.contains(q));
@@ -177,7 +177,7 @@ fn body_of(cells: &[(i64, i64)], pinned: bool) -> Body2 {
 
 #[test]
 fn disc_tree_finds_exactly_the_block_pairs_the_brute_force_test_finds() {
-    proptest!(ProptestConfig::with_cases(300), |(
+    proptest!(common::seeded(300), |(
         shapes in proptest::collection::vec((blob(), -6.0..6.0f64, -6.0..6.0f64, -3.2..3.2f64, any::<bool>()), 2..6)
     )| {
         let bodies: Vec<Body2> = shapes.iter().map(|(cells, x, y, theta, pinned)| {
@@ -205,7 +205,7 @@ fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
     // Set-up that guarantees contact: centres 7 blocks apart on a near-horizontal line (each
     // blob covers the heights around its centre), neighbours closing at speed s ≥ 0.7, so they
     // meet within 10 time units; 15 are run. Every case must have touched, or it tests nothing.
-    proptest!(ProptestConfig::with_cases(40), |(
+    proptest!(common::seeded(40), |(
         shapes in proptest::collection::vec((blob(), -0.05..0.05f64, -0.1..0.1f64), 2..5),
         closing in 0.7..1.5f64,
         mu in 0.0..1.0f64,

@@ -44,7 +44,7 @@ fn parry_signed_distance_matches_the_brute_force_oracle() {
         let lo = Aabb::around(mesh.vertices.iter().copied());
         let span = lo.max - lo.min;
         // Points in the bounding box grown by 20% each side: inside, outside and near the surface.
-        let config = ProptestConfig::with_cases(400);
+        let config = common::seeded(400);
         proptest!(config, |(f in (-0.2..1.2f64, -0.2..1.2f64, -0.2..1.2f64))| {
             let p = lo.min + Vector3::new(f.0 * span.x, f.1 * span.y, f.2 * span.z);
             let fast = collider.signed_distance(&p);
@@ -81,7 +81,7 @@ fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> Rig
 fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
     let mesh =
         Arc::new(TriMesh::load_obj(&common::project_root().join("scenes/data/ball.obj")).unwrap());
-    proptest!(ProptestConfig::with_cases(300), |(
+    proptest!(common::seeded(300), |(
         y in -0.6..0.6f64,
         w in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
     )| {
@@ -105,7 +105,7 @@ fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
 
 #[test]
 fn broad_phase_finds_exactly_the_overlapping_pairs() {
-    proptest!(ProptestConfig::with_cases(300), |(
+    proptest!(common::seeded(300), |(
         boxes in proptest::collection::vec(
             ((-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64), (0.0..2.0f64, 0.0..2.0f64, 0.0..2.0f64)),
             0..40)

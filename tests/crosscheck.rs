@@ -25,9 +25,8 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
     let not_converged = RefCell::new(0usize);
     let infeasible = RefCell::new(0usize);
     let config = ProptestConfig {
-        cases: 500,
         max_global_rejects: 2000,
-        ..ProptestConfig::default()
+        ..common::seeded(500)
     };
     proptest!(config, |(
         s in physical_spec(1..4, 1..8),
@@ -47,8 +46,14 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
         }
         if check.residual_pgs > 1e-10 {
             // Coupled friction (bounds μλn move with λn) is not a monotone problem and PGS may
-            // cycle; the frictionless LCP always converges. Counted, and bounded below.
-            prop_assert!(mu > 0.0, "frictionless PGS did not converge: {check:?}");
+            // cycle; the frictionless LCP always converges, but Gauss–Seidel gains about a
+            // factor 1 − m/L per sweep (m, L: extreme eigenvalues of A + C on the normal rows),
+            // so 200 000 sweeps reach 1e-10 only where m/L ≳ 1e-4 (five random normals on one body
+            // can come arbitrarily close to singular). Counted, and bounded below.
+            prop_assert!(
+                mu > 0.0 || normal_conditioning(&problem) < 1e-4,
+                "frictionless PGS did not converge on a well-conditioned problem: {check:?}"
+            );
             // (With bounds frozen at an unconverged λn, clarabel's problem means nothing.)
             *not_converged.borrow_mut() += 1;
             prop_assume!(false);
@@ -100,6 +105,17 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
             "no problem exercised {needle:?}"
         );
     }
+}
+
+/// The smallest eigenvalue of A + C on the normal rows over the largest.
+fn normal_conditioning(problem: &rigidref::problem::ContactProblem3) -> f64 {
+    let rows: Vec<usize> = (0..problem.contacts.len()).map(|k| 3 * k).collect();
+    let h = problem.dense_delassus() + problem.dense_compliance();
+    let e = h
+        .select_rows(&rows)
+        .select_columns(&rows)
+        .symmetric_eigenvalues();
+    e.min() / e.max()
 }
 
 /// A 0.5 m box, 125 kg, on the ground by its four bottom corners, moving with `v` (m/s).
@@ -234,8 +250,11 @@ fn anitescu_relaxation_agrees_when_sticking_and_separates_when_sliding() {
 fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
     let mut scenes: Vec<std::path::PathBuf> =
         rigidref::golden::canonical_scenes(&common::project_root().join("scenes")).unwrap();
+    // Measured: 1 973 problems compared on the canonical scenes, 2 419 more on the assignment's.
+    let mut expected = 1_900;
     if let Some(dir) = common::rigid3d_assignment() {
         scenes.extend((1..=7).map(|i| dir.join(format!("scenes/scene{i}.json"))));
+        expected += 2_300;
     }
     let mut total = 0;
     for path in &scenes {
@@ -265,7 +284,10 @@ fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
         assert_eq!(s["passed"], true);
         total += s["compared"].as_u64().unwrap();
     }
-    assert!(total > 3000, "{total} problems compared");
+    assert!(
+        total >= expected,
+        "{total} problems compared, {expected} expected"
+    );
 }
 
 /// The command reads the problem files `run --dump-problems` writes (a folder or one file), and

@@ -56,7 +56,7 @@ fn condition(body: &RigidBody) -> f64 {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(48))]
+    #![proptest_config(common::seeded(48))]
 
     /// Without forces v never changes, so linear momentum is conserved exactly (bit for bit),
     /// and `R` stays orthonormal to round-off for 10⁴ steps under every integrator. Spin is kept

@@ -33,6 +33,25 @@ pub fn body(mass: f64, moments: [f64; 3], frame: Matrix3<f64>) -> RigidBody {
     RigidBody::new("random", mass, (inertia + inertia.transpose()) * 0.5, mesh)
 }
 
+/// The seed of every property test: fixed, so that `cargo test` checks the same cases on every
+/// machine and a failure reproduces; `RIGIDREF_PROPTEST_SEED=n` explores other cases.
+pub const PROPTEST_SEED: u64 = 20_261_123;
+
+/// A property-test configuration with `cases` cases and the project's fixed seed
+/// ([`PROPTEST_SEED`], or `RIGIDREF_PROPTEST_SEED` where set).
+pub fn seeded(cases: u32) -> proptest::test_runner::Config {
+    let seed = match std::env::var("RIGIDREF_PROPTEST_SEED") {
+        Ok(s) => s
+            .parse()
+            .unwrap_or_else(|_| panic!("RIGIDREF_PROPTEST_SEED={s:?} is not an unsigned integer")),
+        Err(_) => PROPTEST_SEED,
+    };
+    proptest::test_runner::Config {
+        rng_seed: proptest::test_runner::RngSeed::Fixed(seed),
+        ..proptest::test_runner::Config::with_cases(cases)
+    }
+}
+
 /// Path of the built `rigidref` binary.
 pub fn rigidref_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_rigidref"))
