@@ -245,6 +245,8 @@ pub struct World2 {
     position_problem: ContactProblem2,
     position_lambda: Vec<SVector<f64, 2>>,
     position_workspace: PgsWorkspace<3, 2>,
+    /// Each body's (vx, vy, ω) before the current substep's forces: restitution's approach speed.
+    before_kick: Vec<Vector3<f64>>,
     warm: WarmStart2,
 }
 
@@ -270,10 +272,12 @@ pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
 /// The 2D contact problem of `contacts`, assembled into `problem` (its buffers reused, so that a
 /// substep does not allocate once they have grown): M⁻¹ = diag(1/m, 1/m, 1/I) (zero for pinned
 /// bodies), u = (vx, vy, ω), J₁ = [nᵀ, r₁×n; tᵀ, r₁×t], J₂ = −[… r₂ …], b = J u with restitution
-/// on approaching normal rows (b_n = (1 + e) (J u)_n), λ₀ from `warm`. docs/blocks2d.md
+/// on approaching normal rows (b_n = (J u)_n + e (J u⁰)_n where (J u⁰)_n < 0, u⁰ = `before_kick`,
+/// each body's (vx, vy, ω) before this substep's forces), λ₀ from `warm`. docs/blocks2d.md
 /// §"Contact problem".
 pub fn assemble_problem2(
     bodies: &[Body2],
+    before_kick: &[Vector3<f64>],
     contacts: &[Contact2],
     params: &Params2,
     warm: Option<&WarmStart2>,
@@ -292,8 +296,12 @@ pub fn assemble_problem2(
         let j1 = jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body1].x));
         let j2 = -jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body2].x));
         let mut b = j1 * problem_bodies[c.body1].velocity + j2 * problem_bodies[c.body2].velocity;
-        if b[0] < 0.0 {
-            b[0] *= 1.0 + params.restitution;
+        // The bounce is e times the approach speed the body arrived with, not the speed after
+        // this substep's gravity kick: that would add e g h per bounce (e = 1 gained 0.1 block
+        // of height per bounce) and make resting contacts hop.
+        let approach = (j1 * before_kick[c.body1] + j2 * before_kick[c.body2])[0];
+        if approach < 0.0 {
+            b[0] += params.restitution * approach;
         }
         let lambda0 = warm
             .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
@@ -327,6 +335,7 @@ impl World2 {
             position_problem: empty_problem2(),
             position_lambda: Vec::new(),
             position_workspace: PgsWorkspace::new(params.seed),
+            before_kick: Vec::new(),
             warm: HashMap::new(),
             params,
         }
@@ -392,6 +401,12 @@ impl World2 {
             if self.params.contact_model == ContactModel::Penalty {
                 self.add_penalty_forces(&contacts);
             }
+            self.before_kick.clear();
+            self.before_kick.extend(
+                self.bodies
+                    .iter()
+                    .map(|b| Vector3::new(b.v.x, b.v.y, b.omega)),
+            );
             for b in &mut self.bodies {
                 b.step_velocity(h);
             }
@@ -403,7 +418,14 @@ impl World2 {
             if self.params.contact_model == ContactModel::Pgs && !contacts.is_empty() {
                 let warm = self.params.warm_start.then_some(&self.warm);
                 let mut problem = self.last_problem.take().unwrap_or_else(empty_problem2);
-                assemble_problem2(&self.bodies, &contacts, &self.params, warm, &mut problem);
+                assemble_problem2(
+                    &self.bodies,
+                    &self.before_kick,
+                    &contacts,
+                    &self.params,
+                    warm,
+                    &mut problem,
+                );
                 let settings = self.pgs_settings();
                 let (solved, wall, cpu) = super::scaling::timed(|| {
                     solve_pgs(&problem, &settings, &mut self.workspace, &mut lambda)
