@@ -1164,7 +1164,98 @@ fn bad_2d_input_is_a_one_line_error() {
             "nothing to write",
         ),
     ];
-    for (args, says) in cases {
+    // Absurd sizes are errors, not an aborted allocation or a run that never ends; options
+    // that do not apply are refused, not ignored.
+    let big = tmp.path().join("big.png");
+    let mut pixels = image::RgbImage::from_pixel(3001, 3001, image::Rgb([255, 255, 255]));
+    pixels.put_pixel(0, 0, image::Rgb([0, 0, 0]));
+    pixels.put_pixel(3000, 3000, image::Rgb([0, 0, 0]));
+    pixels.save(&big).unwrap();
+    let flat = tmp.path().join("flat.png");
+    let mut pixels = image::RgbImage::from_pixel(30, 4, image::Rgb([255, 255, 255]));
+    (0..30).for_each(|x| pixels.put_pixel(x, 3, image::Rgb([0, 0, 163])));
+    pixels.save(&flat).unwrap();
+    let no_kind = tmp.path().join("neither.json");
+    std::fs::write(&no_kind, "{\"imag\": \"stack.png\"}").unwrap();
+    let dir = |name: &str| tmp.path().join(name).display().to_string();
+    let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<String>>();
+    let more: Vec<(Vec<String>, &str)> = vec![
+        (
+            words(&["run", "stack.png", "--step", "1e-300"]),
+            "more than the limit",
+        ),
+        (
+            words(&[
+                "render",
+                &big.display().to_string(),
+                "--steps",
+                "1",
+                "--scale",
+                "64",
+                "--frames",
+                &dir("fr"),
+            ]),
+            "exceed the limit",
+        ),
+        (
+            words(&[
+                "factory",
+                "--width",
+                "100000000",
+                "--depth",
+                "5",
+                "--out",
+                &dir("f1"),
+            ]),
+            "more than the limit of 100 million blocks",
+        ),
+        (
+            words(&["factory", "--piece-scale", "1000", "--out", &dir("f2")]),
+            "--piece-scale may be at most 16",
+        ),
+        (
+            words(&[
+                "factory",
+                "--container",
+                &flat.display().to_string(),
+                "--out",
+                &dir("f3"),
+            ]),
+            "needs walls",
+        ),
+        (
+            words(&["run", "stack.png", "--format", "csv"]),
+            "JSON lines only",
+        ),
+        (
+            words(&["run", "stack.png", "--no-collisions"]),
+            "3D scenes only",
+        ),
+        (
+            words(&[
+                "render",
+                "stack.png",
+                "--every",
+                "3",
+                "--frames",
+                &dir("fr"),
+            ]),
+            "options of `run`",
+        ),
+        (
+            words(&["run", "../box_stack.json", "--mu", "0.5"]),
+            "apply to 2D scenes",
+        ),
+        (
+            words(&["render", "../box_stack.json", "--frames", &dir("fr")]),
+            "render draws 2D scenes",
+        ),
+        (
+            words(&["run", &no_kind.display().to_string()]),
+            "neither a 3D scene",
+        ),
+    ];
+    for (args, says) in cases.into_iter().chain(more) {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let out = rigidref(&args, &scenes);
         let stderr = String::from_utf8_lossy(&out.stderr);

@@ -78,7 +78,12 @@ pub struct Scene2 {
 
 /// Whether a JSON text is a 2D scene (has a top-level `image` key).
 pub fn is_scene2(text: &str) -> bool {
-    serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| v.get("image").is_some())
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(v) => v.get("image").is_some(),
+        // Unparsable (e.g. a number out of range): a 2D scene if it names an image, so that the
+        // 2D reader reports what is wrong rather than the 3D one.
+        Err(_) => text.contains("\"image\""),
+    }
 }
 
 /// Loads a 2D scene file.

@@ -94,9 +94,11 @@ fn step_to_contacts(
         );
     }
     let limit = match args.step {
-        Some(k) => k,
-        None => (args.time / dt).ceil().max(1.0) as u64,
+        Some(k) => k as f64,
+        None => (args.time / dt).ceil().max(1.0),
     };
+    super::check_step_count(limit, dt).with_context(|| source.to_string())?;
+    let limit = limit as u64;
     for k in 1..=limit {
         let touching = step()?;
         if k == limit || (args.step.is_none() && touching) {

@@ -370,7 +370,9 @@ fn print_summary(s: &Summary) {
     println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
     println!(
         "result           {}",
-        if s.passed {
+        if s.passed && s.compared == 0 {
+            "nothing compared (no contact problem was verified)".to_string()
+        } else if s.passed {
             "agree".to_string()
         } else {
             format!("{} problems disagree", s.failures)

@@ -162,6 +162,13 @@ fn check_args(args: &FactoryArgs) -> anyhow::Result<()> {
     if args.width.is_some_and(|w| w < 10) || args.depth.is_some_and(|d| d < 5) {
         bail!("the container must be at least 10 wide and 5 deep");
     }
+    // Far above any useful run, so that an absurd value is an error, not a run that never ends.
+    if args.bodies > 1_000_000 {
+        bail!("--bodies may be at most 1000000, got {}", args.bodies);
+    }
+    if args.piece_scale > 16 {
+        bail!("--piece-scale may be at most 16, got {}", args.piece_scale);
+    }
     Ok(())
 }
 
@@ -194,6 +201,13 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         None => {
             let (w, d) = container_size(args.bodies, args.pieces, args.piece_scale);
             let (w, d) = (args.width.unwrap_or(w), args.depth.unwrap_or(d));
+            // The container is a pixel grid before it becomes a body: an absurd size is an
+            // error, not an aborted allocation.
+            if (w as f64) * (d as f64) > 1e8 {
+                bail!(
+                    "a container of {w} × {d} blocks is more than the limit of 100 million blocks"
+                );
+            }
             (vec![container(w, d)], Some([w, d]))
         }
     };
@@ -212,6 +226,16 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     };
     let mut world = World2::new(&groups, params);
     let zone = DropZone::above_pinned(&world).context("no pinned body to drop into")?;
+    // The pile is full when it reaches the rim: a container must have walls to fill.
+    if zone.floor - zone.rim < 5.0 {
+        bail!(
+            "{}: the pinned bodies rise only {} blocks above their lowest row; a container needs walls at least 5 blocks high",
+            args.container
+                .as_ref()
+                .map_or("the container".to_string(), |p| p.display().to_string()),
+            zone.floor - zone.rim
+        );
+    }
     let mut factory = Factory::new(args.seed, args.pieces);
     factory.scale = args.piece_scale;
     let steps_per_drop = (args.interval / world.params.step).round().max(1.0) as u64;
@@ -256,9 +280,10 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         }
         world.step();
         k += 1;
-        let contacts = world.last.contacts.len();
-        max_contacts = max_contacts.max(contacts);
-        let (wall, cpu) = (world.last.solve_seconds, world.last.solve_cpu_seconds);
+        // Summed over the step's substeps (one solve each), so that time and contacts match.
+        let contacts = world.frame.contacts;
+        max_contacts = max_contacts.max(world.frame.most_contacts);
+        let (wall, cpu) = (world.frame.solve_seconds, world.frame.solve_cpu_seconds);
         pgs_seconds += wall;
         pgs_cpu_seconds += cpu;
         writeln!(
@@ -311,12 +336,17 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     }
     retimed_csv.flush().map_err(retimed_err)?;
     let fit = linear_fit(&retimed);
+    let svg = args.out.join("scaling.svg");
+    if fit.is_none() {
+        // No line to draw: do not leave an earlier run's plot looking like this one's.
+        let _ = std::fs::remove_file(&svg);
+    }
     if let Some(f) = &fit {
         plot(
             &retimed,
             &in_run_cpu,
             f,
-            &args.out.join("scaling.svg"),
+            &svg,
             "PGS solve CPU time (re-timed)",
         )
         .map_err(|e| anyhow::anyhow!(e))?;
@@ -392,7 +422,12 @@ fn print_report(report: &FactoryReport, out: &Path) {
         report.wall_seconds, report.pgs_seconds
     );
     eprintln!(
-        "report         {}/scaling.csv, retimed.csv, scaling.svg, report.json",
-        out.display()
+        "report         {}/scaling.csv, retimed.csv, {}report.json",
+        out.display(),
+        if report.fit.is_some() {
+            "scaling.svg, "
+        } else {
+            "(no scaling.svg: too few steps with contacts for a fit), "
+        }
     );
 }

@@ -66,7 +66,21 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
 /// Loads the scene at `path`, or the embedded default, and prints its warnings to stderr.
 fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigidref::scene::Scene> {
     let scene = match path {
-        Some(p) => rigidref::scene::load_scene(p)?,
+        Some(p) => {
+            // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say
+            // both, rather than only the 3D reader's "missing field `sim_parameters`".
+            if let Ok(text) = std::fs::read_to_string(p)
+                && let Ok(serde_json::Value::Object(map)) = serde_json::from_str(&text)
+                && !map.contains_key("sim_parameters")
+                && !map.contains_key("image")
+            {
+                anyhow::bail!(
+                    "{}: neither a 3D scene (no \"sim_parameters\") nor a 2D scene (no \"image\")",
+                    p.display()
+                );
+            }
+            rigidref::scene::load_scene(p)?
+        }
         None => rigidref::scene::default_scene()?,
     };
     for w in &scene.warnings {
@@ -75,8 +89,6 @@ fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigid
     Ok(scene)
 }
 
-/// A progress bar over `steps` steps, hidden until [`show_progress_after_a_second`] reveals it
-/// (runs shorter than about a second get none; indicatif hides it when stderr is not a terminal).
 /// The number of steps of `run`: `--steps`, else `--time` (default 10) over the step size `dt`,
 /// rounded to the nearest whole step (the 1e-9 guards 0.3/0.1 = 2.9999999999999996), at least 1.
 /// Also checks `--every`. `unit` names the time unit in the error ("seconds" in 3D).
@@ -84,16 +96,32 @@ fn steps_of(args: &run::RunArgs, dt: f64, unit: &str) -> anyhow::Result<u64> {
     if args.every == 0 {
         anyhow::bail!("--every must be at least 1");
     }
-    match (args.steps, args.time) {
-        (Some(n), _) => Ok(n),
+    let steps = match (args.steps, args.time) {
+        (Some(n), _) => n as f64,
         (None, time) => {
             let time = time.unwrap_or(10.0);
             if !(time.is_finite() && time > 0.0) {
                 anyhow::bail!("--time must be a positive number{unit}, got {time}");
             }
-            Ok((time / dt + 1e-9).floor().max(1.0) as u64)
+            (time / dt + 1e-9).floor().max(1.0)
         }
+    };
+    check_step_count(steps, dt)?;
+    Ok(steps as u64)
+}
+
+/// The most steps one run may take: far beyond any useful run (a day at a microsecond a step),
+/// so that a step size like 1e-300 is an error rather than a run that never ends.
+pub(crate) const MAX_STEPS: f64 = 1e11;
+
+/// Refuses a run of more than [`MAX_STEPS`] steps of size `dt`.
+pub(crate) fn check_step_count(steps: f64, dt: f64) -> anyhow::Result<()> {
+    if steps > MAX_STEPS {
+        anyhow::bail!(
+            "{steps:.3e} steps of {dt:.3e} is more than the limit of {MAX_STEPS:.0e}; use a larger step or a shorter --time"
+        );
     }
+    Ok(())
 }
 
 /// The trace's destination: `-` is standard output, anything else a file created (or truncated)
@@ -110,6 +138,8 @@ fn create_trace_output(path: &std::path::Path) -> anyhow::Result<Box<dyn std::io
     })
 }
 
+/// A progress bar over `steps` steps, hidden until [`show_progress_after_a_second`] reveals it
+/// (runs shorter than about a second get none; indicatif hides it when stderr is not a terminal).
 fn progress_bar(steps: u64, template: &str) -> indicatif::ProgressBar {
     let bar = indicatif::ProgressBar::with_draw_target(
         Some(steps),

@@ -42,11 +42,28 @@ pub struct RenderArgs {
     pub show_discs: bool,
 }
 
+/// The largest frame rendered, in pixels (100 million: 400 MB of RGBA).
+const MAX_FRAME_PIXELS: f64 = 1e8;
+
 /// Renders.
 pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     let Some(image_path) = args.run.scene.clone() else {
         bail!("render needs an image (a .png scene)");
     };
+    if !super::run2d::is_2d(&image_path) {
+        bail!(
+            "{}: render draws 2D scenes (a .png image or a 2D scene file naming one); this is not one",
+            image_path.display()
+        );
+    }
+    let ignored = args.run.run_outputs_given();
+    if !ignored.is_empty() {
+        bail!(
+            "{}: {} are options of `run`; render writes --frames and --gif",
+            image_path.display(),
+            ignored.join(", ")
+        );
+    }
     if args.frames.is_none() && args.gif.is_none() {
         bail!("nothing to write: give --frames DIR and/or --gif FILE");
     }
@@ -62,6 +79,19 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     let mut world = super::run2d::world_from_args(&image_path, &args.run)?;
     let steps = super::steps_of(&args.run, world.params.step, "")?;
     let mut settings = RenderSettings::fit(&world, args.scale);
+    // A frame is width × height RGBA pixels, all held at once: refuse what cannot be held
+    // rather than abort on a failed allocation.
+    let pixels = (settings.size.x * args.scale).ceil() * (settings.size.y * args.scale).ceil();
+    if pixels > MAX_FRAME_PIXELS {
+        bail!(
+            "{}: frames of {:.0} × {:.0} pixels at --scale {} exceed the limit of {} million pixels; lower --scale",
+            image_path.display(),
+            (settings.size.x * args.scale).ceil(),
+            (settings.size.y * args.scale).ceil(),
+            args.scale,
+            MAX_FRAME_PIXELS / 1e6
+        );
+    }
     settings.opacity = args.opacity;
     settings.contacts = args.show_contacts;
     settings.discs = args.show_discs;

@@ -182,9 +182,68 @@ pub struct RunArgs {
     /// the rest (the nut-bag challenge) to this CSV.
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub nut_report: Option<PathBuf>,
-    /// 2D: write step, bodies, contacts, PGS solve seconds per step to this CSV.
+    /// 2D: write step, bodies, contacts, PGS solve seconds per step to this CSV (contacts and
+    /// seconds summed over the step's substeps).
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
     pub scaling_csv: Option<PathBuf>,
+}
+
+impl RunArgs {
+    /// The 2D physics options given on the command line, by flag (they apply to .png scenes).
+    pub fn physics_2d_given(&self) -> Vec<&'static str> {
+        [
+            ("--step", self.step.is_some()),
+            ("--substeps", self.substeps.is_some()),
+            ("--gravity", self.gravity.is_some()),
+            ("--gravity-angle", self.gravity_angle.is_some()),
+            ("--mu", self.mu.is_some()),
+            ("--restitution", self.restitution.is_some()),
+            ("--iterations", self.iterations.is_some()),
+            ("--pgs-tolerance", self.pgs_tolerance.is_some()),
+            ("--order", self.order.is_some()),
+            ("--seed", self.seed.is_some()),
+            ("--no-warm-start", self.no_warm_start),
+            ("--no-post-stabilization", self.no_post_stabilization),
+            ("--slop", self.slop.is_some()),
+            ("--contact-model", self.contact_model.is_some()),
+            ("--white-threshold", self.white_threshold.is_some()),
+            ("--impulse", !self.impulse.is_empty()),
+            ("--shake", !self.shake.is_empty()),
+        ]
+        .into_iter()
+        .filter_map(|(name, given)| given.then_some(name))
+        .collect()
+    }
+
+    /// Every option that applies to 2D scenes only, given on the command line.
+    pub fn only_2d_given(&self) -> Vec<&'static str> {
+        let mut given = self.physics_2d_given();
+        given.extend(
+            [
+                ("--nut-report", self.nut_report.is_some()),
+                ("--scaling-csv", self.scaling_csv.is_some()),
+            ]
+            .into_iter()
+            .filter_map(|(name, given)| given.then_some(name)),
+        );
+        given
+    }
+
+    /// The output options of `run` given on the command line (`render` writes frames instead).
+    pub fn run_outputs_given(&self) -> Vec<&'static str> {
+        [
+            ("--out", self.out.is_some()),
+            ("--format", self.format.is_some()),
+            ("--every", self.every != 1),
+            ("--dump-problems", self.dump_problems.is_some()),
+            ("--no-collisions", self.no_collisions),
+            ("--nut-report", self.nut_report.is_some()),
+            ("--scaling-csv", self.scaling_csv.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(name, given)| given.then_some(name))
+        .collect()
+    }
 }
 
 /// Runs a scene. A run that fails midway keeps the trace written so far, flushed and valid.
@@ -193,6 +252,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         && super::run2d::is_2d(path)
     {
         return super::run2d::run(path, &args);
+    }
+    let scene_name = args
+        .scene
+        .as_ref()
+        .map_or("the built-in default scene".to_string(), |p| {
+            p.display().to_string()
+        });
+    let only_2d = args.only_2d_given();
+    if !only_2d.is_empty() {
+        bail!(
+            "{scene_name}: {} apply to 2D scenes (images and 2D scene files) only; a 3D scene sets its parameters in the file",
+            only_2d.join(", ")
+        );
     }
     let mut scene = super::load_scene_or_default(args.scene.as_deref())?;
     if args.no_collisions {

@@ -6,6 +6,7 @@ use nalgebra::Vector2;
 use rigidref::blocks::image::{ImageSettings, load_image};
 use rigidref::blocks::trace::{Record2, TraceHeader2};
 use rigidref::blocks::world::{Params2, ScriptedImpulse, World2};
+use rigidref::trace::TraceFormat;
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -184,29 +185,12 @@ pub fn world_from_args(path: &Path, args: &RunArgs) -> anyhow::Result<World2> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"))
     {
-        let given = [
-            args.step.is_some(),
-            args.substeps.is_some(),
-            args.gravity.is_some(),
-            args.gravity_angle.is_some(),
-            args.mu.is_some(),
-            args.restitution.is_some(),
-            args.iterations.is_some(),
-            args.pgs_tolerance.is_some(),
-            args.order.is_some(),
-            args.seed.is_some(),
-            args.no_warm_start,
-            args.no_post_stabilization,
-            args.slop.is_some(),
-            args.contact_model.is_some(),
-            args.white_threshold.is_some(),
-            !args.impulse.is_empty(),
-            !args.shake.is_empty(),
-        ];
-        if given.iter().any(|g| *g) {
+        let given = args.physics_2d_given();
+        if !given.is_empty() {
             bail!(
-                "{}: a 2D scene file sets its own parameters; the 2D options on the command line apply to .png scenes only",
-                path.display()
+                "{}: a 2D scene file sets its own parameters; {} on the command line apply to .png scenes only",
+                path.display(),
+                given.join(", ")
             );
         }
         return world_of_scene_file(path);
@@ -282,6 +266,23 @@ pub fn world_from_image(image: &Path, args: &RunArgs) -> anyhow::Result<World2> 
 
 /// Runs an image scene and writes its 2D trace.
 pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
+    // 2D traces are JSON lines only, and a 2D run always collides: refuse rather than ignore.
+    let csv_out = args
+        .out
+        .as_ref()
+        .is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv")));
+    if args.format == Some(TraceFormat::Csv) || (args.format.is_none() && csv_out) {
+        bail!(
+            "{}: 2D traces are written as JSON lines only (--format jsonl; docs/trace-format.md)",
+            image.display()
+        );
+    }
+    if args.no_collisions {
+        bail!(
+            "{}: --no-collisions applies to 3D scenes only",
+            image.display()
+        );
+    }
     let mut world = world_from_args(image, args)?;
     world
         .check_finite()
@@ -347,7 +348,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
                 out_path.display()
             );
         }
-        most_contacts = most_contacts.max(world.last.contacts.len());
+        most_contacts = most_contacts.max(world.frame.most_contacts);
         if let Some(dir) = &args.dump_problems {
             for solve in &world.frame_solves {
                 let path = dir.join(format!("step-{k:06}-{:02}.json", solve.substep));
@@ -362,8 +363,8 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
                 f,
                 "{k},{},{},{:.9}",
                 world.bodies.len(),
-                world.last.contacts.len(),
-                world.last.solve_seconds
+                world.frame.contacts,
+                world.frame.solve_seconds
             )
             .map_err(write_err)?;
         }
