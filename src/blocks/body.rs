@@ -11,7 +11,7 @@ pub struct BodyBlock {
     pub local: Vector2<f64>,
     /// Colour, channels in [0, 1].
     pub colour: [f64; 3],
-    /// Mass.
+    /// Mass, mass units (a black block is 1).
     pub mass: f64,
 }
 
@@ -25,9 +25,10 @@ pub struct Body2 {
     pub boundary: Vec<usize>,
     /// Bounding-disc tree over the boundary blocks.
     pub tree: DiscTree,
-    /// Mass Σ mᵢ.
+    /// Mass Σ mᵢ, mass units (a black block is 1).
     pub mass: f64,
-    /// Rotational inertia about the centre of mass, Σ mᵢ (|rᵢ|² + 1/6) (each block a unit square).
+    /// Rotational inertia about the centre of mass, Σ mᵢ (|rᵢ|² + 1/6) (each block a unit
+    /// square), mass units · blocks².
     pub inertia: f64,
     /// Pinned: infinite mass and inertia (inverse 0); its motion, if any, is prescribed.
     pub pinned: bool,
@@ -35,17 +36,17 @@ pub struct Body2 {
     pub inv_mass: f64,
     /// 1/inertia, 0 when pinned.
     pub inv_inertia: f64,
-    /// Centre of mass, world frame.
+    /// Centre of mass, world frame, blocks.
     pub x: Vector2<f64>,
     /// Angle, rad, from +x toward +y.
     pub theta: f64,
-    /// Velocity of the centre of mass.
+    /// Velocity of the centre of mass, blocks per time unit.
     pub v: Vector2<f64>,
     /// Angular velocity, rad per unit time, +x toward +y.
     pub omega: f64,
-    /// Force accumulator.
+    /// Force accumulator, mass units · blocks per time unit².
     pub force: Vector2<f64>,
-    /// Torque accumulator (about the centre of mass).
+    /// Torque accumulator (about the centre of mass), force · blocks.
     pub torque: f64,
 }
 

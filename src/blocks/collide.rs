@@ -21,7 +21,7 @@ pub struct Contact2 {
     pub point: Vector2<f64>,
     /// Unit normal along the line of centres, from body 2's block to body 1's.
     pub normal: Vector2<f64>,
-    /// Penetration 2r − distance, > 0.
+    /// Penetration 2r − distance, > 0, blocks.
     pub depth: f64,
 }
 

@@ -208,13 +208,13 @@ impl SubstepSolve2 {
 /// stack is not glued).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ScriptedImpulse {
-    /// Applied at the start of the first step at or after this time.
+    /// Applied at the start of the first step at or after this time, time units.
     pub time: f64,
     /// The body.
     pub body: usize,
     /// The impulse (mass × length / time), world frame.
     pub impulse: Vector2<f64>,
-    /// Where, world frame; `None` is the body's centre of mass.
+    /// Where, world frame, blocks; `None` is the body's centre of mass.
     pub point: Option<Vector2<f64>>,
 }
 
@@ -224,9 +224,9 @@ pub struct ScriptedImpulse {
 pub struct Shake {
     /// The body (usually the pinned container).
     pub body: usize,
-    /// Velocity amplitude.
+    /// Velocity amplitude, blocks per time unit.
     pub velocity: Vector2<f64>,
-    /// Angular velocity amplitude.
+    /// Angular velocity amplitude, rad per time unit.
     pub angular: f64,
     /// Frequency, per unit time.
     pub frequency: f64,

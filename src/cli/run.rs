@@ -55,7 +55,7 @@ pub struct RunArgs {
     /// an image; docs/blocks2d.md). Without one, the built-in default 3D scene (the project's
     /// Dzhanibekov-effect scene) runs.
     pub scene: Option<PathBuf>,
-    /// Simulated time to run, s [default: 10].
+    /// Simulated time to run, s (2D: time units) [default: 10].
     #[arg(long, conflicts_with = "steps", allow_negative_numbers = true)]
     pub time: Option<f64>,
     /// Number of frames (steps of dt) to run.
