@@ -139,16 +139,21 @@ pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
     let mut world = World2::new(&groups, params);
     let n = world.bodies.len();
     for (k, i) in file.impulses.iter().enumerate() {
-        if i.body >= n
-            || !i
-                .impulse
-                .iter()
-                .chain(i.point.iter().flatten())
-                .all(|x| x.is_finite())
+        if i.body >= n {
+            return Err(SceneError(format!(
+                "{source}: impulses[{k}]: body {} does not exist (the image has {n} bodies, 0 to {})",
+                i.body,
+                n - 1
+            )));
+        }
+        if !i
+            .impulse
+            .iter()
+            .chain(i.point.iter().flatten())
+            .all(|x| x.is_finite())
         {
             return Err(SceneError(format!(
-                "{source}: impulses[{k}]: body {} of {n}, or a non-finite vector",
-                i.body
+                "{source}: impulses[{k}]: the impulse and point must be finite"
             )));
         }
         world.impulses.push(ScriptedImpulse {

@@ -563,16 +563,18 @@ impl World2 {
                 return Err(format!(
                     "non-finite {quantity} in body {i} at step {} (t = {})",
                     self.step,
-                    self.time()
+                    readable(self.time())
                 ));
             }
         }
         let (kinetic, potential) = self.energy();
         if !(kinetic.is_finite() && potential.is_finite()) {
             return Err(format!(
-                "non-finite energy (kinetic {kinetic}, potential {potential}) at step {} (t = {})",
+                "non-finite energy (kinetic {}, potential {}) at step {} (t = {})",
+                readable(kinetic),
+                readable(potential),
                 self.step,
-                self.time()
+                readable(self.time())
             ));
         }
         Ok(())
@@ -600,5 +602,15 @@ impl World2 {
             .map(|b| cross(&b.x, &(b.v * b.mass)) + b.inertia * b.omega)
             .sum();
         (linear, angular)
+    }
+}
+
+/// A number for a message: as written when moderate, in exponent form when huge or tiny (an
+/// absurd step of 1e300 must not print 300 digits).
+fn readable(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
     }
 }

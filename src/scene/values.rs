@@ -84,7 +84,12 @@ impl<'de> Deserialize<'de> for Count {
         let x = f64::deserialize(d)?;
         if !(x.fract() == 0.0 && (1.0..=1e9).contains(&x)) {
             return Err(D::Error::custom(format!(
-                "must be a whole number ≥ 1, got {x}"
+                "must be a whole number ≥ 1 (at most 1000000000), got {}",
+                if x.abs() < 1e15 {
+                    format!("{x}")
+                } else {
+                    format!("{x:e}")
+                }
             )));
         }
         Ok(Count(x as u32))
