@@ -323,7 +323,7 @@ fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
 /// last (e = 0.5: 0.25), and with e = 1 the bounces repeat without growing. The approach speed
 /// is taken before the substep's gravity kick; taken after it, e = 1 gained 0.1 block per bounce.
 #[test]
-fn restitution_scales_bounce_heights_by_e_squared_and_never_adds_energy() {
+fn restitution_scales_bounce_heights_by_e_squared_and_repeats_them_at_e_one() {
     const START: f64 = -3.0;
     // The tops of the bounces (y grows downward: where v_y turns from negative to positive),
     // the final height and the largest speed.
@@ -358,8 +358,8 @@ fn restitution_scales_bounce_heights_by_e_squared_and_never_adds_energy() {
     println!("e = 0.5: drop height {drop:.3}, bounce heights {heights:.3?}");
     assert!(heights.len() >= 2, "{heights:?}");
     let ratios = [heights[0] / drop, heights[1] / heights[0]];
-    // e² = 0.25; the discrete step (h = 0.05; the second bounce lasts 0.3) moves it by a few per
-    // cent.
+    // e² = 0.25; the discrete step (h = 0.05, a few per cent of a bounce's duration) moves it
+    // by a few per cent.
     for r in &ratios {
         assert!((r - 0.25).abs() < 0.03, "height ratios {ratios:?}");
     }
@@ -431,7 +431,7 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
         "post-stabilisation: overlap {first:.3} → {last:.2e}, speed {speed}, centre moved {shift:.1e}"
     );
     assert!(first > 0.5, "the squares were placed overlapping: {first}");
-    // PGS at 50 sweeps on the position rows; 1e-6 is far below the 0.49 removed.
+    // PGS at 50 sweeps on the position rows; 1e-6 is far below the 0.9 removed.
     assert!(last <= slop + 1e-6, "overlap left: {last}");
     assert_eq!(speed, 0.0);
     // Σ m δx = h Σ (Jᵀλ)_linear = 0 up to round-off in positions of order 1.
@@ -1257,6 +1257,15 @@ fn bad_2d_input_is_a_one_line_error() {
     pixels.save(&flat).unwrap();
     let no_kind = tmp.path().join("neither.json");
     std::fs::write(&no_kind, "{\"imag\": \"stack.png\"}").unwrap();
+    let penalty = tmp.path().join("penalty.json");
+    std::fs::write(
+        &penalty,
+        format!(
+            "{{\"image\": {:?}, \"parameters\": {{\"contact_model\": \"penalty\"}}}}",
+            scenes.join("stack.png").display().to_string()
+        ),
+    )
+    .unwrap();
     let dir = |name: &str| tmp.path().join(name).display().to_string();
     let words = |w: &[&str]| w.iter().map(|s| s.to_string()).collect::<Vec<String>>();
     let more: Vec<(Vec<String>, &str)> = vec![
@@ -1323,8 +1332,8 @@ fn bad_2d_input_is_a_one_line_error() {
             "options of `run`",
         ),
         (
-            words(&["run", "../box_stack.json", "--mu", "0.5"]),
-            "apply to 2D scenes",
+            words(&["run", "../box_stack.json", "--mu", "0.5", "--substeps", "2"]),
+            "--substeps, --mu apply to 2D scenes",
         ),
         (
             words(&["render", "../box_stack.json", "--frames", &dir("fr")]),
@@ -1333,6 +1342,22 @@ fn bad_2d_input_is_a_one_line_error() {
         (
             words(&["run", &no_kind.display().to_string()]),
             "neither a 3D scene",
+        ),
+        (
+            words(&["run", "stakc.json", "--mu", "0.3"]),
+            "stakc.json: cannot open",
+        ),
+        (
+            words(&["render", "stakc.json", "--frames", &dir("fr")]),
+            "stakc.json: cannot open",
+        ),
+        (
+            words(&["run", "../box_stack.json", "--rest-threshold", "0.1"]),
+            "--rest-threshold applies to 2D",
+        ),
+        (
+            words(&["contacts", &penalty.display().to_string()]),
+            "penalty contacts",
         ),
     ];
     for (args, says) in cases.into_iter().chain(more) {
@@ -1564,8 +1589,8 @@ fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
         assert_eq!(numbers(&c["b"]), numbers(&f["b"]));
         assert_eq!(numbers(&c["lambda0"]), numbers(&f["lambda0"]));
         assert_eq!(numbers(&c["lambda"]), numbers(l));
-        // A = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ from the file's own inverse masses; 1e-12 relative
-        // leaves room for a different summation order only.
+        // A = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ from the file's own inverse masses; 1e-12 of the
+        // block's largest entry leaves room for a different summation order only.
         let a = numbers(&c["delassus"]);
         let mut expected = [0.0; 4];
         for (side, body) in f["bodies"].as_array().unwrap().iter().enumerate() {
@@ -1584,15 +1609,15 @@ fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
                 }
             }
         }
+        let largest = expected.iter().fold(0.0f64, |m, y| m.max(y.abs()));
         for (x, y) in a.iter().zip(expected) {
-            assert!(
-                (x - y).abs() <= 1e-12 * y.abs().max(1.0),
-                "{a:?} vs {expected:?}"
-            );
+            assert!((x - y).abs() <= 1e-12 * largest, "{a:?} vs {expected:?}");
         }
         assert!(a[0] > 0.0 && a[3] > 0.0, "{a:?}");
+        // n is a unit vector and t is n turned by +90°, as documented.
         let (n, t) = (numbers(&c["n"]), numbers(&c["t"]));
-        assert!((n[0] * t[0] + n[1] * t[1]).abs() < 1e-15);
+        assert!((n[0].hypot(n[1]) - 1.0).abs() < 1e-15, "{n:?}");
+        assert_eq!(t, vec![-n[1], n[0]]);
         let lambda = numbers(&c["lambda"]);
         assert!(lambda[0] >= 0.0 && lambda[1].abs() <= mu * lambda[0] * (1.0 + 1e-12));
     }

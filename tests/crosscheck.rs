@@ -47,11 +47,12 @@ fn pgs_agrees_with_clarabel_on_random_contact_problems() {
         if check.residual_pgs > 1e-10 {
             // Coupled friction (bounds μλn move with λn) is not a monotone problem and PGS may
             // cycle; the frictionless LCP always converges, but Gauss–Seidel gains about a
-            // factor 1 − m/L per sweep (m, L: extreme eigenvalues of A + C on the normal rows),
-            // so 200 000 sweeps reach 1e-10 only where m/L ≳ 1e-4 (five random normals on one body
-            // can come arbitrarily close to singular). Counted, and bounded below.
+            // factor 1 − m/L per sweep (m, L: extreme eigenvalues of A + C on the normal rows).
+            // Where m/L ≥ 1e-3, 200 000 sweeps gain e^−200, far beyond the 1e-10 asked; below
+            // it (five random normals on one body can come arbitrarily close to singular) they
+            // may not. Counted, and bounded below.
             prop_assert!(
-                mu > 0.0 || normal_conditioning(&problem) < 1e-4,
+                mu > 0.0 || normal_conditioning(&problem) < 1e-3,
                 "frictionless PGS did not converge on a well-conditioned problem: {check:?}"
             );
             // (With bounds frozen at an unconverged λn, clarabel's problem means nothing.)

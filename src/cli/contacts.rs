@@ -280,6 +280,12 @@ struct Contact2Json {
 /// 2 × 2 Delassus block.
 fn contacts2(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> {
     let mut world = super::run2d::world_of_scene(path)?;
+    if world.params.contact_model == rigidref::blocks::world::ContactModel::Penalty {
+        bail!(
+            "{}: the scene uses penalty contacts, which solve no contact problem; contacts shows PGS solves",
+            path.display()
+        );
+    }
     world.record_problems = true;
     let source = path.display().to_string();
     step_to_contacts(args, world.params.step, &source, "time units", || {

@@ -110,6 +110,17 @@ fn steps_of(args: &run::RunArgs, dt: f64, unit: &str) -> anyhow::Result<u64> {
     Ok(steps as u64)
 }
 
+/// Fails, naming the file, when a scene path cannot be read (checked before options are
+/// judged against the kind of scene, so that a typo is reported as a missing file).
+pub(crate) fn check_readable(path: Option<&std::path::Path>) -> anyhow::Result<()> {
+    if let Some(p) = path
+        && let Err(e) = std::fs::File::open(p)
+    {
+        anyhow::bail!("{}: cannot open: {e}", p.display());
+    }
+    Ok(())
+}
+
 /// The most steps one run may take: far beyond any useful run (a day at a microsecond a step),
 /// so that a step size like 1e-300 is an error rather than a run that never ends.
 pub(crate) const MAX_STEPS: f64 = 1e11;
@@ -118,7 +129,7 @@ pub(crate) const MAX_STEPS: f64 = 1e11;
 pub(crate) fn check_step_count(steps: f64, dt: f64) -> anyhow::Result<()> {
     if steps > MAX_STEPS {
         anyhow::bail!(
-            "{steps:.3e} steps of {dt:.3e} is more than the limit of {MAX_STEPS:.0e}; use a larger step or a shorter --time"
+            "{steps:.3e} steps of {dt:.3e} is more than the limit of {MAX_STEPS:.0e}; ask for fewer steps (a larger step size or a shorter time)"
         );
     }
     Ok(())

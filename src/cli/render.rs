@@ -50,6 +50,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     let Some(image_path) = args.run.scene.clone() else {
         bail!("render needs an image (a .png scene)");
     };
+    super::check_readable(Some(&image_path))?;
     if !super::run2d::is_2d(&image_path) {
         bail!(
             "{}: render draws 2D scenes (a .png image or a 2D scene file naming one); this is not one",
@@ -95,7 +96,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     settings.opacity = args.opacity;
     settings.contacts = args.show_contacts;
     settings.discs = args.show_discs;
-    settings.rest_threshold = args.run.rest_threshold;
+    settings.rest_threshold = args.run.rest_threshold();
     if let Some(dir) = &args.frames {
         std::fs::create_dir_all(dir)
             .with_context(|| format!("{}: cannot create", dir.display()))?;

@@ -169,11 +169,10 @@ pub struct RunArgs {
     /// 2D: a body is at rest below this kinetic energy (summary; render's solid circles) [default: 1e-3].
     #[arg(
         long,
-        default_value_t = 1e-3,
         allow_negative_numbers = true,
         help_heading = "Image scenes (2D, SCENE is a .png)"
     )]
-    pub rest_threshold: f64,
+    pub rest_threshold: Option<f64>,
     /// 2D: prescribed motion BODY:VX,VY:OMEGA:FREQ: the body's velocity is (VX,VY)·cos(2π FREQ t)
     /// and its angular velocity OMEGA·cos(2π FREQ t) (shaking the nut bag's container).
     #[arg(long, help_heading = "Image scenes (2D, SCENE is a .png)")]
@@ -188,7 +187,16 @@ pub struct RunArgs {
     pub scaling_csv: Option<PathBuf>,
 }
 
+/// The kinetic energy below which a 2D body counts as at rest, by default (mass units ·
+/// blocks² per time unit²).
+pub const REST_THRESHOLD: f64 = 1e-3;
+
 impl RunArgs {
+    /// `--rest-threshold`, or its default [`REST_THRESHOLD`].
+    pub fn rest_threshold(&self) -> f64 {
+        self.rest_threshold.unwrap_or(REST_THRESHOLD)
+    }
+
     /// The 2D physics options given on the command line, by flag (they apply to .png scenes).
     pub fn physics_2d_given(&self) -> Vec<&'static str> {
         [
@@ -220,6 +228,7 @@ impl RunArgs {
         let mut given = self.physics_2d_given();
         given.extend(
             [
+                ("--rest-threshold", self.rest_threshold.is_some()),
                 ("--nut-report", self.nut_report.is_some()),
                 ("--scaling-csv", self.scaling_csv.is_some()),
             ]
@@ -261,9 +270,15 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         });
     let only_2d = args.only_2d_given();
     if !only_2d.is_empty() {
+        super::check_readable(args.scene.as_deref())?;
         bail!(
-            "{scene_name}: {} apply to 2D scenes (images and 2D scene files) only; a 3D scene sets its parameters in the file",
-            only_2d.join(", ")
+            "{scene_name}: {} {} to 2D scenes (images and 2D scene files) only; a 3D scene sets its parameters in the file",
+            only_2d.join(", "),
+            if only_2d.len() == 1 {
+                "applies"
+            } else {
+                "apply"
+            }
         );
     }
     let mut scene = super::load_scene_or_default(args.scene.as_deref())?;

@@ -175,10 +175,10 @@ pub fn is_2d(path: &Path) -> bool {
 /// parameters, impulses and shakes come from the file; giving 2D physics options as well is an
 /// error rather than a silent choice between the two).
 pub fn world_from_args(path: &Path, args: &RunArgs) -> anyhow::Result<World2> {
-    if !(args.rest_threshold.is_finite() && args.rest_threshold >= 0.0) {
+    if !(args.rest_threshold().is_finite() && args.rest_threshold() >= 0.0) {
         bail!(
             "--rest-threshold must be a number ≥ 0, got {}",
-            args.rest_threshold
+            args.rest_threshold()
         );
     }
     if path
@@ -395,7 +395,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         let resting = world
             .bodies
             .iter()
-            .filter(|b| !b.pinned && b.kinetic_energy() < args.rest_threshold)
+            .filter(|b| !b.pinned && b.kinetic_energy() < args.rest_threshold())
             .count();
         let moving = world.bodies.iter().filter(|b| !b.pinned).count();
         eprintln!(
@@ -418,7 +418,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         eprintln!("energy         kinetic {kinetic:.6e}, potential {potential:.6e}");
         eprintln!(
             "at rest        {resting} of {moving} bodies below kinetic energy {}",
-            args.rest_threshold
+            args.rest_threshold()
         );
         eprintln!(
             "contacts       {} now, at most {most_contacts}",
