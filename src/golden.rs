@@ -391,12 +391,7 @@ pub fn summary2(mut world: crate::blocks::world::World2, every: f64, until: f64)
         if report > 0 {
             for _ in 0..steps_per_report {
                 world.step();
-                deepest = world
-                    .last
-                    .contacts
-                    .iter()
-                    .map(|c| c.depth)
-                    .fold(deepest, f64::max);
+                deepest = deepest.max(world.deepest_overlap());
             }
         }
         let (kinetic, potential) = world.energy();

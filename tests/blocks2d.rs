@@ -409,7 +409,7 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
         };
         let c0 = centre(&world);
         world.step();
-        let first = largest_overlap(&world);
+        let first = world.deepest_overlap();
         for _ in 0..10 {
             world.step();
         }
@@ -420,7 +420,7 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
             .fold(0.0, f64::max);
         (
             first,
-            largest_overlap(&world),
+            world.deepest_overlap(),
             speed,
             (centre(&world) - c0).norm(),
             world.params.slop,
@@ -598,15 +598,6 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
 /// time, or turning at 0.005 rad per time unit.
 const REST: f64 = 1e-3;
 
-fn largest_overlap(world: &World2) -> f64 {
-    world
-        .last
-        .contacts
-        .iter()
-        .map(|c| c.depth)
-        .fold(0.0, f64::max)
-}
-
 /// Runs one of the assignment's demonstration images with [`Params2::demonstration`] and checks
 /// what the assignment's videos must show:
 ///
@@ -649,7 +640,7 @@ fn demonstrate(
             held_max = held_max.max(ke);
         }
     }
-    let overlap = largest_overlap(&world);
+    let overlap = world.deepest_overlap();
     let drift = world
         .bodies
         .iter()
@@ -1427,7 +1418,7 @@ fn penalty_contact_option_holds_the_stack_up() {
     for _ in 0..400 {
         world.step();
     }
-    let deepest = largest_overlap(&world);
+    let deepest = world.deepest_overlap();
     let bottom = world
         .bodies
         .iter()

@@ -368,7 +368,9 @@ impl World2 {
         self.step as f64 * self.params.step
     }
 
-    fn pgs_settings(&self) -> PgsSettings {
+    /// The PGS settings of the velocity solve (and of post-stabilisation): the parameters'
+    /// iterations, tolerance and order, no faults.
+    pub fn pgs_settings(&self) -> PgsSettings {
         PgsSettings {
             max_iterations: self.params.iterations,
             tolerance: self.params.tolerance,
@@ -578,6 +580,15 @@ impl World2 {
             ));
         }
         Ok(())
+    }
+
+    /// The deepest disc overlap among the last substep's contacts, blocks (0 without contacts).
+    pub fn deepest_overlap(&self) -> f64 {
+        self.last
+            .contacts
+            .iter()
+            .map(|c| c.depth)
+            .fold(0.0, f64::max)
     }
 
     /// Kinetic energy and gravitational potential −Σ m g·x of the non-pinned bodies.

@@ -218,13 +218,8 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         seed: args.seed,
         ..Params2::default()
     };
-    let settings = rigidref::solve::PgsSettings {
-        max_iterations: params.iterations,
-        tolerance: params.tolerance,
-        order: params.order,
-        faults: rigidref::faults::Faults::NONE,
-    };
     let mut world = World2::new(&groups, params);
+    let settings = world.pgs_settings();
     let zone = DropZone::above_pinned(&world).context("no pinned body to drop into")?;
     // The pile is full when it reaches the rim: a container must have walls to fill.
     if zone.floor - zone.rim < 5.0 {
@@ -357,12 +352,7 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         container_full: full,
         container: size,
         max_contacts,
-        deepest_overlap_at_end: world
-            .last
-            .contacts
-            .iter()
-            .map(|c| c.depth)
-            .fold(0.0, f64::max),
+        deepest_overlap_at_end: world.deepest_overlap(),
         kinetic_energy_at_end: world.energy().0,
         outside_container_at_end: world
             .bodies

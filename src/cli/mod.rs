@@ -96,16 +96,23 @@ fn steps_of(args: &run::RunArgs, dt: f64, unit: &str) -> anyhow::Result<u64> {
     if args.every == 0 {
         anyhow::bail!("--every must be at least 1");
     }
-    let steps = match (args.steps, args.time) {
-        (Some(n), _) => n as f64,
-        (None, time) => {
-            let time = time.unwrap_or(10.0);
-            if !(time.is_finite() && time > 0.0) {
-                anyhow::bail!("--time must be a positive number{unit}, got {time}");
-            }
-            (time / dt + 1e-9).floor().max(1.0)
+    match args.steps {
+        Some(n) => {
+            check_step_count(n as f64, dt)?;
+            Ok(n)
         }
-    };
+        None => steps_in(args.time.unwrap_or(10.0), dt, unit),
+    }
+}
+
+/// The whole steps of size `dt` in `time` (the 1e-9 guards 0.3/0.1 = 2.9999999999999996), at
+/// least 1, after checking `time` is positive (`unit` names its unit in the error) and the count
+/// within [`MAX_STEPS`].
+fn steps_in(time: f64, dt: f64, unit: &str) -> anyhow::Result<u64> {
+    if !(time.is_finite() && time > 0.0) {
+        anyhow::bail!("--time must be a positive number{unit}, got {time}");
+    }
+    let steps = (time / dt + 1e-9).floor().max(1.0);
     check_step_count(steps, dt)?;
     Ok(steps as u64)
 }

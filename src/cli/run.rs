@@ -191,6 +191,14 @@ pub struct RunArgs {
 /// blocks² per time unit²).
 pub const REST_THRESHOLD: f64 = 1e-3;
 
+/// The names of the flags that are given.
+fn given(flags: &[(&'static str, bool)]) -> Vec<&'static str> {
+    flags
+        .iter()
+        .filter_map(|&(name, given)| given.then_some(name))
+        .collect()
+}
+
 impl RunArgs {
     /// `--rest-threshold`, or its default [`REST_THRESHOLD`].
     pub fn rest_threshold(&self) -> f64 {
@@ -199,7 +207,7 @@ impl RunArgs {
 
     /// The 2D physics options given on the command line, by flag (they apply to .png scenes).
     pub fn physics_2d_given(&self) -> Vec<&'static str> {
-        [
+        given(&[
             ("--step", self.step.is_some()),
             ("--substeps", self.substeps.is_some()),
             ("--gravity", self.gravity.is_some()),
@@ -217,30 +225,23 @@ impl RunArgs {
             ("--white-threshold", self.white_threshold.is_some()),
             ("--impulse", !self.impulse.is_empty()),
             ("--shake", !self.shake.is_empty()),
-        ]
-        .into_iter()
-        .filter_map(|(name, given)| given.then_some(name))
-        .collect()
+        ])
     }
 
     /// Every option that applies to 2D scenes only, given on the command line.
     pub fn only_2d_given(&self) -> Vec<&'static str> {
-        let mut given = self.physics_2d_given();
-        given.extend(
-            [
-                ("--rest-threshold", self.rest_threshold.is_some()),
-                ("--nut-report", self.nut_report.is_some()),
-                ("--scaling-csv", self.scaling_csv.is_some()),
-            ]
-            .into_iter()
-            .filter_map(|(name, given)| given.then_some(name)),
-        );
-        given
+        let mut names = self.physics_2d_given();
+        names.extend(given(&[
+            ("--rest-threshold", self.rest_threshold.is_some()),
+            ("--nut-report", self.nut_report.is_some()),
+            ("--scaling-csv", self.scaling_csv.is_some()),
+        ]));
+        names
     }
 
     /// The output options of `run` given on the command line (`render` writes frames instead).
     pub fn run_outputs_given(&self) -> Vec<&'static str> {
-        [
+        given(&[
             ("--out", self.out.is_some()),
             ("--format", self.format.is_some()),
             ("--every", self.every != 1),
@@ -248,10 +249,7 @@ impl RunArgs {
             ("--no-collisions", self.no_collisions),
             ("--nut-report", self.nut_report.is_some()),
             ("--scaling-csv", self.scaling_csv.is_some()),
-        ]
-        .into_iter()
-        .filter_map(|(name, given)| given.then_some(name))
-        .collect()
+        ])
     }
 }
 
