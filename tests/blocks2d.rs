@@ -1347,6 +1347,14 @@ fn bad_2d_input_is_a_one_line_error() {
             "--rest-threshold applies to 2D",
         ),
         (
+            words(&["factory", "--settle", "1e300", "--out", &dir("f4")]),
+            "more than the limit",
+        ),
+        (
+            words(&["crosscheck", "stack.json", "--time", "1e300"]),
+            "more than the limit",
+        ),
+        (
             words(&["contacts", &penalty.display().to_string()]),
             "penalty contacts",
         ),

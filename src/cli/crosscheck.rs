@@ -245,10 +245,7 @@ fn check_run(
     dt: f64,
     mut step: impl FnMut(u64) -> anyhow::Result<Vec<Row>>,
 ) -> anyhow::Result<Vec<Row>> {
-    if !(time.is_finite() && time > 0.0) {
-        bail!("--time must be a positive number, got {time}");
-    }
-    let steps = (time / dt + 1e-9).floor().max(1.0) as u64;
+    let steps = super::steps_in(time, dt, "")?;
     let started = Instant::now();
     let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
     let mut shown = false;

@@ -234,7 +234,11 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     let mut factory = Factory::new(args.seed, args.pieces);
     factory.scale = args.piece_scale;
     let steps_per_drop = (args.interval / world.params.step).round().max(1.0) as u64;
-    let settle_steps = (args.settle / world.params.step).round() as u64;
+    let settle = (args.settle / world.params.step).round();
+    let drops =
+        (args.interval / world.params.step).round() * args.bodies.div_ceil(args.batch) as f64;
+    super::check_step_count(settle + drops, world.params.step)?;
+    let settle_steps = settle as u64;
     // The length of the run if every drop places a whole batch; drops that must wait (the drop
     // zone still occupied) lengthen it.
     let planned_steps = args.bodies.div_ceil(args.batch) as u64 * steps_per_drop + settle_steps;
