@@ -1,40 +1,37 @@
 //! rigidref: a verification-focused reference implementation of rigid-body dynamics with
 //! frictional contact.
 //!
-//! One step of the 3D system ([`world::World::step`]), per substep of length h = dt / substeps:
+//! The architecture in one picture: a shared core, two systems feeding it, checks around it.
 //!
-//! 1. forces: zero the accumulators, add gravity ([`body::RigidBody::zero_forces`]);
-//! 2. velocities: v += h f/m, ω += h J⁻¹(τ − ω × Jω) ([`body::RigidBody::step_velocity`]);
-//! 3. contacts: detect ([`collide`]) → assemble the contact problem ([`assemble`], [`problem`])
-//!    → solve ([`solve::pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ;
-//! 4. positions: x += h v, R ← exp(h[ω]×) R ([`body::RigidBody::step_position`]);
-//! 5. world inertia J = R J₀ Rᵀ follows R ([`body::RigidBody::update_world_inertia`]).
+//! ```text
+//!   rigid3d (meshes)  ─┐                                   ┌─ verify (crosscheck, golden,
+//!                      ├─ problem::ContactProblem<D, R> ──►│  snapshots, references, faults)
+//!   blocks2d (images) ─┘        │                          └─ tools (factory, scaling, render)
+//!                               ▼
+//!                   solve::solve_pgs (one PGS) ── solve::qp (clarabel, the independent check)
+//! ```
 //!
-//! Every quantity is defined once, with its symbol and units, in `docs/`: the equations of motion
-//! in docs/dynamics.md, contact in docs/contact.md, mass properties in docs/massprops.md, the scene format in
-//! docs/scene-format.md, the trace format in docs/trace-format.md.
+//! - [`problem`] and [`solve`]: the contact problem as plain data, generic over degrees of
+//!   freedom per body `D` and rows per contact `R`, and its solvers;
+//! - [`rigid3d`] and [`blocks2d`]: the two systems; each step reads detect → assemble → solve →
+//!   integrate in one function ([`rigid3d::world::World::step`], [`blocks2d::world::World2::step`]);
+//! - [`sim`]: the one simulation interface both worlds implement and the one driver loop every
+//!   command and test uses;
+//! - [`verify`]: the checks; [`tools`]: factory, scaling report, rendering; [`common`]: the broad
+//!   phase, scene-value parsing and the stopwatch that both systems use.
 //!
-//! Units are SI, the world's y axis points up, the ground is the plane y = 0, and all arithmetic
-//! is f64. Runs are deterministic: the same inputs give a bitwise-identical trace.
+//! Every quantity is defined once, with its symbol and units, in `docs/` (docs/architecture.md
+//! first). Units are SI in 3D (blocks and time units in 2D), y is up in 3D (image rows grow down
+//! in 2D), all arithmetic is f64, and runs are deterministic: the same inputs give a
+//! bitwise-identical trace.
 
 #![warn(missing_docs)]
 
-pub mod assemble;
-pub mod blocks;
-pub mod body;
-pub mod collide;
-pub mod contact;
-pub mod crosscheck;
-pub mod diagnostics;
-pub mod faults;
-pub mod golden;
-pub mod massprops;
-pub mod mesh;
+pub mod blocks2d;
+pub mod common;
 pub mod problem;
-pub mod reference;
-pub mod rotation;
-pub mod scene;
+pub mod rigid3d;
+pub mod sim;
 pub mod solve;
-pub mod trace;
-pub mod warm_start;
-pub mod world;
+pub mod tools;
+pub mod verify;

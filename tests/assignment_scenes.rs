@@ -3,8 +3,8 @@
 
 mod common;
 
-use rigidref::scene::load_scene;
-use rigidref::world::World;
+use rigidref::rigid3d::scene::load_scene;
+use rigidref::rigid3d::world::World;
 
 #[test]
 fn all_seven_assignment_scenes_load_and_run_two_seconds_without_collisions() {

@@ -213,8 +213,8 @@ fn r0_that_is_not_a_rotation_is_rejected() {
 /// `reflected_r0_of_a_mirror_symmetric_body_becomes_the_equivalent_rotation`.)
 #[test]
 fn reflected_r0_of_an_asymmetric_body_is_rejected() {
-    use rigidref::massprops::mass_properties;
-    use rigidref::mesh::TriMesh;
+    use rigidref::rigid3d::massprops::mass_properties;
+    use rigidref::rigid3d::mesh::TriMesh;
     let tetra = TriMesh::parse_obj(
         "v 0 0 0\nv 1 0 0\nv 0 2 0\nv 0 0 3\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
         "t",
@@ -249,7 +249,7 @@ fn reflected_r0_of_an_asymmetric_body_is_rejected() {
 #[test]
 fn reflected_r0_of_a_mirror_symmetric_body_becomes_the_equivalent_rotation() {
     let case = scene_with("[[1,0,0],[0,1,0],[0,0,1]]", "[[0,1,0],[1,0,0],[0,0,1]]");
-    let scene = rigidref::scene::load_scene(&case.path("scenes/s.json")).unwrap();
+    let scene = rigidref::rigid3d::scene::load_scene(&case.path("scenes/s.json")).unwrap();
     assert!(
         scene
             .warnings
@@ -414,7 +414,7 @@ fn open_body_mesh_is_reported_not_a_panic() {
 #[test]
 fn degenerate_triangles_are_reported_as_a_warning() {
     use nalgebra::Vector3;
-    let mut mesh = rigidref::mesh::TriMesh::cuboid(Vector3::repeat(-0.5), Vector3::repeat(0.5));
+    let mut mesh = rigidref::rigid3d::mesh::TriMesh::cuboid(Vector3::repeat(-0.5), Vector3::repeat(0.5));
     // Split triangle (0, 2, 1) at the midpoint m of edge 0–2 and close the gap with the
     // zero-area triangle (2, m, 0); triangle (0, 4, 2) still uses the edge 2→0.
     let m = mesh.vertices.len();
@@ -479,7 +479,7 @@ fn a_nan_during_the_run_stops_it_naming_step_body_and_quantity_and_keeps_a_valid
             && line.contains("at step"),
         "{line}"
     );
-    let trace = rigidref::trace::read_trace(
+    let trace = rigidref::rigid3d::trace::read_trace(
         std::io::BufReader::new(std::fs::File::open(case.path("trace.jsonl")).unwrap()),
         "trace",
     )

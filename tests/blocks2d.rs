@@ -6,12 +6,12 @@ mod common;
 
 use nalgebra::Vector2;
 use proptest::prelude::*;
-use rigidref::blocks::body::Body2;
-use rigidref::blocks::collide::{brute_force_contacts, detect_contacts};
-use rigidref::blocks::disc_tree::BLOCK_RADIUS;
-use rigidref::blocks::image::{Block, BlockGroup, ImageSettings, block_mass, load_image};
-use rigidref::blocks::mec::{brute_force_enclosing_circle, min_enclosing_circle};
-use rigidref::blocks::world::{Params2, ScriptedImpulse, World2};
+use rigidref::blocks2d::body::Body2;
+use rigidref::blocks2d::collide::{brute_force_contacts, detect_contacts};
+use rigidref::blocks2d::disc_tree::BLOCK_RADIUS;
+use rigidref::blocks2d::image::{Block, BlockGroup, ImageSettings, block_mass, load_image};
+use rigidref::blocks2d::mec::{brute_force_enclosing_circle, min_enclosing_circle};
+use rigidref::blocks2d::world::{Params2, ScriptedImpulse, World2};
 use rigidref::solve::ContactOrder;
 
 #[test]
@@ -231,7 +231,7 @@ fn disc_tree_finds_exactly_the_block_pairs_the_brute_force_test_finds() {
         }).collect();
         let mut fast = Vec::new();
         detect_contacts(&bodies, &mut fast);
-        let key = |c: &rigidref::blocks::collide::Contact2| (c.body1, c.block1, c.body2, c.block2);
+        let key = |c: &rigidref::blocks2d::collide::Contact2| (c.body1, c.block1, c.body2, c.block2);
         let mut a: Vec<_> = fast.iter().map(key).collect();
         let mut b: Vec<_> = brute_force_contacts(&bodies).iter().map(key).collect();
         a.sort();
@@ -533,15 +533,15 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
         if step % 20 == 0
             && let Some(problem) = world.last_problem.clone()
         {
-            let c = rigidref::crosscheck::check_problem(&problem, &Default::default()).unwrap();
+            let c = rigidref::verify::crosscheck::check_problem(&problem, &Default::default()).unwrap();
             println!(
                 "delicate step {step}: {} contacts, {:?} {:.2e}, PGS residual {:.1e}",
                 c.contacts, c.comparison, c.disagreement, c.residual_pgs
             );
             if c.residual_pgs <= 1e-10 {
                 let tol = match c.comparison {
-                    rigidref::crosscheck::Comparison::Lambda => 1e-5,
-                    rigidref::crosscheck::Comparison::Objective => 1e-8,
+                    rigidref::verify::crosscheck::Comparison::Lambda => 1e-5,
+                    rigidref::verify::crosscheck::Comparison::Objective => 1e-8,
                 };
                 assert!(c.disagreement <= tol, "{c:?}");
                 checked += 1;
@@ -863,7 +863,7 @@ fn canonical_2d_scenes_run_and_their_scripted_impulses_act() {
     let dir = common::project_root().join("scenes/blocks");
     for name in ["stack", "pyramid", "dominoes"] {
         let scene =
-            rigidref::blocks::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
+            rigidref::blocks2d::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
         let mut world = scene.world;
         let start: Vec<Vector2<f64>> = world.bodies.iter().map(|b| b.x).collect();
@@ -952,7 +952,7 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
         let file = rigidref::problem::json::ProblemFile::read(&path).unwrap();
         assert_eq!((file.dof_per_body, file.rows_per_contact), (3, 2));
         assert_eq!(file.step, Some(step));
-        let problem: rigidref::blocks::world::ContactProblem2 = file.to_problem().unwrap();
+        let problem: rigidref::blocks2d::world::ContactProblem2 = file.to_problem().unwrap();
         let solution = file.solution.as_ref().unwrap();
         assert_eq!(solution.lambda.len(), contacts.len());
         for (l, c) in solution.lambda.iter().zip(contacts) {
@@ -1418,7 +1418,7 @@ fn penalty_contact_option_holds_the_stack_up() {
     let dir = common::project_root().join("scenes/blocks");
     let groups = load_image(&dir.join("stack.png"), &ImageSettings::default()).unwrap();
     let params = Params2 {
-        contact_model: rigidref::blocks::world::ContactModel::Penalty,
+        contact_model: rigidref::blocks2d::world::ContactModel::Penalty,
         substeps: 10,
         ..Params2::default()
     };

@@ -2,7 +2,7 @@
 
 mod common;
 
-use rigidref::trace::{FORMAT_NAME, csv_columns, read_trace};
+use rigidref::rigid3d::trace::{FORMAT_NAME, csv_columns, read_trace};
 use std::process::Command;
 
 fn rigidref(args: &[&str], dir: &std::path::Path) -> std::process::Output {

@@ -6,13 +6,13 @@ mod common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use rigidref::body::RigidBody;
-use rigidref::collide::broad::{Aabb, overlapping_pairs};
-use rigidref::collide::closest_point::brute_force_signed_distance;
-use rigidref::collide::ground::ground_contacts;
-use rigidref::collide::{MeshCollider, detect_contacts};
-use rigidref::mesh::TriMesh;
-use rigidref::rotation::exp_so3;
+use rigidref::rigid3d::body::RigidBody;
+use rigidref::common::broad::{Aabb, overlapping_pairs};
+use rigidref::rigid3d::collide::closest_point::brute_force_signed_distance;
+use rigidref::rigid3d::collide::ground::ground_contacts;
+use rigidref::rigid3d::collide::{MeshCollider, detect_contacts};
+use rigidref::rigid3d::mesh::TriMesh;
+use rigidref::rigid3d::rotation::exp_so3;
 use std::sync::Arc;
 
 /// The meshes to test on: the project's own, and the assignment's when ../shared is present.

@@ -5,12 +5,12 @@ mod common;
 
 use nalgebra::{Matrix3, SVector, Vector3};
 use proptest::prelude::*;
-use rigidref::assemble::{ProblemSettings, assemble_problem};
-use rigidref::collide::Contact;
-use rigidref::contact::{ContactFrame, jacobian_block};
+use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
+use rigidref::rigid3d::collide::Contact;
+use rigidref::rigid3d::contact::{ContactFrame, jacobian_block};
 use rigidref::problem::FrictionModel;
-use rigidref::rotation::exp_so3;
-use rigidref::warm_start::WarmStart;
+use rigidref::rigid3d::rotation::exp_so3;
+use rigidref::rigid3d::warm_start::WarmStart;
 
 fn unit_vector() -> impl Strategy<Value = Vector3<f64>> {
     (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)

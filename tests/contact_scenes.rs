@@ -4,8 +4,8 @@
 mod common;
 
 use nalgebra::Vector3;
-use rigidref::scene::{Scene, load_scene};
-use rigidref::world::World;
+use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::world::World;
 use std::path::PathBuf;
 
 fn canonical(name: &str) -> Scene {

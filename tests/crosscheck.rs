@@ -5,7 +5,7 @@ mod common;
 use common::problems::{build, physical_spec};
 use nalgebra::{SVector, Vector3};
 use proptest::prelude::*;
-use rigidref::crosscheck::{Comparison, CrosscheckSettings, check_problem};
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
 use rigidref::problem::FrictionModel;
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
 use std::cell::RefCell;
@@ -138,20 +138,20 @@ fn body_on_ground(
     mu: f64,
     compliance: f64,
 ) -> rigidref::problem::ContactProblem3 {
-    use rigidref::assemble::{ProblemSettings, assemble_problem};
+    use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     let mesh = std::sync::Arc::new(
-        rigidref::mesh::TriMesh::load_obj(
+        rigidref::rigid3d::mesh::TriMesh::load_obj(
             &common::project_root().join(format!("scenes/data/{name}.obj")),
         )
         .unwrap(),
     );
     let mut body =
-        rigidref::body::RigidBody::new(name, mass, nalgebra::Matrix3::identity() * moment, mesh);
+        rigidref::rigid3d::body::RigidBody::new(name, mass, nalgebra::Matrix3::identity() * moment, mesh);
     body.x = Vector3::new(0.0, y, 0.0);
     body.v = v;
     body.update_world_inertia();
     let mut contacts = Vec::new();
-    rigidref::collide::ground::ground_contacts(0, &body, &mut contacts);
+    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, &mut contacts);
     assert!(!contacts.is_empty());
     let settings = ProblemSettings {
         h: 0.01,
@@ -166,7 +166,7 @@ fn body_on_ground(
         &[body],
         &contacts,
         &settings,
-        &rigidref::warm_start::WarmStart::new(false),
+        &rigidref::rigid3d::warm_start::WarmStart::new(false),
     )
 }
 
@@ -250,7 +250,7 @@ fn anitescu_relaxation_agrees_when_sticking_and_separates_when_sliding() {
 #[test]
 fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
     let mut scenes: Vec<std::path::PathBuf> =
-        rigidref::golden::canonical_scenes(&common::project_root().join("scenes")).unwrap();
+        rigidref::verify::golden::canonical_scenes(&common::project_root().join("scenes")).unwrap();
     // Measured: 1 973 problems compared on the canonical scenes, 2 419 more on the assignment's.
     let mut expected = 1_900;
     if let Some(dir) = common::rigid3d_assignment() {

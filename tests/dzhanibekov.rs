@@ -5,10 +5,10 @@
 
 mod common;
 
-use rigidref::diagnostics::{flip_period, sign_changes};
-use rigidref::reference::euler::torque_free_rk4;
-use rigidref::scene::{Scene, load_scene};
-use rigidref::world::World;
+use rigidref::rigid3d::diagnostics::{flip_period, sign_changes};
+use rigidref::verify::references::euler::torque_free_rk4;
+use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::world::World;
 
 /// Index of the intermediate principal axis of a (near-)diagonal body inertia.
 fn intermediate_axis(scene: &Scene) -> usize {

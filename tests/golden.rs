@@ -2,9 +2,9 @@
 
 mod common;
 
-use rigidref::faults::Faults;
-use rigidref::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
-use rigidref::scene::load_scene;
+use rigidref::verify::faults::Faults;
+use rigidref::verify::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
+use rigidref::rigid3d::scene::load_scene;
 
 #[test]
 fn canonical_scenes_match_their_golden_traces() {

@@ -5,9 +5,9 @@ mod common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use rigidref::body::{AngularIntegrator, RigidBody};
-use rigidref::diagnostics::{body_energy, body_momentum};
-use rigidref::rotation::{exp_so3, orthonormality_error};
+use rigidref::rigid3d::body::{AngularIntegrator, RigidBody};
+use rigidref::rigid3d::diagnostics::{body_energy, body_momentum};
+use rigidref::rigid3d::rotation::{exp_so3, orthonormality_error};
 
 const INTEGRATORS: [AngularIntegrator; 3] = [
     AngularIntegrator::Spatial,

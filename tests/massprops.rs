@@ -2,8 +2,8 @@
 
 mod common;
 
-use rigidref::massprops::mass_properties;
-use rigidref::mesh::TriMesh;
+use rigidref::rigid3d::massprops::mass_properties;
+use rigidref::rigid3d::mesh::TriMesh;
 use std::process::Command;
 
 fn read_json(path: &std::path::Path) -> serde_json::Value {

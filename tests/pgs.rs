@@ -85,7 +85,7 @@ fn one_contact(b: [f64; 3], mu: f64) -> ContactProblem3 {
         inverse_mass[(k, k)] = 0.5;
         inverse_mass[(k + 3, k + 3)] = 1.0;
     }
-    let frame = rigidref::contact::ContactFrame::from_normal(&nalgebra::Vector3::y());
+    let frame = rigidref::rigid3d::contact::ContactFrame::from_normal(&nalgebra::Vector3::y());
     ContactProblem {
         friction: FrictionModel::Box,
         bodies: vec![ProblemBody {
@@ -95,7 +95,7 @@ fn one_contact(b: [f64; 3], mu: f64) -> ContactProblem3 {
         contacts: vec![ProblemContact {
             bodies: [Some(0), None],
             jacobian: [
-                rigidref::contact::jacobian_block(&frame, &nalgebra::Vector3::zeros()),
+                rigidref::rigid3d::contact::jacobian_block(&frame, &nalgebra::Vector3::zeros()),
                 Default::default(),
             ],
             b: SVector::from(b),
@@ -173,12 +173,12 @@ fn box_on_ground(
     mu: f64,
     friction: FrictionModel,
 ) -> ContactProblem3 {
-    use rigidref::assemble::{ProblemSettings, assemble_problem};
+    use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     let mesh = std::sync::Arc::new(
-        rigidref::mesh::TriMesh::load_obj(&common::project_root().join("scenes/data/box.obj"))
+        rigidref::rigid3d::mesh::TriMesh::load_obj(&common::project_root().join("scenes/data/box.obj"))
             .unwrap(),
     );
-    let mut body = rigidref::body::RigidBody::new(
+    let mut body = rigidref::rigid3d::body::RigidBody::new(
         "box",
         125.0,
         nalgebra::Matrix3::identity() * (125.0 * 0.5 / 12.0 * 0.5 * 2.0),
@@ -189,7 +189,7 @@ fn box_on_ground(
     body.omega = w;
     body.update_world_inertia();
     let mut contacts = Vec::new();
-    rigidref::collide::ground::ground_contacts(0, &body, &mut contacts);
+    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, &mut contacts);
     assert_eq!(contacts.len(), 4);
     let settings = ProblemSettings {
         h: 0.01,
@@ -204,7 +204,7 @@ fn box_on_ground(
         &[body],
         &contacts,
         &settings,
-        &rigidref::warm_start::WarmStart::new(false),
+        &rigidref::rigid3d::warm_start::WarmStart::new(false),
     )
 }
 

@@ -3,8 +3,8 @@
 
 mod common;
 
-use rigidref::scene::load_scene;
-use rigidref::world::World;
+use rigidref::rigid3d::scene::load_scene;
+use rigidref::rigid3d::world::World;
 
 /// With h = dt/substeps and n substeps taken, symplectic Euler gives
 /// v_n = v0 + n h g and x_n = x0 + n h v0 + h² g n(n+1)/2.

@@ -4,9 +4,9 @@
 
 mod common;
 
-use rigidref::faults::Faults;
-use rigidref::reference::compare::{Observable, compare, record_rapier, record_rigidref};
-use rigidref::scene::load_scene;
+use rigidref::verify::faults::Faults;
+use rigidref::verify::references::compare::{Observable, compare, record_rapier, record_rigidref};
+use rigidref::rigid3d::scene::load_scene;
 
 fn observables(scene_file: &str, seconds: f64) -> Vec<Observable> {
     let scene = load_scene(&common::project_root().join("scenes").join(scene_file)).unwrap();

@@ -4,9 +4,9 @@
 
 mod common;
 
-use rigidref::faults::Faults;
-use rigidref::golden::summary;
-use rigidref::scene::load_scene;
+use rigidref::verify::faults::Faults;
+use rigidref::verify::golden::summary;
+use rigidref::rigid3d::scene::load_scene;
 
 /// Seconds summarised per scene.
 const SECONDS: u32 = 5;
@@ -14,7 +14,7 @@ const SECONDS: u32 = 5;
 #[test]
 fn canonical_scene_summaries_are_unchanged() {
     let root = common::project_root();
-    for path in rigidref::golden::canonical_scenes(&root.join("scenes")).unwrap() {
+    for path in rigidref::verify::golden::canonical_scenes(&root.join("scenes")).unwrap() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
         let text = summary(&load_scene(&path).unwrap(), Faults::NONE, SECONDS).unwrap();
         insta::assert_snapshot!(format!("canonical_{name}"), text);
@@ -40,8 +40,8 @@ fn blocks_scene_summaries_are_unchanged() {
     let dir = common::project_root().join("scenes/blocks");
     for name in ["stack", "pyramid", "dominoes"] {
         let scene =
-            rigidref::blocks::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
-        let text = rigidref::golden::summary2(scene.world, 4.0, 20.0);
+            rigidref::blocks2d::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
+        let text = rigidref::verify::golden::summary2(scene.world, 4.0, 20.0);
         insta::assert_snapshot!(format!("blocks_{name}"), text);
     }
 }
@@ -62,9 +62,9 @@ fn assignment_image_loading_is_unchanged() {
     paths.sort();
     let mut text = String::new();
     for path in paths {
-        let groups = rigidref::blocks::image::load_image(
+        let groups = rigidref::blocks2d::image::load_image(
             &path,
-            &rigidref::blocks::image::ImageSettings::default(),
+            &rigidref::blocks2d::image::ImageSettings::default(),
         )
         .unwrap();
         let blocks: usize = groups.iter().map(|g| g.blocks.len()).sum();

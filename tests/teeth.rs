@@ -1,4 +1,4 @@
-//! The checks have teeth: each deliberate bug of `rigidref::faults`, injected alone, makes at
+//! The checks have teeth: each deliberate bug of `rigidref::verify::faults`, injected alone, makes at
 //! least one of the project's cross-checks or snapshots fail (docs/verification.md §"Teeth").
 //!
 //! Checks run per bug: golden traces of the canonical scenes, the snapshot summaries, PGS against
@@ -7,16 +7,16 @@
 
 mod common;
 
-use rigidref::crosscheck::{Comparison, CrosscheckSettings, check_problem};
-use rigidref::faults::Faults;
-use rigidref::golden::{
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
+use rigidref::verify::faults::Faults;
+use rigidref::verify::golden::{
     Tolerances, canonical_scenes, compare, golden_path, read_golden, record, summary,
 };
-use rigidref::reference::compare::{
+use rigidref::verify::references::compare::{
     compare as compare_observables, record_rapier, record_rigidref,
 };
-use rigidref::scene::{Scene, load_scene};
-use rigidref::world::World;
+use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::world::World;
 
 fn scenes() -> Vec<(String, Scene)> {
     let root = common::project_root();

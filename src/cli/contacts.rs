@@ -4,7 +4,10 @@
 use anyhow::{Context, bail};
 use clap::Args;
 use nalgebra::{DMatrix, SMatrix};
-use rigidref::world::{SubstepContacts, World};
+use rigidref::rigid3d::world::World;
+use rigidref::sim::{
+    Flow, NonFinite, Simulation, SubstepSolve, check_step_count, drive, steps_in,
+};
 use serde::Serialize;
 use std::path::PathBuf;
 
@@ -75,38 +78,33 @@ fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>>
         .collect()
 }
 
-/// Steps a run (`step` advances one step and says whether it had contacts) to the chosen step,
-/// or without --step to the first step with contacts within --time (in steps of `dt`; `unit`
-/// names the time unit in messages). Errors name `source`.
-fn step_to_contacts(
+/// Steps `sim` to the chosen step, or without --step to the first step with contacts within
+/// --time (`unit` names the time unit in messages). Errors name `source`.
+fn step_to_contacts<S: Simulation<D, R>, const D: usize, const R: usize>(
     args: &ContactsArgs,
-    dt: f64,
+    sim: &mut S,
     source: &str,
     unit: &str,
-    mut step: impl FnMut() -> anyhow::Result<bool>,
 ) -> anyhow::Result<()> {
-    if !(args.time.is_finite() && args.time > 0.0) {
-        bail!("--time must be a positive number, got {}", args.time);
-    }
     if args.step == Some(0) {
         bail!(
             "--step counts frames from 1 (step 0 is the initial state, before any contact solve)"
         );
     }
     let limit = match args.step {
-        Some(k) => k as f64,
-        None => (args.time / dt).ceil().max(1.0),
-    };
-    super::check_step_count(limit, dt).with_context(|| source.to_string())?;
-    let limit = limit as u64;
-    for k in 1..=limit {
-        let touching = step()?;
-        if k == limit || (args.step.is_none() && touching) {
-            if touching {
-                return Ok(());
-            }
-            break;
+        Some(k) => {
+            check_step_count(k as f64, sim.dt()).map_err(|e| anyhow::anyhow!("{source}: {e}"))?;
+            k
         }
+        None => steps_in(args.time, sim.dt(), "").map_err(|e| anyhow::anyhow!("{source}: {e}"))?,
+    };
+    let wanted = |w: &S, k: u64| k == limit || (args.step.is_none() && !w.solves().is_empty());
+    drive(sim, limit, |w, k| -> Result<Flow, NonFinite> {
+        Ok(if wanted(w, k) { Flow::Stop } else { Flow::Continue })
+    })
+    .map_err(|e| anyhow::anyhow!("{source}: the run stopped: {e}"))?;
+    if !sim.solves().is_empty() {
+        return Ok(());
     }
     match args.step {
         Some(k) => bail!("{source}: step {k} has no contacts"),
@@ -118,16 +116,15 @@ fn step_to_contacts(
 }
 
 /// The step's solve of the chosen --substep, or the last one with contacts.
-fn choose_substep<'a, T>(
+fn choose_substep<'a, C, const D: usize, const R: usize>(
     args: &ContactsArgs,
     step: u64,
-    solves: &'a [T],
-    substep_of: impl Fn(&T) -> u32,
-) -> anyhow::Result<&'a T> {
+    solves: &'a [SubstepSolve<C, D, R>],
+) -> anyhow::Result<&'a SubstepSolve<C, D, R>> {
     match args.substep {
         None => solves.last().context("no contacts"),
-        Some(s) => solves.iter().find(|c| substep_of(c) == s).with_context(|| {
-            let had: Vec<String> = solves.iter().map(|c| substep_of(c).to_string()).collect();
+        Some(s) => solves.iter().find(|c| c.substep == s).with_context(|| {
+            let had: Vec<String> = solves.iter().map(|c| c.substep.to_string()).collect();
             format!(
                 "substep {s} of step {step} has no contacts (substeps with contacts: {})",
                 had.join(", ")
@@ -139,7 +136,7 @@ fn choose_substep<'a, T>(
 /// Runs the scene to the chosen step and prints its contacts.
 pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.scene
-        && super::run2d::is_2d(path)
+        && rigidref::blocks2d::scene::is_2d_scene(path)
     {
         return contacts2(path, &args);
     }
@@ -151,15 +148,9 @@ pub fn contacts(args: ContactsArgs) -> anyhow::Result<()> {
         );
         scene.params.check_collisions = true;
     }
-    let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
-    step_to_contacts(&args, scene.params.dt, &scene.source, "s", || {
-        world
-            .step()
-            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
-        Ok(!world.frame_contacts.is_empty())
-    })?;
-    let solve: &SubstepContacts =
-        choose_substep(&args, world.step, &world.frame_contacts, |c| c.substep)?;
+    let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+    step_to_contacts(&args, &mut world, &scene.source, "s")?;
+    let solve = choose_substep(&args, world.step, &world.solves)?;
     let out = ContactsJson {
         scene: world.params.name.clone(),
         step: world.step,
@@ -279,23 +270,16 @@ struct Contact2Json {
 /// §"Contact problem"), with the 2 × 6 Jacobian [J₁ | J₂] (columns vx₁ vy₁ ω₁ vx₂ vy₂ ω₂) and the
 /// 2 × 2 Delassus block.
 fn contacts2(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> {
-    let mut world = super::run2d::world_of_scene(path)?;
-    if world.params.contact_model == rigidref::blocks::world::ContactModel::Penalty {
+    let mut world = super::run2d::load_world(path, &Default::default())?;
+    if world.params.contact_model == rigidref::blocks2d::world::ContactModel::Penalty {
         bail!(
             "{}: the scene uses penalty contacts, which solve no contact problem; contacts shows PGS solves",
             path.display()
         );
     }
-    world.record_problems = true;
     let source = path.display().to_string();
-    step_to_contacts(args, world.params.step, &source, "time units", || {
-        world.step();
-        world
-            .check_finite()
-            .map_err(|e| anyhow::anyhow!("{source}: the run stopped: {e}"))?;
-        Ok(!world.frame_solves.is_empty())
-    })?;
-    let solve = choose_substep(args, world.step, &world.frame_solves, |s| s.substep)?;
+    step_to_contacts(args, &mut world, &source, "time units")?;
+    let solve = choose_substep(args, world.step, &world.solves)?;
     let contacts: Vec<Contact2Json> = solve
         .contacts
         .iter()
@@ -305,7 +289,7 @@ fn contacts2(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> 
             let mut j = SMatrix::<f64, 2, 6>::zeros();
             j.fixed_view_mut::<2, 3>(0, 0).copy_from(&pc.jacobian[0]);
             j.fixed_view_mut::<2, 3>(0, 3).copy_from(&pc.jacobian[1]);
-            let t = rigidref::blocks::world::tangent(&c.normal);
+            let t = rigidref::blocks2d::world::tangent(&c.normal);
             Contact2Json {
                 bodies: [c.body1, c.body2],
                 blocks: [c.block1, c.block2],

@@ -3,11 +3,12 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::crosscheck::{Comparison, CrosscheckSettings, ProblemCheck, check_problem};
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, ProblemCheck, check_problem};
 use rigidref::problem::json::ProblemFile;
-use rigidref::world::World;
+use rigidref::rigid3d::world::World;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use rigidref::sim::{Flow, Simulation, drive, steps_in};
+use super::{Progress, Stopped};
 
 /// Arguments of `rigidref crosscheck`.
 #[derive(Args)]
@@ -84,7 +85,7 @@ struct Summary {
 /// Runs the cross-check.
 pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     if args.rapier {
-        return super::rapier::rapier(&args);
+        return super::rapier::rapier(args.input.as_deref(), args.time, args.json);
     }
     if !(args.tolerance > 0.0 && args.objective_tolerance > 0.0) {
         bail!("--tolerance and --objective-tolerance must be positive");
@@ -96,16 +97,24 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
             path.display().to_string(),
             vec![check_file(path, &settings)?],
         ),
-        Some(path) if super::run2d::is_2d(path) => (
-            path.display().to_string(),
-            check_scene2(path, args.time, &settings)?,
-        ),
+        Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
+            // An image with the default parameters, or a 2D scene file with its own.
+            let mut world = super::run2d::load_world(path, &Default::default())?;
+            let source = path.display().to_string();
+            let rows = check_run(&mut world, args.time, &source, &settings)?;
+            (source, rows)
+        }
         other => {
             let scene = super::load_scene_or_default(other.as_deref())?;
-            (
-                scene.source.clone(),
-                check_scene(scene, args.time, &settings)?,
-            )
+            if !scene.params.check_collisions {
+                eprintln!(
+                    "note: {}: check_collisions is false: no contact problems to check",
+                    scene.source
+                );
+            }
+            let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+            let rows = check_run(&mut world, args.time, &scene.source, &settings)?;
+            (scene.source.clone(), rows)
         }
     };
     let summary = summarise(&input, &rows, &args);
@@ -201,79 +210,30 @@ fn check_folder(dir: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Vec
     paths.iter().map(|p| check_file(p, settings)).collect()
 }
 
-fn check_scene(
-    scene: rigidref::scene::Scene,
+/// Every contact problem of a run of `sim` for `time`, one row per substep with contacts.
+fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
+    sim: &mut S,
     time: f64,
+    source: &str,
     settings: &CrosscheckSettings,
 ) -> anyhow::Result<Vec<Row>> {
-    if !scene.params.check_collisions {
-        eprintln!(
-            "note: {}: check_collisions is false: no contact problems to check",
-            scene.source
-        );
-    }
-    let mut world = World::new(&scene).map_err(|e| anyhow::anyhow!(e))?;
-    check_run(time, scene.params.dt, |k| {
-        world
-            .step()
-            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", scene.source))?;
-        let solved = world.frame_contacts.iter().map(|s| (s.substep, &s.problem));
-        check_step(k, solved, settings)
-    })
-}
-
-/// Every contact problem of a 2D run (an image with the default parameters, or a 2D scene file
-/// with its own), one row per substep with contacts.
-fn check_scene2(path: &Path, time: f64, settings: &CrosscheckSettings) -> anyhow::Result<Vec<Row>> {
-    let mut world = super::run2d::world_of_scene(path)?;
-    world.record_problems = true;
-    let step = world.params.step;
-    check_run(time, step, |k| {
-        world.step();
-        world
-            .check_finite()
-            .map_err(|e| anyhow::anyhow!("{}: the run stopped: {e}", path.display()))?;
-        let solved = world.frame_solves.iter().map(|s| (s.substep, &s.problem));
-        check_step(k, solved, settings)
-    })
-}
-
-/// Runs `time` (in steps of `dt`) with a progress bar; `step(k)` advances to step k and returns
-/// the rows of the problems solved in it.
-fn check_run(
-    time: f64,
-    dt: f64,
-    mut step: impl FnMut(u64) -> anyhow::Result<Vec<Row>>,
-) -> anyhow::Result<Vec<Row>> {
-    let steps = super::steps_in(time, dt, "")?;
-    let started = Instant::now();
-    let progress = super::progress_bar(steps, super::STEPS_TEMPLATE);
-    let mut shown = false;
+    let steps = steps_in(time, sim.dt(), "").map_err(anyhow::Error::msg)?;
+    let mut progress = Progress::steps(steps, false);
     let mut rows = Vec::new();
-    for k in 1..=steps {
-        rows.extend(step(k)?);
-        super::show_progress_after_a_second(&progress, started, false, &mut shown);
-        progress.set_position(k);
-    }
-    progress.finish_and_clear();
-    Ok(rows)
-}
-
-/// The rows of step `k`'s problems, given as (substep, problem).
-fn check_step<'a, const D: usize, const R: usize>(
-    k: u64,
-    solved: impl Iterator<Item = (u32, &'a rigidref::problem::ContactProblem<D, R>)>,
-    settings: &CrosscheckSettings,
-) -> anyhow::Result<Vec<Row>> {
-    solved
-        .map(|(substep, problem)| {
-            let check = check_problem(problem, settings).map_err(|e| anyhow::anyhow!(e))?;
-            Ok(Row {
-                source: format!("step {k} substep {substep}"),
+    let ran = drive(sim, steps, |w, k| -> Result<Flow, Stopped> {
+        for solve in w.solves() {
+            let check = check_problem(&solve.problem, settings).map_err(anyhow::Error::msg)?;
+            rows.push(Row {
+                source: format!("step {k} substep {}", solve.substep),
                 check,
-            })
-        })
-        .collect()
+            });
+        }
+        progress.tick(k);
+        Ok(Flow::Continue)
+    });
+    progress.finish();
+    Stopped::outcome(ran, |e| format!("{source}: the run stopped: {e}"))?;
+    Ok(rows)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {

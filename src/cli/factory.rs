@@ -2,24 +2,10 @@
 //! report of the 2D system (and, with a container image and --pieces tetris, the Tetris tube).
 //! docs/blocks2d.md §"Challenges", §"Scaling".
 
-use anyhow::{Context, bail};
+use super::Progress;
 use clap::Args;
-use rigidref::blocks::factory::{DropZone, Factory, Pieces, container, container_size};
-use rigidref::blocks::image::{ImageSettings, load_image};
-use rigidref::blocks::scaling::{LinearFit, linear_fit, plot, retime};
-use rigidref::blocks::world::{ContactProblem2, Params2, World2};
-use std::io::Write;
+use rigidref::tools::factory::{FactoryReport, FactorySettings, Pieces, run_factory};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
-
-/// Drops in a row that place nothing before the container counts as full.
-const FULL_AFTER: u32 = 20;
-
-/// Contact problems kept during the run for re-timing (spread evenly over the planned steps).
-const RETIMED_PROBLEMS: u64 = 100;
-
-/// Rounds of re-timing: each problem's time is the median of this many solves.
-const RETIME_ROUNDS: usize = 5;
 
 /// Arguments of `rigidref factory`.
 #[derive(Args)]
@@ -95,287 +81,51 @@ pub struct FactoryArgs {
     pub quiet: bool,
 }
 
-/// The report written to DIR/report.json.
-#[derive(serde::Serialize)]
-pub struct FactoryReport {
-    /// Bodies at the end (dropped plus the container's image's bodies).
-    pub bodies: usize,
-    /// Bodies dropped.
-    pub dropped: usize,
-    /// Dropping stopped early because the container was full: the pile reached its rim, or 20
-    /// drops in a row found no free place.
-    pub container_full: bool,
-    /// The generated container's width and depth, blocks (none with --container).
-    pub container: Option<[usize; 2]>,
-    /// Most contacts in one step.
-    pub max_contacts: usize,
-    /// The deepest disc overlap among the last step's contacts, blocks (the pile's health: the
-    /// post-stabilisation slop is 0.01; a block disc's diameter is √2).
-    pub deepest_overlap_at_end: f64,
-    /// Total kinetic energy at the end.
-    pub kinetic_energy_at_end: f64,
-    /// Moving bodies outside the container at the end (escaped through its floor or walls, or
-    /// spilled over): 0 in a sound run.
-    pub outside_container_at_end: usize,
-    /// Steps run.
-    pub steps: u64,
-    /// The scaling figure: PGS solve CPU seconds against contacts, re-timed side by side on the
-    /// problems kept during the run (median of `retime_rounds` rounds each).
-    pub fit: Option<LinearFit>,
-    /// Problems re-timed.
-    pub retimed_problems: usize,
-    /// Rounds of re-timing.
-    pub retime_rounds: usize,
-    /// For comparison: the same fitted to the thread CPU time each step's solve took in the run.
-    pub fit_in_run: Option<LinearFit>,
-    /// For comparison: the same fitted to the wall time each step's solve took in the run.
-    pub fit_in_run_wall: Option<LinearFit>,
-    /// Total PGS wall seconds in the run.
-    pub pgs_seconds: f64,
-    /// Total PGS thread CPU seconds in the run.
-    pub pgs_cpu_seconds: f64,
-    /// Wall seconds of the whole command.
-    pub wall_seconds: f64,
+impl FactoryArgs {
+    /// The run the options ask for.
+    fn settings(&self) -> FactorySettings {
+        FactorySettings {
+            bodies: self.bodies,
+            batch: self.batch,
+            interval: self.interval,
+            drop_speed: self.drop_speed,
+            settle: self.settle,
+            width: self.width,
+            depth: self.depth,
+            container: self.container.clone(),
+            pieces: self.pieces,
+            piece_scale: self.piece_scale,
+            seed: self.seed,
+            iterations: self.iterations,
+            substeps: self.substeps,
+        }
+    }
 }
 
-fn check_args(args: &FactoryArgs) -> anyhow::Result<()> {
-    if args.bodies == 0
-        || args.batch == 0
-        || args.iterations == 0
-        || args.substeps == 0
-        || args.piece_scale == 0
-    {
-        bail!("--bodies, --batch, --iterations, --substeps and --piece-scale must be at least 1");
-    }
-    if !(args.interval.is_finite() && args.interval > 0.0) {
-        bail!(
-            "--interval must be a positive number, got {}",
-            args.interval
-        );
-    }
-    if !(args.settle.is_finite() && args.settle >= 0.0) {
-        bail!("--settle must be a number ≥ 0, got {}", args.settle);
-    }
-    if !(args.drop_speed.is_finite() && args.drop_speed >= 0.0) {
-        bail!("--drop-speed must be a number ≥ 0, got {}", args.drop_speed);
-    }
-    if args.width.is_some_and(|w| w < 10) || args.depth.is_some_and(|d| d < 5) {
-        bail!("the container must be at least 10 wide and 5 deep");
-    }
-    // Far above any useful run, so that an absurd value is an error, not a run that never ends.
-    if args.bodies > 1_000_000 {
-        bail!("--bodies may be at most 1000000, got {}", args.bodies);
-    }
-    if args.piece_scale > 16 {
-        bail!("--piece-scale may be at most 16, got {}", args.piece_scale);
-    }
-    Ok(())
-}
-
-/// Creates `path` for writing, naming it in the error.
-fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
-    Ok(std::io::BufWriter::new(
-        std::fs::File::create(path)
-            .with_context(|| format!("{}: cannot create", path.display()))?,
-    ))
-}
-
-/// Runs the factory.
+/// Runs the factory with a progress bar, prints its report and returns it.
 pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
-    check_args(&args)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("{}: cannot create", args.out.display()))?;
-    let (groups, size) = match &args.container {
-        // The generated container's inside is `size`; its walls and floor are
-        // CONTAINER_WALL blocks thick around it.
-        Some(p) => {
-            let g = load_image(p, &ImageSettings::default()).map_err(|e| anyhow::anyhow!(e))?;
-            if !g.iter().any(|g| g.pinned) {
-                bail!(
-                    "{}: no pinned (blue) body to use as a container",
-                    p.display()
-                );
-            }
-            (g, None)
+    let mut progress: Option<Progress> = None;
+    let (report, note) = run_factory(&args.settings(), &args.out, |p| {
+        let bar = progress.get_or_insert_with(|| {
+            Progress::new(
+                p.planned,
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps, {msg}",
+                args.quiet,
+            )
+        });
+        bar.tick(p.step);
+        if p.step.is_multiple_of(20) {
+            bar.bar().set_length(p.planned);
+            bar.bar().set_message(format!("{} bodies, {} contacts", p.bodies, p.contacts));
         }
-        None => {
-            let (w, d) = container_size(args.bodies, args.pieces, args.piece_scale);
-            let (w, d) = (args.width.unwrap_or(w), args.depth.unwrap_or(d));
-            // The container is a pixel grid before it becomes a body: an absurd size is an
-            // error, not an aborted allocation.
-            if (w as f64) * (d as f64) > 1e8 {
-                bail!(
-                    "a container of {w} × {d} blocks is more than the limit of 100 million blocks"
-                );
-            }
-            (vec![container(w, d)], Some([w, d]))
-        }
-    };
-    let params = Params2 {
-        iterations: args.iterations,
-        substeps: args.substeps,
-        order: rigidref::solve::ContactOrder::Random,
-        seed: args.seed,
-        ..Params2::default()
-    };
-    let mut world = World2::new(&groups, params);
-    let settings = world.pgs_settings();
-    let zone = DropZone::above_pinned(&world).context("no pinned body to drop into")?;
-    // The pile is full when it reaches the rim: a container must have walls to fill.
-    if zone.floor - zone.rim < 5.0 {
-        bail!(
-            "{}: the pinned bodies rise only {} blocks above their lowest row; a container needs walls at least 5 blocks high",
-            args.container
-                .as_ref()
-                .map_or("the container".to_string(), |p| p.display().to_string()),
-            zone.floor - zone.rim
-        );
+    })
+    .map_err(anyhow::Error::msg)?;
+    if let Some(bar) = &progress {
+        bar.finish();
     }
-    let mut factory = Factory::new(args.seed, args.pieces);
-    factory.scale = args.piece_scale;
-    let steps_per_drop = (args.interval / world.params.step).round().max(1.0) as u64;
-    let settle = (args.settle / world.params.step).round();
-    let drops =
-        (args.interval / world.params.step).round() * args.bodies.div_ceil(args.batch) as f64;
-    super::check_step_count(settle + drops, world.params.step)?;
-    let settle_steps = settle as u64;
-    // The length of the run if every drop places a whole batch; drops that must wait (the drop
-    // zone still occupied) lengthen it.
-    let planned_steps = args.bodies.div_ceil(args.batch) as u64 * steps_per_drop + settle_steps;
-    let keep_every = (planned_steps / RETIMED_PROBLEMS).max(1);
-    let csv_path = args.out.join("scaling.csv");
-    let mut csv = create(&csv_path)?;
-    let csv_err = |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", csv_path.display());
-    writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds").map_err(csv_err)?;
-    let (mut in_run_wall, mut in_run_cpu) = (Vec::new(), Vec::new());
-    let mut kept: Vec<ContactProblem2> = Vec::new();
-    let (mut dropped, mut max_contacts) = (0usize, 0usize);
-    let (mut pgs_seconds, mut pgs_cpu_seconds) = (0.0, 0.0);
-    // Drops in a row that placed nothing; after FULL_AFTER of them the container is full.
-    let (mut fruitless, mut full) = (0u32, false);
-    let mut settled = 0u64;
-    let started = Instant::now();
-    let progress = super::progress_bar(
-        planned_steps,
-        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps, {msg}",
-    );
-    let mut shown = false;
-    let mut k = 0u64;
-    while settled < settle_steps || (dropped < args.bodies && !full) {
-        let dropping = dropped < args.bodies && !full;
-        if dropping && k.is_multiple_of(steps_per_drop) {
-            if zone.is_full(&world) {
-                full = true;
-            } else {
-                let n = args.batch.min(args.bodies - dropped);
-                let placed = factory.drop_batch(&mut world, &zone, n, args.drop_speed);
-                dropped += placed;
-                fruitless = if placed == 0 { fruitless + 1 } else { 0 };
-                full = fruitless >= FULL_AFTER;
-            }
-        }
-        if !dropping {
-            settled += 1;
-        }
-        world.step();
-        k += 1;
-        // Summed over the step's substeps (one solve each), so that time and contacts match.
-        let contacts = world.frame.contacts;
-        max_contacts = max_contacts.max(world.frame.most_contacts);
-        let (wall, cpu) = (world.frame.solve_seconds, world.frame.solve_cpu_seconds);
-        pgs_seconds += wall;
-        pgs_cpu_seconds += cpu;
-        writeln!(
-            csv,
-            "{},{},{},{},{wall:.9},{cpu:.9}",
-            world.step,
-            world.time(),
-            world.bodies.len(),
-            contacts,
-        )
-        .map_err(csv_err)?;
-        if contacts > 0 {
-            in_run_wall.push((contacts as f64, wall));
-            in_run_cpu.push((contacts as f64, cpu));
-            if k.is_multiple_of(keep_every)
-                && let Some(problem) = &world.last_problem
-            {
-                kept.push(problem.clone());
-            }
-        }
-        super::show_progress_after_a_second(&progress, started, args.quiet, &mut shown);
-        if k.is_multiple_of(20) {
-            if k > planned_steps {
-                progress.set_length(k + settle_steps);
-            }
-            progress.set_position(k);
-            progress.set_message(format!(
-                "{} bodies, {contacts} contacts",
-                world.bodies.len()
-            ));
-        }
+    if let Some(note) = note {
+        eprintln!("note: {note}");
     }
-    progress.finish_and_clear();
-    csv.flush().map_err(csv_err)?;
-    if full {
-        eprintln!(
-            "note: the container is full (the pile reached its rim, or {FULL_AFTER} drops in a row found no free place): {dropped} of {} bodies were dropped",
-            args.bodies
-        );
-    }
-
-    let retimed = retime(&kept, &settings, RETIME_ROUNDS, args.seed);
-    let retimed_path = args.out.join("retimed.csv");
-    let mut retimed_csv = create(&retimed_path)?;
-    let retimed_err =
-        |e: std::io::Error| anyhow::anyhow!("{}: cannot write: {e}", retimed_path.display());
-    writeln!(retimed_csv, "contacts,pgs_cpu_seconds_median").map_err(retimed_err)?;
-    for (contacts, seconds) in &retimed {
-        writeln!(retimed_csv, "{contacts},{seconds:.9}").map_err(retimed_err)?;
-    }
-    retimed_csv.flush().map_err(retimed_err)?;
-    let fit = linear_fit(&retimed);
-    let svg = args.out.join("scaling.svg");
-    if fit.is_none() {
-        // No line to draw: do not leave an earlier run's plot looking like this one's.
-        let _ = std::fs::remove_file(&svg);
-    }
-    if let Some(f) = &fit {
-        plot(
-            &retimed,
-            &in_run_cpu,
-            f,
-            &svg,
-            "PGS solve CPU time (re-timed)",
-        )
-        .map_err(|e| anyhow::anyhow!(e))?;
-    }
-    let report = FactoryReport {
-        bodies: world.bodies.len(),
-        dropped,
-        container_full: full,
-        container: size,
-        max_contacts,
-        deepest_overlap_at_end: world.deepest_overlap(),
-        kinetic_energy_at_end: world.energy().0,
-        outside_container_at_end: world
-            .bodies
-            .iter()
-            .filter(|b| !b.pinned && zone.is_outside(b))
-            .count(),
-        steps: world.step,
-        fit,
-        retimed_problems: retimed.len(),
-        retime_rounds: RETIME_ROUNDS,
-        fit_in_run: linear_fit(&in_run_cpu),
-        fit_in_run_wall: linear_fit(&in_run_wall),
-        pgs_seconds,
-        pgs_cpu_seconds,
-        wall_seconds: started.elapsed().as_secs_f64(),
-    };
-    let report_path = args.out.join("report.json");
-    std::fs::write(&report_path, serde_json::to_string_pretty(&report)? + "\n")
-        .with_context(|| format!("{}: cannot write", report_path.display()))?;
     if !args.quiet {
         print_report(&report, &args.out);
     }

@@ -2,7 +2,7 @@
 
 use anyhow::bail;
 use clap::Args;
-use rigidref::golden::{
+use rigidref::verify::golden::{
     Tolerances, canonical_scenes, compare, golden_path, read_golden, record, write_golden,
 };
 use std::path::PathBuf;
@@ -56,8 +56,8 @@ pub fn golden(args: GoldenArgs) -> anyhow::Result<()> {
                 continue;
             }
         };
-        let scene = rigidref::scene::load_scene(path)?;
-        let fresh = record(&scene, &source, rigidref::faults::Faults::NONE)
+        let scene = rigidref::rigid3d::scene::load_scene(path)?;
+        let fresh = record(&scene, &source)
             .map_err(|e| anyhow::anyhow!(e))?;
         let mismatches = compare(&golden, &fresh, &Tolerances::default());
         if mismatches.is_empty() {

@@ -2,8 +2,8 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::massprops::mass_properties;
-use rigidref::mesh::TriMesh;
+use rigidref::rigid3d::massprops::mass_properties;
+use rigidref::rigid3d::mesh::TriMesh;
 use std::path::PathBuf;
 
 /// Arguments of `rigidref massprops`.

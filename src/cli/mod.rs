@@ -1,6 +1,7 @@
 //! Command-line interface: argument definitions and dispatch. Each subcommand lives in its own
 //! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1.
 
+mod args;
 mod contacts;
 mod crosscheck;
 mod factory;
@@ -10,6 +11,7 @@ mod rapier;
 mod render;
 mod run;
 mod run2d;
+mod run3d;
 mod scene;
 
 use clap::{Parser, Subcommand};
@@ -64,7 +66,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
 }
 
 /// Loads the scene at `path`, or the embedded default, and prints its warnings to stderr.
-fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigidref::scene::Scene> {
+fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigidref::rigid3d::scene::Scene> {
     let scene = match path {
         Some(p) => {
             // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say
@@ -79,42 +81,14 @@ fn load_scene_or_default(path: Option<&std::path::Path>) -> anyhow::Result<rigid
                     p.display()
                 );
             }
-            rigidref::scene::load_scene(p)?
+            rigidref::rigid3d::scene::load_scene(p)?
         }
-        None => rigidref::scene::default_scene()?,
+        None => rigidref::rigid3d::scene::default_scene()?,
     };
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
     Ok(scene)
-}
-
-/// The number of steps of `run`: `--steps`, else `--time` (default 10) over the step size `dt`,
-/// rounded to the nearest whole step (the 1e-9 guards 0.3/0.1 = 2.9999999999999996), at least 1.
-/// Also checks `--every`. `unit` names the time unit in the error ("seconds" in 3D).
-fn steps_of(args: &run::RunArgs, dt: f64, unit: &str) -> anyhow::Result<u64> {
-    if args.every == 0 {
-        anyhow::bail!("--every must be at least 1");
-    }
-    match args.steps {
-        Some(n) => {
-            check_step_count(n as f64, dt)?;
-            Ok(n)
-        }
-        None => steps_in(args.time.unwrap_or(10.0), dt, unit),
-    }
-}
-
-/// The whole steps of size `dt` in `time` (the 1e-9 guards 0.3/0.1 = 2.9999999999999996), at
-/// least 1, after checking `time` is positive (`unit` names its unit in the error) and the count
-/// within [`MAX_STEPS`].
-fn steps_in(time: f64, dt: f64, unit: &str) -> anyhow::Result<u64> {
-    if !(time.is_finite() && time > 0.0) {
-        anyhow::bail!("--time must be a positive number{unit}, got {time}");
-    }
-    let steps = (time / dt + 1e-9).floor().max(1.0);
-    check_step_count(steps, dt)?;
-    Ok(steps as u64)
 }
 
 /// Fails, naming the file, when a scene path cannot be read (checked before options are
@@ -124,20 +98,6 @@ pub(crate) fn check_readable(path: Option<&std::path::Path>) -> anyhow::Result<(
         && let Err(e) = std::fs::File::open(p)
     {
         anyhow::bail!("{}: cannot open: {e}", p.display());
-    }
-    Ok(())
-}
-
-/// The most steps one run may take: far beyond any useful run (a day at a microsecond a step),
-/// so that a step size like 1e-300 is an error rather than a run that never ends.
-pub(crate) const MAX_STEPS: f64 = 1e11;
-
-/// Refuses a run of more than [`MAX_STEPS`] steps of size `dt`.
-pub(crate) fn check_step_count(steps: f64, dt: f64) -> anyhow::Result<()> {
-    if steps > MAX_STEPS {
-        anyhow::bail!(
-            "{steps:.3e} steps of {dt:.3e} is more than the limit of {MAX_STEPS:.0e}; ask for fewer steps (a larger step size or a shorter time)"
-        );
     }
     Ok(())
 }
@@ -156,33 +116,130 @@ fn create_trace_output(path: &std::path::Path) -> anyhow::Result<Box<dyn std::io
     })
 }
 
-/// A progress bar over `steps` steps, hidden until [`show_progress_after_a_second`] reveals it
-/// (runs shorter than about a second get none; indicatif hides it when stderr is not a terminal).
-fn progress_bar(steps: u64, template: &str) -> indicatif::ProgressBar {
-    let bar = indicatif::ProgressBar::with_draw_target(
-        Some(steps),
-        indicatif::ProgressDrawTarget::hidden(),
-    );
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(template)
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-    );
-    bar
+/// Creates `path` for writing, naming it in the error.
+fn create_file(path: &std::path::Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    use anyhow::Context;
+    Ok(std::io::BufWriter::new(
+        std::fs::File::create(path).with_context(|| format!("{}: cannot create", path.display()))?,
+    ))
+}
+
+/// Writes one contact-problem file of `--dump-problems`: DIR/step-KKKKKK-SS.json.
+fn dump_problem<C: rigidref::sim::ContactGeometry, const D: usize, const R: usize>(
+    dir: &std::path::Path,
+    scene: &str,
+    step: u64,
+    h: f64,
+    solve: &rigidref::sim::SubstepSolve<C, D, R>,
+) -> anyhow::Result<()> {
+    use anyhow::Context;
+    let path = dir.join(format!("step-{step:06}-{:02}.json", solve.substep));
+    let file = solve.problem_file(scene, step, h);
+    let text = serde_json::to_string(&file).context("serialising a contact problem")?;
+    std::fs::write(&path, text + "\n").with_context(|| format!("{}: cannot write", path.display()))
+}
+
+/// Why a run stopped early: the simulation reached a non-finite state, or writing failed.
+enum Stopped {
+    /// The step failed; what was written before stays written.
+    Failed(rigidref::sim::NonFinite),
+    /// Anything else (an output that cannot be written).
+    Error(anyhow::Error),
+}
+
+impl Stopped {
+    /// The outcome of a run: the steps run, or the error, a failed step explained by `failed`
+    /// (which names the scene and what was kept).
+    fn outcome(
+        ran: Result<u64, Stopped>,
+        failed: impl FnOnce(rigidref::sim::NonFinite) -> String,
+    ) -> anyhow::Result<u64> {
+        match ran {
+            Ok(steps) => Ok(steps),
+            Err(Stopped::Failed(e)) => Err(anyhow::Error::msg(failed(e))),
+            Err(Stopped::Error(e)) => Err(e),
+        }
+    }
+}
+
+impl From<rigidref::sim::NonFinite> for Stopped {
+    fn from(e: rigidref::sim::NonFinite) -> Stopped {
+        Stopped::Failed(e)
+    }
+}
+
+impl From<anyhow::Error> for Stopped {
+    fn from(e: anyhow::Error) -> Stopped {
+        Stopped::Error(e)
+    }
+}
+
+impl From<std::io::Error> for Stopped {
+    fn from(e: std::io::Error) -> Stopped {
+        Stopped::Error(e.into())
+    }
 }
 
 /// The progress template of a run.
 const STEPS_TEMPLATE: &str =
     "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} steps (eta {eta})";
 
-/// Shows `bar` once a run has taken more than a second (unless `quiet`); `shown` remembers it.
-fn show_progress_after_a_second(
-    bar: &indicatif::ProgressBar,
+/// A progress bar over a run's steps, shown only once the run has taken more than a second
+/// (unless quiet; indicatif hides it when stderr is not a terminal).
+struct Progress {
+    bar: indicatif::ProgressBar,
     started: std::time::Instant,
     quiet: bool,
-    shown: &mut bool,
-) {
-    if !quiet && !*shown && started.elapsed() > std::time::Duration::from_secs(1) {
-        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        *shown = true;
+    shown: bool,
+}
+
+impl Progress {
+    /// A hidden bar over `steps` steps with `template`.
+    fn new(steps: u64, template: &str, quiet: bool) -> Progress {
+        let bar = indicatif::ProgressBar::with_draw_target(
+            Some(steps),
+            indicatif::ProgressDrawTarget::hidden(),
+        );
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Progress {
+            bar,
+            started: std::time::Instant::now(),
+            quiet,
+            shown: false,
+        }
+    }
+
+    /// A bar over `steps` steps with the run template.
+    fn steps(steps: u64, quiet: bool) -> Progress {
+        Progress::new(steps, STEPS_TEMPLATE, quiet)
+    }
+
+    /// Step `k` is done; reveals the bar after a second.
+    fn tick(&mut self, k: u64) {
+        if !self.quiet && !self.shown && self.started.elapsed() > std::time::Duration::from_secs(1) {
+            self.bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            self.shown = true;
+        }
+        if self.shown && k.is_multiple_of(16) {
+            self.bar.set_position(k);
+        }
+    }
+
+    /// The underlying bar (to set a message or a new length).
+    fn bar(&self) -> &indicatif::ProgressBar {
+        &self.bar
+    }
+
+    /// Seconds since the bar was made.
+    fn elapsed(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
+    /// Removes the bar.
+    fn finish(&self) {
+        self.bar.finish_and_clear();
     }
 }

@@ -1,26 +1,22 @@
 //! `rigidref crosscheck --rapier`: the scene in rigidref and in a rapier3d mirror, compared
 //! through observables. docs/verification.md §"rapier3d".
 
-use super::crosscheck::CrosscheckArgs;
-use anyhow::bail;
-use rigidref::reference::compare::{compare, record_rapier, record_rigidref};
+use anyhow::{Context, bail};
+use rigidref::verify::references::compare::{compare, record_rapier, record_rigidref};
 
-/// Runs both and prints the observables side by side.
-pub fn rapier(args: &CrosscheckArgs) -> anyhow::Result<()> {
-    let scene = super::load_scene_or_default(args.input.as_deref())?;
-    if !(args.time.is_finite() && args.time > 0.0) {
-        bail!(
-            "--time must be a positive number of seconds, got {}",
-            args.time
-        );
-    }
-    let steps = (args.time / scene.params.dt + 1e-9).floor().max(1.0) as u64;
-    let ours = record_rigidref(&scene, steps, rigidref::faults::Faults::NONE)
+/// Runs the scene at `input` (or the built-in default) for `time` seconds in both and prints the
+/// observables side by side (as JSON with `json`).
+pub fn rapier(input: Option<&std::path::Path>, time: f64, json: bool) -> anyhow::Result<()> {
+    let scene = super::load_scene_or_default(input)?;
+    let steps = rigidref::sim::steps_in(time, scene.params.dt, " of seconds")
+        .map_err(anyhow::Error::msg)
+        .with_context(|| scene.source.clone())?;
+    let ours = record_rigidref(&scene, steps)
         .map_err(|e| anyhow::anyhow!("{}: {e}", scene.source))?;
     let theirs =
         record_rapier(&scene, steps).map_err(|e| anyhow::anyhow!("{}: {e}", scene.source))?;
     let observables = compare(&scene, &ours, &theirs);
-    if args.json {
+    if json {
         println!(
             "{}",
             serde_json::to_string_pretty(&serde_json::json!({

@@ -43,12 +43,10 @@ pub struct PgsSettings {
     pub tolerance: Option<f64>,
     /// Contact order.
     pub order: ContactOrder,
-    /// Deliberate bugs (tests only; [`crate::faults`]).
-    pub faults: crate::faults::Faults,
 }
 
 /// What a solve did.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct SolveReport {
     /// Sweeps run.
     pub iterations: u32,
@@ -186,7 +184,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
-            solve_contact(problem, settings, workspace, k, &mut lambda[k]);
+            solve_contact(problem, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
@@ -206,7 +204,6 @@ pub fn solve_pgs<const D: usize, const R: usize>(
 /// One contact's Gauss–Seidel update: normal row, then friction rows.
 fn solve_contact<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
-    settings: &PgsSettings,
     workspace: &mut PgsWorkspace<D, R>,
     k: usize,
     lambda: &mut SVector<f64, R>,
@@ -223,7 +220,7 @@ fn solve_contact<const D: usize, const R: usize>(
     }
 
     // Friction rows, bounded by μ times the normal impulse just computed.
-    let bound = if settings.faults.stale_friction_bound {
+    let bound = if crate::verify::fault!(stale_friction_bound) {
         // The deliberate bug: the bound from the starting λn instead of the one just computed.
         contact.mu * project_feasible(&contact.lambda0, contact.mu, problem.friction)[0]
     } else {

@@ -2,8 +2,8 @@
 #![allow(dead_code)]
 
 use nalgebra::{Matrix3, Vector3};
-use rigidref::body::RigidBody;
-use rigidref::mesh::TriMesh;
+use rigidref::rigid3d::body::RigidBody;
+use rigidref::rigid3d::mesh::TriMesh;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -64,12 +64,12 @@ pub mod problems {
 
     use nalgebra::{Matrix3, SVector, Vector3};
     use proptest::prelude::*;
-    use rigidref::assemble::{ProblemSettings, assemble_problem};
-    use rigidref::collide::Contact;
-    use rigidref::contact::ContactFrame;
+    use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
+    use rigidref::rigid3d::collide::Contact;
+    use rigidref::rigid3d::contact::ContactFrame;
     use rigidref::problem::{ContactProblem3, FrictionModel};
-    use rigidref::rotation::exp_so3;
-    use rigidref::warm_start::WarmStart;
+    use rigidref::rigid3d::rotation::exp_so3;
+    use rigidref::rigid3d::warm_start::WarmStart;
 
     fn vector(scale: f64) -> impl Strategy<Value = Vector3<f64>> {
         (-scale..scale, -scale..scale, -scale..scale).prop_map(|(x, y, z)| Vector3::new(x, y, z))

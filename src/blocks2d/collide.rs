@@ -1,0 +1,151 @@
+//! 2D collision: block discs, bounding-disc trees, sweep-and-prune between bodies.
+//! docs/blocks2d.md §"Collision".
+
+use super::body::Body2;
+use super::disc_tree::{BLOCK_RADIUS, NodeKind};
+use crate::common::broad::{Aabb, overlapping_pairs};
+use nalgebra::{Vector2, Vector3};
+
+/// A contact between two overlapping block discs of different bodies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact2 {
+    /// Body 1 and its block.
+    pub body1: usize,
+    /// Index of body 1's block.
+    pub block1: usize,
+    /// Body 2 and its block.
+    pub body2: usize,
+    /// Index of body 2's block.
+    pub block2: usize,
+    /// Midpoint of the two block centres, world frame.
+    pub point: Vector2<f64>,
+    /// Unit normal along the line of centres, from body 2's block to body 1's.
+    pub normal: Vector2<f64>,
+    /// Penetration 2r − distance, > 0, blocks.
+    pub depth: f64,
+}
+
+/// The world box of a body's root disc (z = 0, for the shared sweep-and-prune).
+fn root_box(body: &Body2) -> Option<Aabb> {
+    let root = body.tree.root()?;
+    let c = body.to_world(&root.centre);
+    let r = Vector3::new(root.radius, root.radius, 0.0);
+    let c = Vector3::new(c.x, c.y, 0.0);
+    Some(Aabb {
+        min: c - r,
+        max: c + r,
+    })
+}
+
+/// The contact of two blocks if their discs overlap.
+fn block_contact(bodies: &[Body2], i: usize, a: usize, j: usize, b: usize) -> Option<Contact2> {
+    let pa = bodies[i].to_world(&bodies[i].blocks[a].local);
+    let pb = bodies[j].to_world(&bodies[j].blocks[b].local);
+    let d = pa - pb;
+    let distance = d.norm();
+    let depth = 2.0 * BLOCK_RADIUS - distance;
+    // Coincident centres have no line of centres; such a pair is already hopelessly overlapped
+    // and is left to the neighbouring blocks' contacts.
+    (depth > 0.0 && distance > 1e-12).then(|| Contact2 {
+        body1: i,
+        block1: a,
+        body2: j,
+        block2: b,
+        point: (pa + pb) / 2.0,
+        normal: d / distance,
+        depth,
+    })
+}
+
+/// Appends the contacts of bodies `i` and `j` found by descending both trees together: a pair of
+/// nodes whose discs overlap is split (the larger disc first) until both are leaves.
+pub fn tree_contacts(
+    bodies: &[Body2],
+    i: usize,
+    j: usize,
+    stack: &mut Vec<(usize, usize)>,
+    out: &mut Vec<Contact2>,
+) {
+    let (ti, tj) = (&bodies[i].tree, &bodies[j].tree);
+    if ti.nodes.is_empty() || tj.nodes.is_empty() {
+        return;
+    }
+    stack.clear();
+    stack.push((0, 0));
+    while let Some((a, b)) = stack.pop() {
+        let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
+        let ca = bodies[i].to_world(&na.centre);
+        let cb = bodies[j].to_world(&nb.centre);
+        if (ca - cb).norm() >= na.radius + nb.radius {
+            continue;
+        }
+        match (na.kind, nb.kind) {
+            (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => {
+                if let Some(c) = block_contact(bodies, i, ba, j, bb) {
+                    out.push(c);
+                }
+            }
+            (NodeKind::Inner(l, r), NodeKind::Leaf(_)) => {
+                stack.push((r, b));
+                stack.push((l, b));
+            }
+            (NodeKind::Leaf(_), NodeKind::Inner(l, r)) => {
+                stack.push((a, r));
+                stack.push((a, l));
+            }
+            (NodeKind::Inner(al, ar), NodeKind::Inner(bl, br)) => {
+                if na.radius >= nb.radius {
+                    stack.push((ar, b));
+                    stack.push((al, b));
+                } else {
+                    stack.push((a, br));
+                    stack.push((a, bl));
+                }
+            }
+        }
+    }
+}
+
+/// All contacts between bodies: sweep-and-prune on the root discs' boxes, then tree against
+/// tree for each overlapping pair that is not two pinned bodies. Deterministic order: pairs
+/// ascending, then tree order.
+pub fn detect_contacts(bodies: &[Body2], out: &mut Vec<Contact2>) {
+    out.clear();
+    let boxes: Vec<Aabb> = bodies
+        .iter()
+        .map(|b| {
+            root_box(b).unwrap_or(Aabb {
+                min: Vector3::repeat(f64::INFINITY),
+                max: Vector3::repeat(f64::NEG_INFINITY),
+            })
+        })
+        .collect();
+    let mut stack = Vec::new();
+    for (i, j) in overlapping_pairs(&boxes) {
+        if bodies[i].pinned && bodies[j].pinned {
+            continue;
+        }
+        tree_contacts(bodies, i, j, &mut stack, out);
+    }
+}
+
+/// The same contacts by testing every boundary block of every body against every boundary block
+/// of every other (non-pinned-pair) body. O(blocks²); the oracle for the trees.
+pub fn brute_force_contacts(bodies: &[Body2]) -> Vec<Contact2> {
+    let mut out = Vec::new();
+    for i in 0..bodies.len() {
+        for j in i + 1..bodies.len() {
+            if bodies[i].pinned && bodies[j].pinned {
+                continue;
+            }
+            for &a in &bodies[i].boundary {
+                for &b in &bodies[j].boundary {
+                    if let Some(c) = block_contact(bodies, i, a, j, b) {
+                        out.push(c);
+                    }
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,19 @@
+//! The 2D system of the second assignment: bodies made of unit blocks from the pixels of an
+//! image, bounding-disc trees for collision, and the same contact problem and PGS solver as 3D
+//! (docs/blocks2d.md; how the two share one solver: docs/one-solver.md).
+//!
+//! - [`image`]: connected components of non-white pixels → bodies;
+//! - [`body`]: a 2D rigid body and its integrator;
+//! - [`mec`], [`disc_tree`]: minimum enclosing circles and bounding-disc trees;
+//! - [`collide`]: block-disc contacts, tree against tree, sweep-and-prune between bodies;
+//! - [`world`]: the step: detect → assemble the shared contact problem → solve → stabilise →
+//!   integrate.
+
+pub mod body;
+pub mod collide;
+pub mod disc_tree;
+pub mod image;
+pub mod mec;
+pub mod scene;
+pub mod trace;
+pub mod world;

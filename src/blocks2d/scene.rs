@@ -1,0 +1,447 @@
+//! 2D scene files: a JSON file naming an image and its parameters. docs/blocks2d.md §"Scene files".
+//!
+//! ```json
+//! {"image": "stack.png",
+//!  "parameters": {"substeps": 4, "iterations": 50, "order": "random"},
+//!  "impulses": [{"time": 20, "body": 0, "impulse": [30, 0]}],
+//!  "shakes": [{"body": 0, "velocity": [3, 0], "angular": 0, "frequency": 1}]}
+//! ```
+//!
+//! `image` is relative to the scene file's folder. Every parameter is optional and defaults as on
+//! the command line; unknown keys are warnings; bad values are errors naming file, line, column.
+
+use super::image::{ImageSettings, load_image};
+use super::world::{ContactModel, Params2, ScriptedImpulse, Shake, World2};
+use crate::common::scene_json::SceneError;
+use crate::common::values::{Count, NonNegative, Positive};
+use crate::solve::ContactOrder;
+use nalgebra::Vector2;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+struct SceneFile2 {
+    image: String,
+    #[serde(default)]
+    parameters: ParametersFile2,
+    #[serde(default)]
+    impulses: Vec<ImpulseFile>,
+    #[serde(default)]
+    shakes: Vec<ShakeFile>,
+}
+
+#[derive(Deserialize, Default)]
+struct ParametersFile2 {
+    step: Option<Positive>,
+    substeps: Option<Count>,
+    gravity: Option<NonNegative>,
+    gravity_angle: Option<f64>,
+    mu: Option<NonNegative>,
+    restitution: Option<NonNegative>,
+    iterations: Option<Count>,
+    pgs_tolerance: Option<Positive>,
+    order: Option<ContactOrder>,
+    seed: Option<u64>,
+    warm_start: Option<bool>,
+    post_stabilization: Option<bool>,
+    slop: Option<NonNegative>,
+    contact_model: Option<ContactModel>,
+    white_threshold: Option<NonNegative>,
+}
+
+#[derive(Deserialize)]
+struct ImpulseFile {
+    time: NonNegative,
+    body: usize,
+    impulse: [f64; 2],
+    point: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+struct ShakeFile {
+    body: usize,
+    velocity: [f64; 2],
+    #[serde(default)]
+    angular: f64,
+    frequency: NonNegative,
+}
+
+/// A loaded 2D scene.
+pub struct Scene2 {
+    /// The image's path.
+    pub image: PathBuf,
+    /// The world, ready to run.
+    pub world: World2,
+    /// Warnings (unknown keys).
+    pub warnings: Vec<String>,
+}
+
+/// Whether a JSON text is a 2D scene (has a top-level `image` key).
+pub fn is_scene2(text: &str) -> bool {
+    match serde_json::from_str::<serde_json::Value>(text) {
+        Ok(v) => v.get("image").is_some(),
+        // Unparsable (e.g. a number out of range): a 2D scene if it names an image, so that the
+        // 2D reader reports what is wrong rather than the 3D one.
+        Err(_) => text.contains("\"image\""),
+    }
+}
+
+/// The 2D parameters a scene file or the command line may set. Each is optional: what is not set
+/// keeps [`Params2::default`]'s value. One check, [`Parameters2::resolve`], serves both sources.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Parameters2 {
+    /// Step size.
+    pub step: Option<f64>,
+    /// Substeps per step.
+    pub substeps: Option<u32>,
+    /// Gravity magnitude, blocks per time².
+    pub gravity: Option<f64>,
+    /// Gravity direction, degrees from +x toward +y.
+    pub gravity_angle: Option<f64>,
+    /// Friction coefficient.
+    pub mu: Option<f64>,
+    /// Coefficient of restitution, in [0, 1].
+    pub restitution: Option<f64>,
+    /// PGS sweeps per solve.
+    pub iterations: Option<u32>,
+    /// Early stop on PGS's residual.
+    pub pgs_tolerance: Option<f64>,
+    /// Contact order in PGS.
+    pub order: Option<ContactOrder>,
+    /// Seed of the random order.
+    pub seed: Option<u64>,
+    /// Warm start.
+    pub warm_start: Option<bool>,
+    /// Post-stabilisation.
+    pub post_stabilization: Option<bool>,
+    /// Penetration left alone by post-stabilisation, blocks.
+    pub slop: Option<f64>,
+    /// PGS or penalty contacts.
+    pub contact_model: Option<ContactModel>,
+    /// Near-white threshold of the image, in [0, 1).
+    pub white_threshold: Option<f64>,
+}
+
+/// A parameter out of its range: the key (as in a scene file) and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// The key, e.g. `white_threshold`.
+    pub key: &'static str,
+    /// What is wrong, e.g. "must be in [0, 1), got 1".
+    pub message: String,
+}
+
+impl Parameters2 {
+    /// The keys that are set.
+    pub fn given(&self) -> Vec<&'static str> {
+        [
+            ("step", self.step.is_some()),
+            ("substeps", self.substeps.is_some()),
+            ("gravity", self.gravity.is_some()),
+            ("gravity_angle", self.gravity_angle.is_some()),
+            ("mu", self.mu.is_some()),
+            ("restitution", self.restitution.is_some()),
+            ("iterations", self.iterations.is_some()),
+            ("pgs_tolerance", self.pgs_tolerance.is_some()),
+            ("order", self.order.is_some()),
+            ("seed", self.seed.is_some()),
+            ("warm_start", self.warm_start.is_some()),
+            ("post_stabilization", self.post_stabilization.is_some()),
+            ("slop", self.slop.is_some()),
+            ("contact_model", self.contact_model.is_some()),
+            ("white_threshold", self.white_threshold.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(key, set)| set.then_some(key))
+        .collect()
+    }
+
+    /// The parameters and image settings, with the defaults filled in, after checking every
+    /// value's range (the one check of 2D parameters, for files and the command line alike).
+    pub fn resolve(&self) -> Result<(Params2, ImageSettings), ParamError> {
+        let d = Params2::default();
+        let p = Params2 {
+            step: self.step.unwrap_or(d.step),
+            substeps: self.substeps.unwrap_or(d.substeps),
+            gravity: self.gravity.unwrap_or(d.gravity),
+            gravity_angle: self.gravity_angle.unwrap_or(d.gravity_angle),
+            mu: self.mu.unwrap_or(d.mu),
+            restitution: self.restitution.unwrap_or(d.restitution),
+            iterations: self.iterations.unwrap_or(d.iterations),
+            tolerance: self.pgs_tolerance,
+            order: self.order.unwrap_or(d.order),
+            seed: self.seed.unwrap_or(d.seed),
+            warm_start: self.warm_start.unwrap_or(d.warm_start),
+            post_stabilization: self.post_stabilization.unwrap_or(d.post_stabilization),
+            slop: self.slop.unwrap_or(d.slop),
+            contact_model: self.contact_model.unwrap_or(d.contact_model),
+            ..d
+        };
+        let white_threshold = self
+            .white_threshold
+            .unwrap_or(ImageSettings::default().white_threshold);
+        let fail = |key, message: String| Err(ParamError { key, message });
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        let non_negative = |x: f64| x.is_finite() && x >= 0.0;
+        if !positive(p.step) {
+            return fail("step", format!("must be a positive number, got {}", p.step));
+        }
+        if p.substeps == 0 {
+            return fail("substeps", "must be at least 1".into());
+        }
+        if p.iterations == 0 {
+            return fail("iterations", "must be at least 1".into());
+        }
+        for (key, x) in [("gravity", p.gravity), ("mu", p.mu), ("restitution", p.restitution), ("slop", p.slop)] {
+            if !non_negative(x) {
+                return fail(key, format!("must be a number ≥ 0, got {x}"));
+            }
+        }
+        if !p.gravity_angle.is_finite() {
+            return fail("gravity_angle", "must be finite".into());
+        }
+        if p.restitution > 1.0 {
+            return fail("restitution", format!("must be in [0, 1], got {}", p.restitution));
+        }
+        if let Some(t) = p.tolerance
+            && !positive(t)
+        {
+            return fail("pgs_tolerance", format!("must be a positive number, got {t}"));
+        }
+        if !(0.0..1.0).contains(&white_threshold) {
+            return fail("white_threshold", format!("must be in [0, 1), got {white_threshold}"));
+        }
+        Ok((p, ImageSettings { white_threshold }))
+    }
+}
+
+impl ParametersFile2 {
+    /// The values read, as plain parameters.
+    fn plain(self) -> Parameters2 {
+        let p = self;
+        Parameters2 {
+            step: p.step.map(|x| x.0),
+            substeps: p.substeps.map(|x| x.0),
+            gravity: p.gravity.map(|x| x.0),
+            gravity_angle: p.gravity_angle,
+            mu: p.mu.map(|x| x.0),
+            restitution: p.restitution.map(|x| x.0),
+            iterations: p.iterations.map(|x| x.0),
+            pgs_tolerance: p.pgs_tolerance.map(|x| x.0),
+            order: p.order,
+            seed: p.seed,
+            warm_start: p.warm_start,
+            post_stabilization: p.post_stabilization,
+            slop: p.slop.map(|x| x.0),
+            contact_model: p.contact_model,
+            white_threshold: p.white_threshold.map(|x| x.0),
+        }
+    }
+}
+
+/// Whether `path` is a 2D scene: a .png image, or a JSON file with an `image` key.
+pub fn is_2d_scene(path: &Path) -> bool {
+    let has = |ext: &str| path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    has("png") || (has("json") && std::fs::read_to_string(path).is_ok_and(|t| is_scene2(&t)))
+}
+
+/// What the command line adds to a 2D scene: parameters (for images only: a scene file sets its
+/// own) and scripted impulses and shakes (likewise).
+#[derive(Clone, Debug, Default)]
+pub struct CommandLine2 {
+    /// Parameters given as options.
+    pub parameters: Parameters2,
+    /// `--impulse` values.
+    pub impulses: Vec<ScriptedImpulse>,
+    /// `--shake` values.
+    pub shakes: Vec<Shake>,
+    /// The option names given (`--step`, `--impulse`, …), for the message that refuses them on a
+    /// scene file.
+    pub given: Vec<String>,
+}
+
+/// A 2D scene ready to run: an image with the command line's parameters, or a scene file with
+/// its own (then giving 2D physics options as well is an error rather than a silent choice
+/// between the two). Warnings are returned, not printed.
+pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
+    let source = path.display().to_string();
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+        if !cli.given.is_empty() {
+            return Err(SceneError(format!(
+                "{source}: a 2D scene file sets its own parameters; {} on the command line apply to .png scenes only",
+                cli.given.join(", ")
+            )));
+        }
+        return load_scene2(path);
+    }
+    let (params, settings) = cli
+        .parameters
+        .resolve()
+        .map_err(|e| SceneError(format!("--{} {}", e.key.replace('_', "-"), e.message)))?;
+    let groups = load_image(path, &settings).map_err(SceneError)?;
+    let mut world = World2::new(&groups, params);
+    let n = world.bodies.len();
+    for i in &cli.impulses {
+        if i.body >= n {
+            return Err(SceneError(format!(
+                "--impulse: body {} does not exist ({n} bodies in {source})",
+                i.body
+            )));
+        }
+    }
+    for s in &cli.shakes {
+        if s.body >= n {
+            return Err(SceneError(format!(
+                "--shake: body {} does not exist ({n} bodies in {source})",
+                s.body
+            )));
+        }
+    }
+    world.impulses.extend(cli.impulses.iter().copied());
+    world.shakes.extend(cli.shakes.iter().copied());
+    Ok(Scene2 {
+        image: path.to_path_buf(),
+        world,
+        warnings: Vec::new(),
+    })
+}
+
+/// Loads a 2D scene file.
+pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError(format!("{source}: cannot read scene: {e}")))?;
+    let mut warnings = Vec::new();
+    let file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;
+    let (params, settings) = file.parameters
+        .plain()
+        .resolve()
+        .map_err(|e| SceneError(format!("{source}: parameters.{} {}", e.key, e.message)))?;
+    let image = path.parent().unwrap_or(Path::new(".")).join(&file.image);
+    let groups = load_image(&image, &settings)
+        .map_err(|e| SceneError(format!("{source}: image: {e}")))?;
+    let mut world = World2::new(&groups, params);
+    let n = world.bodies.len();
+    for (k, i) in file.impulses.iter().enumerate() {
+        if i.body >= n {
+            return Err(SceneError(format!(
+                "{source}: impulses[{k}]: body {} does not exist (the image has {n} bodies, 0 to {})",
+                i.body,
+                n - 1
+            )));
+        }
+        if !i
+            .impulse
+            .iter()
+            .chain(i.point.iter().flatten())
+            .all(|x| x.is_finite())
+        {
+            return Err(SceneError(format!(
+                "{source}: impulses[{k}]: the impulse and point must be finite"
+            )));
+        }
+        world.impulses.push(ScriptedImpulse {
+            time: i.time.0,
+            body: i.body,
+            impulse: Vector2::from(i.impulse),
+            point: i.point.map(Vector2::from),
+        });
+    }
+    for (k, s) in file.shakes.iter().enumerate() {
+        if s.body >= n
+            || !s
+                .velocity
+                .iter()
+                .chain([s.angular].iter())
+                .all(|x| x.is_finite())
+        {
+            return Err(SceneError(format!(
+                "{source}: shakes[{k}]: body {} of {n}, or a non-finite value",
+                s.body
+            )));
+        }
+        world.shakes.push(Shake {
+            body: s.body,
+            velocity: Vector2::from(s.velocity),
+            angular: s.angular,
+            frequency: s.frequency.0,
+        });
+    }
+    Ok(Scene2 {
+        image,
+        world,
+        warnings,
+    })
+}
+
+/// Parses `T:BODY:JX,JY` or `T:BODY:JX,JY:PX,PY`.
+pub fn parse_impulse(text: &str) -> Result<ScriptedImpulse, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let pair = |s: &str| -> Result<Vector2<f64>, String> {
+        let v: Vec<f64> = s
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{s:?}: {e}"))?;
+        match v.as_slice() {
+            [x, y] if x.is_finite() && y.is_finite() => Ok(Vector2::new(*x, *y)),
+            _ => Err(format!("{s:?} is not two finite numbers X,Y")),
+        }
+    };
+    if !(parts.len() == 3 || parts.len() == 4) {
+        return Err(format!(
+            "--impulse {text:?}: expected TIME:BODY:JX,JY[:PX,PY]"
+        ));
+    }
+    let time: f64 = parts[0]
+        .parse()
+        .map_err(|e| format!("--impulse {text:?}: time: {e}"))?;
+    let body: usize = parts[1]
+        .parse()
+        .map_err(|e| format!("--impulse {text:?}: body: {e}"))?;
+    if !(time.is_finite() && time >= 0.0) {
+        return Err(format!("--impulse {text:?}: time must be ≥ 0"));
+    }
+    Ok(ScriptedImpulse {
+        time,
+        body,
+        impulse: pair(parts[2]).map_err(|e| format!("--impulse {text:?}: impulse {e}"))?,
+        point: if parts.len() == 4 {
+            Some(pair(parts[3]).map_err(|e| format!("--impulse {text:?}: point {e}"))?)
+        } else {
+            None
+        },
+    })
+}
+
+/// Parses `BODY:VX,VY:OMEGA:FREQ`.
+pub fn parse_shake(text: &str) -> Result<Shake, String> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let bad = || format!("--shake {text:?}: expected BODY:VX,VY:OMEGA:FREQ");
+    if parts.len() != 4 {
+        return Err(bad());
+    }
+    let body: usize = parts[0].parse().map_err(|_| bad())?;
+    let v: Vec<f64> = parts[1]
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let angular: f64 = parts[2].parse().map_err(|_| bad())?;
+    let frequency: f64 = parts[3].parse().map_err(|_| bad())?;
+    if v.len() != 2
+        || !v
+            .iter()
+            .chain([angular, frequency].iter())
+            .all(|x| x.is_finite())
+        || frequency < 0.0
+    {
+        return Err(bad());
+    }
+    Ok(Shake {
+        body,
+        velocity: Vector2::new(v[0], v[1]),
+        angular,
+        frequency,
+    })
+}

@@ -1,0 +1,178 @@
+//! The 2D trace: the same JSON Lines format as 3D (docs/trace-format.md §"2D traces") with
+//! `"dimension": 2` in the header and 2D states in the records.
+
+use super::world::World2;
+use serde::{Deserialize, Serialize};
+
+/// First line.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceHeader2 {
+    /// `rigidref-trace`.
+    pub format: String,
+    /// 1.
+    pub version: u32,
+    /// 2.
+    pub dimension: u32,
+    /// Scene name (the image's file stem).
+    pub scene: String,
+    /// Where it came from.
+    pub source: String,
+    /// Step size.
+    pub dt: f64,
+    /// Substeps per step.
+    pub substeps: u32,
+    /// Gravity vector, blocks/time², image frame (y down).
+    pub gravity: [f64; 2],
+    /// Bodies in order.
+    pub bodies: Vec<BodyInfo2>,
+}
+
+/// A body in the header.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BodyInfo2 {
+    /// `body{index}`.
+    pub name: String,
+    /// Mass (0 blocks never; pinned bodies report their block mass).
+    pub mass: f64,
+    /// Pinned (infinite mass).
+    pub pinned: bool,
+    /// Number of blocks.
+    pub blocks: usize,
+}
+
+/// One recorded step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Record2 {
+    /// Step number.
+    pub step: u64,
+    /// Time.
+    pub t: f64,
+    /// Body states.
+    pub bodies: Vec<State2>,
+    /// Energies of the non-pinned bodies.
+    pub energy: Energy2,
+    /// Momenta of the non-pinned bodies.
+    pub momentum: Momentum2,
+    /// The last substep's contacts.
+    pub contacts: Vec<Contact2Record>,
+}
+
+/// A body's state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct State2 {
+    /// Centre of mass.
+    pub x: [f64; 2],
+    /// Angle, rad, +x toward +y.
+    pub theta: f64,
+    /// Velocity.
+    pub v: [f64; 2],
+    /// Angular velocity.
+    pub omega: f64,
+}
+
+/// Energies.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Energy2 {
+    /// ½ m v² + ½ I ω².
+    pub kinetic: f64,
+    /// −m g·x.
+    pub potential: f64,
+    /// Sum.
+    pub total: f64,
+}
+
+/// Momenta.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Momentum2 {
+    /// Σ m v.
+    pub linear: [f64; 2],
+    /// Σ (x × m v + I ω) about the origin.
+    pub angular: f64,
+}
+
+/// A contact.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Contact2Record {
+    /// [body 1, body 2].
+    pub bodies: [i64; 2],
+    /// Point.
+    pub p: [f64; 2],
+    /// Normal, from body 2 into body 1.
+    pub n: [f64; 2],
+    /// Penetration.
+    pub depth: f64,
+    /// (λn, λt) impulses.
+    pub lambda: [f64; 2],
+}
+
+impl TraceHeader2 {
+    /// The header of a world.
+    pub fn for_world(world: &World2, scene: &str, source: &str) -> TraceHeader2 {
+        let g = world.params.gravity_vector();
+        TraceHeader2 {
+            format: crate::rigid3d::trace::FORMAT_NAME.into(),
+            version: crate::rigid3d::trace::FORMAT_VERSION,
+            dimension: 2,
+            scene: scene.into(),
+            source: source.into(),
+            dt: world.params.step,
+            substeps: world.params.substeps,
+            gravity: [g.x, g.y],
+            bodies: world
+                .bodies
+                .iter()
+                .enumerate()
+                .map(|(i, b)| BodyInfo2 {
+                    name: format!("body{i}"),
+                    mass: b.mass,
+                    pinned: b.pinned,
+                    blocks: b.blocks.len(),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Record2 {
+    /// The world's current state.
+    pub fn of_world(world: &World2) -> Record2 {
+        // λ of the last substep, where it solved a contact problem (zeros otherwise).
+        let last_substep = world.params.substeps - 1;
+        let lambda = world
+            .solves
+            .last()
+            .filter(|s| s.substep == last_substep)
+            .map_or(&[][..], |s| &s.lambda[..]);
+        Record2 {
+            step: world.step,
+            t: world.time(),
+            bodies: world
+                .bodies
+                .iter()
+                .map(|b| State2 {
+                    x: [b.x.x, b.x.y],
+                    theta: b.theta,
+                    v: [b.v.x, b.v.y],
+                    omega: b.omega,
+                })
+                .collect(),
+            energy: world.energy(),
+            momentum: world.momentum(),
+            contacts: world
+                .contacts
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    let l = lambda.get(k).map_or([0.0, 0.0], |l| [l[0], l[1]]);
+                    Contact2Record {
+                        bodies: [c.body1 as i64, c.body2 as i64],
+                        p: [c.point.x, c.point.y],
+                        n: [c.normal.x, c.normal.y],
+                        depth: c.depth,
+                        lambda: l,
+                    }
+                })
+                .collect(),
+        }
+    }
+}

@@ -1,0 +1,179 @@
+//! `rigidref run SCENE.json` for a 3D scene: the trace, the problem dumps and the summary.
+
+use super::run::RunArgs;
+use super::{Progress, Stopped};
+use anyhow::Context;
+use rigidref::rigid3d::diagnostics::{Energy, Momentum};
+use rigidref::rigid3d::scene::DEFAULT_SCENE_NAME;
+use rigidref::rigid3d::trace::{TraceHeader, TraceRecord, TraceWriter};
+use rigidref::rigid3d::world::World;
+use rigidref::sim::{Flow, SolveTotals, drive, is_recorded};
+
+/// Runs a 3D scene. A run that fails midway keeps the trace written so far, flushed and valid.
+pub fn run(args: &RunArgs) -> anyhow::Result<()> {
+    let mut scene = super::load_scene_or_default(args.scene.as_deref())?;
+    if args.no_collisions {
+        scene.params.check_collisions = false;
+    }
+    let steps = args.length.steps(scene.params.dt, " of seconds")?;
+    args.output.prepare()?;
+    let (format, out_path) = (args.output.format(), args.output.path());
+    let out = super::create_trace_output(&out_path)?;
+    let source = if args.scene.is_some() {
+        scene.source.clone()
+    } else {
+        DEFAULT_SCENE_NAME.to_string()
+    };
+
+    let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+    let header = TraceHeader::for_world(&world, &source);
+    let mut writer = TraceWriter::new(out, format, &header)
+        .with_context(|| format!("{}: cannot write", out_path.display()))?;
+    let write_err =
+        |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
+    writer.write(&TraceRecord::of_world(&world)).map_err(write_err)?;
+    let (mut records, mut last_recorded) = (1u64, 0u64);
+    let start = (world.energy(), world.momentum());
+    let mut progress = Progress::steps(steps, args.quiet);
+    let mut stats = ContactStats::default();
+    let mut stopped_at_contact = None;
+
+    let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
+        stats.add(w);
+        if let Some(dir) = &args.output.dump_problems {
+            for solve in &w.solves {
+                super::dump_problem(dir, &w.params.name, k, w.params.h(), solve)?;
+            }
+        }
+        let stop_here = w.params.stop_on_contact && !w.solves.is_empty();
+        if is_recorded(k, steps, args.output.every) || stop_here {
+            writer.write(&TraceRecord::of_world(w)).map_err(write_err)?;
+            records += 1;
+            last_recorded = k;
+        }
+        progress.tick(k);
+        if stop_here {
+            stopped_at_contact = Some(k);
+            return Ok(Flow::Stop);
+        }
+        Ok(Flow::Continue)
+    });
+    writer.flush().map_err(write_err)?;
+    progress.finish();
+    Stopped::outcome(ran, |failure| {
+        format!(
+            "{}: the run stopped: {failure}; the trace up to step {last_recorded} is in {}",
+            scene.source,
+            out_path.display()
+        )
+    })?;
+    let wall = progress.elapsed();
+    if !args.quiet {
+        eprintln!("scene          {} ({source})", world.params.name);
+        print_summary(&world, steps, wall, start, &stats);
+        eprintln!("trace          {} ({records} records, {format:?})", out_path.display());
+    }
+    if let Some(k) = stopped_at_contact {
+        let n = world.solves.last().map_or(0, |s| s.contacts.len());
+        eprintln!(
+            "stop_on_contact: stopped at the first frame with contacts, step {k} (t = {} s), {n} contacts; inspect them with `rigidref contacts {}`",
+            world.time(),
+            args.scene.as_ref().map_or(String::new(), |p| p.display().to_string())
+        );
+    }
+    Ok(())
+}
+
+/// The summary's physics lines: steps, wall time, energy and momentum drift, contacts.
+fn print_summary(
+    world: &World,
+    steps: u64,
+    wall: f64,
+    (start_energy, start_momentum): (Energy, Momentum),
+    c: &ContactStats,
+) {
+    let (end_energy, end_momentum) = (world.energy(), world.momentum());
+    let total_mass: f64 = world.bodies.iter().map(|b| b.mass).sum();
+    // Gravity's impulse over the run is exactly M g t; what is left is drift.
+    let momentum_drift = (end_momentum.linear
+        - start_momentum.linear
+        - world.params.gravity * (total_mass * world.time()))
+    .norm();
+    // Uniform gravity exerts no torque about the system's centre of mass.
+    let angular_drift = (end_momentum.angular_com - start_momentum.angular_com).norm();
+    let de = end_energy.total - start_energy.total;
+    let relative = |d: f64, scale: f64| {
+        if scale > 0.0 {
+            format!(" ({:+.3e} relative)", d / scale)
+        } else {
+            String::new()
+        }
+    };
+    let p = &world.params;
+    eprintln!("bodies         {}", world.bodies.len());
+    eprintln!(
+        "steps          {steps} × {} substeps, h = {} s, t = {} s, integrator {}",
+        p.substeps,
+        p.h(),
+        world.time(),
+        p.integrator.name()
+    );
+    eprintln!("wall time      {wall:.3} s ({:.0} steps/s)", steps as f64 / wall.max(1e-9));
+    eprintln!(
+        "energy         {:.6e} J → {:.6e} J, drift {de:+.3e} J{}",
+        start_energy.total,
+        end_energy.total,
+        relative(de, start_energy.total.abs())
+    );
+    eprintln!(
+        "momentum drift |Δp − M g t| = {momentum_drift:.3e} kg·m/s, |ΔL_com| = {angular_drift:.3e} kg·m²/s{}",
+        relative(angular_drift, start_momentum.angular_com.norm())
+    );
+    if !p.check_collisions {
+        return;
+    }
+    if c.solves > 0 {
+        eprintln!(
+            "contacts       {} solves in {} frames, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} m/s, deepest penetration {:.3e} m",
+            c.solves,
+            c.frames,
+            c.totals.most_contacts,
+            c.totals.sweeps as f64 / c.solves as f64,
+            c.totals.worst_residual,
+            c.max_depth
+        );
+    } else {
+        eprintln!("contacts       none");
+    }
+}
+
+/// Contact figures for the summary, over the whole run.
+#[derive(Default)]
+struct ContactStats {
+    /// Frames with contacts.
+    frames: u64,
+    /// Contact solves.
+    solves: u64,
+    /// The solves' totals: the most contacts, sweeps and the worst residual.
+    totals: SolveTotals,
+    /// The deepest penetration of a contact found, m.
+    max_depth: f64,
+}
+
+impl ContactStats {
+    fn add(&mut self, world: &World) {
+        if !world.solves.is_empty() {
+            self.frames += 1;
+        }
+        self.solves += world.solves.len() as u64;
+        let t = SolveTotals::of(&world.solves);
+        self.totals.most_contacts = self.totals.most_contacts.max(t.most_contacts);
+        self.totals.sweeps += t.sweeps;
+        self.totals.worst_residual = self.totals.worst_residual.max(t.worst_residual);
+        for s in &world.solves {
+            for c in &s.contacts {
+                self.max_depth = self.max_depth.max(c.depth);
+            }
+        }
+    }
+}

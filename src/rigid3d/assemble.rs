@@ -1,0 +1,77 @@
+//! Assembling the 3D contact problem from the contacts that collision detection found.
+//! docs/contact.md §"Contact Jacobian", §"The right-hand side b", §"Stabilisation".
+
+use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::collide::Contact;
+use crate::rigid3d::contact::{generalized_velocity, inverse_mass_matrix, jacobian_block};
+use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
+use crate::rigid3d::warm_start::WarmStart;
+use nalgebra::SMatrix;
+
+/// The scene parameters that shape the problem.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProblemSettings {
+    /// Integration step h, s.
+    pub h: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Friction model.
+    pub friction: FrictionModel,
+    /// Compliance c on each normal row, kg⁻¹.
+    pub compliance: f64,
+    /// Baumgarte factor β ∈ [0, 1]: the fraction of the penetration beyond the slop removed per
+    /// step.
+    pub stabilization: f64,
+    /// Penetration left alone by stabilisation, m.
+    pub slop: f64,
+}
+
+/// The contact problem of the current substep: every body (its world M⁻¹ and velocity after the
+/// velocity step), and per contact J₁ = [dᵀ (r₁×d)ᵀ] and J₂ = −[dᵀ (r₂×d)ᵀ] for d = n, t1, t2,
+/// rᵢ = p − xᵢ, b = J₁u₁ + J₂u₂ − (β/h) max(depth − slop, 0) e_n, and λ₀ from `warm`.
+pub fn assemble_problem(
+    bodies: &[RigidBody],
+    contacts: &[Contact],
+    settings: &ProblemSettings,
+    warm: &WarmStart,
+) -> ContactProblem3 {
+    let problem_bodies: Vec<ProblemBody<6>> = bodies
+        .iter()
+        .map(|b| ProblemBody {
+            inverse_mass: inverse_mass_matrix(b),
+            velocity: generalized_velocity(b),
+        })
+        .collect();
+    let problem_contacts = contacts
+        .iter()
+        .map(|c| {
+            let body1 = &bodies[c.body1];
+            let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
+            if crate::verify::fault!(jacobian_sign_flip) {
+                j1.column_mut(3).neg_mut();
+            }
+            let j2 = match c.body2 {
+                Some(b) => -jacobian_block(&c.frame, &(c.point - bodies[b].x)),
+                None => SMatrix::zeros(),
+            };
+            let mut b = j1 * problem_bodies[c.body1].velocity;
+            if let Some(body2) = c.body2 {
+                b += j2 * problem_bodies[body2].velocity;
+            }
+            b[0] -= settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
+            ProblemContact {
+                bodies: [Some(c.body1), c.body2],
+                jacobian: [j1, j2],
+                b,
+                mu: settings.mu,
+                compliance: settings.compliance,
+                lambda0: warm.initial_impulse(c),
+            }
+        })
+        .collect();
+    ContactProblem3 {
+        friction: settings.friction,
+        bodies: problem_bodies,
+        contacts: problem_contacts,
+    }
+}

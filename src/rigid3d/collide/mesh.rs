@@ -1,0 +1,128 @@
+//! Mesh–mesh contacts: the vertices of one body against the signed distance of the other, through
+//! parry3d's bounding-volume hierarchy. docs/contact.md §"Mesh contacts".
+
+use super::Contact;
+use crate::common::broad::Aabb;
+use super::closest_point::SignedDistance;
+use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::mesh::TriMesh;
+use nalgebra::Vector3;
+use parry3d_f64::math::Vector as PVector;
+use parry3d_f64::query::PointQueryWithLocation;
+use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+
+/// A vertex closer to the surface than this fraction of the mesh's bounding radius is on the
+/// surface, not inside: its closest feature (and so its normal) is decided by round-off, e.g. a
+/// vertex lying in the plane of a face it does not touch. Such a vertex is not a contact.
+pub const SURFACE_TOLERANCE: f64 = 1e-9;
+
+/// A body's mesh prepared for queries: parry's triangle mesh with its BVH and pseudo-normals
+/// (for a reliable inside test), in the body frame.
+#[derive(Clone)]
+pub struct MeshCollider {
+    shape: ParryTriMesh,
+    local_box: Aabb,
+    radius: f64,
+    mesh: std::sync::Arc<TriMesh>,
+}
+
+impl std::fmt::Debug for MeshCollider {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MeshCollider")
+            .field("vertices", &self.mesh.vertices.len())
+            .field("triangles", &self.mesh.triangles.len())
+            .finish()
+    }
+}
+
+fn to_parry(v: &Vector3<f64>) -> PVector {
+    PVector::new(v.x, v.y, v.z)
+}
+
+fn from_parry(v: PVector) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+impl MeshCollider {
+    /// Prepares `mesh` (body frame, closed and outward-oriented, as scene loading checks).
+    /// Fails only for a mesh parry cannot build (no triangles, or a topology it rejects).
+    pub fn new(mesh: std::sync::Arc<TriMesh>) -> Result<MeshCollider, String> {
+        let vertices = mesh.vertices.iter().map(to_parry).collect();
+        let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
+        let shape = ParryTriMesh::with_flags(vertices, indices, TriMeshFlags::ORIENTED)
+            .map_err(|e| format!("cannot build the collision mesh: {e:?}"))?;
+        let local_box = Aabb::around(mesh.vertices.iter().copied());
+        Ok(MeshCollider {
+            shape,
+            local_box,
+            radius: mesh.bounding_radius(),
+            mesh,
+        })
+    }
+
+    /// The body's world bounding box (of its transformed vertices).
+    pub fn world_aabb(&self, body: &RigidBody) -> Aabb {
+        Aabb::around(
+            self.mesh
+                .vertices
+                .iter()
+                .map(|v| body.x + body.rotation * v),
+        )
+    }
+
+    /// Signed distance from `p` (body frame) to the surface, through the BVH. Same meaning as
+    /// [`super::closest_point::brute_force_signed_distance`].
+    pub fn signed_distance(&self, p: &Vector3<f64>) -> SignedDistance {
+        let (projection, (triangle, _)) = self
+            .shape
+            .project_local_point_and_get_location(to_parry(p), false);
+        SignedDistance::new(
+            &self.mesh,
+            p,
+            from_parry(projection.point),
+            projection.is_inside,
+            triangle as usize,
+        )
+    }
+
+    /// Whether a body-frame point is inside this mesh's bounding box (a cheap first test).
+    pub fn may_contain(&self, p: &Vector3<f64>) -> bool {
+        self.local_box.contains(p)
+    }
+}
+
+/// Appends a contact for every vertex of body `i` inside body `j` by more than
+/// [`SURFACE_TOLERANCE`] of j's bounding radius: point the vertex,
+/// depth its distance to j's surface, normal the outward direction of j's surface there
+/// (rotated to the world frame). Body i is body 1, body j is body 2.
+pub fn vertex_contacts(
+    i: usize,
+    body_i: &RigidBody,
+    j: usize,
+    body_j: &RigidBody,
+    collider_j: &MeshCollider,
+    out: &mut Vec<Contact>,
+) {
+    for (vertex, local) in body_i.mesh.vertices.iter().enumerate() {
+        let point = body_i.x + body_i.rotation * local;
+        let in_j = body_j.rotation.transpose() * (point - body_j.x);
+        if !collider_j.may_contain(&in_j) {
+            continue;
+        }
+        let sd = collider_j.signed_distance(&in_j);
+        if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
+            && sd.normal.iter().all(|x| x.is_finite())
+        {
+            let normal = (body_j.rotation * sd.normal).normalize();
+            out.push(Contact {
+                body1: i,
+                body2: Some(j),
+                vertex,
+                point,
+                frame: ContactFrame::from_normal(&normal),
+                depth: -sd.distance,
+            });
+        }
+    }
+}

@@ -1,0 +1,41 @@
+//! The scene `rigidref run` uses when given none: the project's own Dzhanibekov scene, compiled
+//! into the binary from scenes/ so that a fresh clone runs without any files.
+
+use super::{BodyFileTexts, BodyFiles, Scene, SceneError};
+
+/// The name shown for the embedded scene.
+pub const DEFAULT_SCENE_NAME: &str = "scenes/dzhanibekov.json";
+
+const SCENE: &str = include_str!("../../../scenes/dzhanibekov.json");
+/// (file_root, body JSON, OBJ) of every body file the embedded scene may name.
+const BODY_FILES: &[(&str, &str, &str)] = &[(
+    "data/slab",
+    include_str!("../../../scenes/data/slab.json"),
+    include_str!("../../../scenes/data/slab.obj"),
+)];
+
+struct Embedded;
+
+impl BodyFiles for Embedded {
+    fn find(&self, file_root: &str) -> Result<BodyFileTexts, SceneError> {
+        BODY_FILES
+            .iter()
+            .find(|(root, _, _)| *root == file_root)
+            .map(|(root, json, obj)| BodyFileTexts {
+                json: (json.to_string(), format!("<embedded>/scenes/{root}.json")),
+                obj: (obj.to_string(), format!("<embedded>/scenes/{root}.obj")),
+            })
+            .ok_or_else(|| SceneError(format!("{file_root}: not among the embedded body files")))
+    }
+}
+
+/// The embedded default scene.
+/// (It cannot fail in a released binary: tests/cli.rs runs it.)
+pub fn default_scene() -> Result<Scene, SceneError> {
+    super::parse_scene(
+        SCENE,
+        &format!("<embedded>/{DEFAULT_SCENE_NAME}"),
+        "dzhanibekov",
+        &Embedded,
+    )
+}

@@ -1,0 +1,346 @@
+//! Reading scenes: the 3D assignment's scene JSON, its body JSON (`mass`, `J`) and OBJ meshes,
+//! read as they are. All validation of input happens here; a [`Scene`] that loads is physically
+//! meaningful. The format, the defaults and the keys this project adds: docs/scene-format.md.
+
+mod embedded;
+pub(crate) mod json;
+
+pub use embedded::{DEFAULT_SCENE_NAME, default_scene};
+
+use crate::rigid3d::body::AngularIntegrator;
+use crate::rigid3d::mesh::TriMesh;
+use crate::problem::FrictionModel;
+use crate::solve::ContactOrder;
+use nalgebra::{Matrix3, Vector3};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Simulation parameters: the first entry of the scene's `sim_parameters`, with the starter's
+/// defaults for missing keys.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimParameters {
+    /// Scene name (`name`; default: the file's stem).
+    pub name: String,
+    /// Frame step `dt`, s (default 0.01). One trace step is one frame.
+    pub dt: f64,
+    /// `gravity`, m/s² (default zero).
+    pub gravity: Vector3<f64>,
+    /// Friction coefficient `mu` (default 0).
+    pub mu: f64,
+    /// `substeps` per frame (default 1); the integration step is h = dt / substeps.
+    pub substeps: u32,
+    /// `check_collisions` (default true).
+    pub check_collisions: bool,
+    /// `stop_on_contact` (default false).
+    pub stop_on_contact: bool,
+    /// `pgs_iterations` (default 100, the assignment's).
+    pub pgs_iterations: u32,
+    /// `integrator` (this project's key; default `spatial`).
+    pub integrator: AngularIntegrator,
+    /// `friction_model`: `box` (default, the assignment's) or `cone`.
+    pub friction_model: FrictionModel,
+    /// `compliance` c ≥ 0 on each contact's normal row, kg⁻¹ (default 0: rigid contacts).
+    pub compliance: f64,
+    /// `stabilization`: Baumgarte factor β ∈ [0, 1], the fraction of the penetration beyond the
+    /// slop pushed out per step (default [`DEFAULT_STABILIZATION`]).
+    pub stabilization: f64,
+    /// `stabilization_slop`: penetration left alone by stabilisation, m (default
+    /// [`DEFAULT_SLOP`]).
+    pub stabilization_slop: f64,
+    /// `warm_start`: start each solve from the previous substep's impulses (default true).
+    pub warm_start: bool,
+    /// `pgs_tolerance`: stop PGS once its residual is at or below this, m/s (default none: run
+    /// all `pgs_iterations`).
+    pub pgs_tolerance: Option<f64>,
+    /// `pgs_order`: `sequential` (default) or `random` (a fresh seeded permutation per sweep).
+    pub pgs_order: ContactOrder,
+    /// `pgs_seed`: seed of the random contact order (default 0).
+    pub pgs_seed: u64,
+}
+
+/// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough
+/// to undo a landing's penetration in a few tenths of a second, slow enough not to launch bodies.
+pub const DEFAULT_STABILIZATION: f64 = 0.2;
+/// Default stabilisation slop, m: penetration this small is left alone, so resting contacts do
+/// not jitter (a few millimetres against bodies of a metre).
+pub const DEFAULT_SLOP: f64 = 0.005;
+
+impl SimParameters {
+    /// The integration step h = dt / substeps, s.
+    pub fn h(&self) -> f64 {
+        self.dt / self.substeps as f64
+    }
+}
+
+/// One body as the scene describes it, with its body file and mesh loaded and checked.
+#[derive(Clone, Debug)]
+pub struct BodyDescription {
+    /// `name`.
+    pub name: String,
+    /// Where the body file came from (a path, or `<embedded>/…`).
+    pub source: String,
+    /// Mass from the body file, kg.
+    pub mass: f64,
+    /// Inertia about the centre of mass in the body frame, from the body file, kg·m².
+    pub inertia: Matrix3<f64>,
+    /// The mesh, centre of mass at its origin, m.
+    pub mesh: Arc<TriMesh>,
+    /// `x0`, m.
+    pub x0: Vector3<f64>,
+    /// `R0` (default identity), projected to an exact rotation.
+    pub r0: Matrix3<f64>,
+    /// `v0`, m/s (default zero).
+    pub v0: Vector3<f64>,
+    /// `omega0`, rad/s, world frame (default zero).
+    pub omega0: Vector3<f64>,
+}
+
+/// A loaded scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Where the scene came from (a path, or `<embedded>/…`).
+    pub source: String,
+    /// The simulation parameters.
+    pub params: SimParameters,
+    /// The bodies in file order; a body's index is its place here.
+    pub bodies: Vec<BodyDescription>,
+    /// Things the user should know that do not stop the run (unknown keys, mesh oddities).
+    pub warnings: Vec<String>,
+}
+
+pub use crate::common::scene_json::SceneError;
+
+/// The text of a body's two files, found by [`BodyFiles`] from its `file_root`.
+pub struct BodyFileTexts {
+    /// Body JSON text and where it came from.
+    pub json: (String, String),
+    /// OBJ text and where it came from.
+    pub obj: (String, String),
+}
+
+/// Finds a body's files from its `file_root`.
+pub trait BodyFiles {
+    /// The texts of `ROOT.json` and `ROOT.obj`, or an error naming what was tried.
+    fn find(&self, file_root: &str) -> Result<BodyFileTexts, SceneError>;
+}
+
+/// Body files on disk: `file_root` is tried relative to the assignment root (the parent of the
+/// scene's folder), then the scene's folder, then the working directory.
+pub struct DiskBodyFiles {
+    /// Folders tried in order.
+    pub search: Vec<PathBuf>,
+}
+
+impl DiskBodyFiles {
+    /// The search order for a scene at `scene_path`.
+    pub fn for_scene(scene_path: &Path) -> DiskBodyFiles {
+        let scene_dir = scene_path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let scene_dir = if scene_dir.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            scene_dir
+        };
+        let mut search = Vec::new();
+        if let Some(root) = scene_dir
+            .join("..")
+            .canonicalize()
+            .ok()
+            .or_else(|| scene_dir.parent().map(Path::to_path_buf))
+        {
+            search.push(root);
+        }
+        search.push(scene_dir);
+        search.push(PathBuf::from("."));
+        DiskBodyFiles { search }
+    }
+}
+
+impl BodyFiles for DiskBodyFiles {
+    fn find(&self, file_root: &str) -> Result<BodyFileTexts, SceneError> {
+        let mut tried = Vec::new();
+        for dir in &self.search {
+            let json = dir.join(format!("{file_root}.json"));
+            tried.push(json.display().to_string());
+            if json.is_file() {
+                let obj = dir.join(format!("{file_root}.obj"));
+                let read = |p: &Path| {
+                    std::fs::read_to_string(p)
+                        .map_err(|e| SceneError(format!("{}: cannot read: {e}", p.display())))
+                };
+                if !obj.is_file() {
+                    return Err(SceneError(format!(
+                        "{}: mesh file not found (body file is {})",
+                        obj.display(),
+                        json.display()
+                    )));
+                }
+                return Ok(BodyFileTexts {
+                    json: (read(&json)?, json.display().to_string()),
+                    obj: (read(&obj)?, obj.display().to_string()),
+                });
+            }
+        }
+        Err(SceneError(format!(
+            "body file {file_root}.json not found; tried {}",
+            tried.join(", ")
+        )))
+    }
+}
+
+/// Loads a scene file from disk. Errors are one line and name the file (and for JSON syntax or
+/// value errors the line and column).
+pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| SceneError(format!("{}: cannot read scene: {e}", path.display())))?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_scene(
+        &text,
+        &path.display().to_string(),
+        &stem,
+        &DiskBodyFiles::for_scene(path),
+    )
+}
+
+/// Parses scene text. `source` names it in messages, `default_name` is used when it has no
+/// `name`, and `files` finds the body files.
+pub fn parse_scene(
+    text: &str,
+    source: &str,
+    default_name: &str,
+    files: &dyn BodyFiles,
+) -> Result<Scene, SceneError> {
+    let mut warnings = Vec::new();
+    let file: json::SceneJson = crate::common::scene_json::from_str(text, source, &mut warnings)?;
+    let params = file.sim_parameters.first().ok_or_else(|| {
+        SceneError(format!(
+            "{source}: sim_parameters is empty; it needs one entry"
+        ))
+    })?;
+    if file.sim_parameters.len() > 1 {
+        warnings.push(format!(
+            "{source}: {} sim_parameters entries; only the first is used, as in the starter code",
+            file.sim_parameters.len()
+        ));
+    }
+    let params = params.resolve(default_name);
+    if file.bodies.is_empty() {
+        return Err(SceneError(format!("{source}: the scene has no bodies")));
+    }
+    let mut bodies = Vec::with_capacity(file.bodies.len());
+    for (index, body) in file.bodies.iter().enumerate() {
+        let texts = files.find(&body.file_root).map_err(|e| {
+            SceneError(format!("{source}: body {index} ({:?}): {}", body.name, e.0))
+        })?;
+        let (mass, inertia) =
+            json::parse_body_file(&texts.json.0, &texts.json.1, &body.file_root, &mut warnings)?;
+        let mesh = load_body_mesh(&texts.obj.0, &texts.obj.1, &mut warnings)?;
+        let r0 = match body.r0 {
+            None => Matrix3::identity(),
+            Some(o) if o.proper => o.matrix,
+            Some(o) => {
+                let what = format!(
+                    "{source}: body {index} ({:?}): R0 has determinant −1 (a reflection)",
+                    body.name
+                );
+                let mirror = mirror_symmetry(&mesh, &inertia).ok_or_else(|| {
+                    SceneError(format!("{what}, and the body is not mirror-symmetric, so no rotation places it as given"))
+                })?;
+                let rotation = crate::rigid3d::rotation::nearest_rotation(&(o.matrix * mirror));
+                warnings.push(format!(
+                    "{what}; the body is symmetric under the body-frame reflection diag({}, {}, {}), so the rotation R0·S places the same shape with the same inertia and is used instead",
+                    mirror[(0, 0)], mirror[(1, 1)], mirror[(2, 2)]
+                ));
+                rotation
+            }
+        };
+        bodies.push(BodyDescription {
+            name: body.name.clone(),
+            source: texts.json.1.clone(),
+            mass,
+            inertia,
+            mesh: Arc::new(mesh),
+            x0: body.x0.0,
+            r0,
+            v0: body.v0.map_or(Vector3::zeros(), |v| v.0),
+            omega0: body.omega0.map_or(Vector3::zeros(), |v| v.0),
+        });
+    }
+    Ok(Scene {
+        source: source.to_string(),
+        params,
+        bodies,
+        warnings,
+    })
+}
+
+/// A body-frame coordinate reflection S (diag with one −1) that maps the mesh onto itself and
+/// leaves the inertia unchanged (S J S = J, to 1e-6 of the largest entry), if there is one.
+/// Vertices must map to vertices within 1e-5 of the mesh's radius (the assignment's sphere is
+/// symmetric to 2.9e-6 of its radius: its coordinates were rounded to six digits), and either
+/// triangles to triangles or the mesh be convex (a convex solid is the hull of its vertices, so
+/// a different triangulation of a flat face, as in the assignment's brick, is the same solid).
+/// docs/scene-format.md §"R0 and reflections".
+pub fn mirror_symmetry(mesh: &TriMesh, inertia: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    let tolerance = 1e-5 * mesh.bounding_radius();
+    let mut triangles: Vec<[usize; 3]> = mesh.triangles.iter().map(|t| sorted(*t)).collect();
+    triangles.sort_unstable();
+    (0..3).find_map(|axis| {
+        let mut diagonal = Vector3::repeat(1.0);
+        diagonal[axis] = -1.0;
+        let s = Matrix3::from_diagonal(&diagonal);
+        if (s * inertia * s - inertia).amax() > 1e-6 * inertia.amax() {
+            return None;
+        }
+        // Where each vertex goes under S.
+        let image: Option<Vec<usize>> = mesh
+            .vertices
+            .iter()
+            .map(|v| {
+                let target = s * v;
+                mesh.vertices
+                    .iter()
+                    .position(|w| (w - target).norm() <= tolerance)
+            })
+            .collect();
+        let image = image?;
+        let mut mapped: Vec<[usize; 3]> = mesh
+            .triangles
+            .iter()
+            .map(|t| sorted(t.map(|i| image[i])))
+            .collect();
+        mapped.sort_unstable();
+        (mapped == triangles || mesh.is_convex(tolerance)).then_some(s)
+    })
+}
+
+fn sorted(mut t: [usize; 3]) -> [usize; 3] {
+    t.sort_unstable();
+    t
+}
+
+/// Reads and checks a body mesh: it must bound a solid, and its centre of mass should be at its
+/// origin (the body frame's origin is taken to be the centre of mass, as in the assignment).
+fn load_body_mesh(
+    text: &str,
+    source: &str,
+    warnings: &mut Vec<String>,
+) -> Result<TriMesh, SceneError> {
+    let mesh = TriMesh::parse_obj(text, source).map_err(|e| SceneError(e.0))?;
+    warnings.extend(mesh.check_solid(source).map_err(|e| SceneError(e.0))?);
+    let com = crate::rigid3d::massprops::mass_properties(&mesh, 1.0).center_of_mass;
+    // 1e-3 of the body's size: far above the round-off of a mesh written with 15 digits, far
+    // below an offset that would visibly change contact or rotation.
+    if com.norm() > 1e-3 * mesh.bounding_radius() {
+        warnings.push(format!(
+            "{source}: the mesh's centre of mass is at ({:.4}, {:.4}, {:.4}), not at its origin; the body rotates about the origin (make a centred mesh with `rigidref massprops`)",
+            com.x, com.y, com.z
+        ));
+    }
+    Ok(mesh)
+}

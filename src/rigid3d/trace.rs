@@ -1,0 +1,323 @@
+//! The trace: the contract between a run and every tool that reads it (comparison, plots,
+//! snapshots, grading). JSON Lines, or a flat CSV with the same per-step quantities.
+//! The format is defined in docs/trace-format.md; the structs below are its single definition in
+//! code, used by both the writer and the reader.
+
+use crate::rigid3d::diagnostics::Energy;
+use crate::rigid3d::world::World;
+use serde::{Deserialize, Serialize};
+use std::io::{BufRead, BufWriter, Write};
+
+/// Value of the header's `format` key.
+pub const FORMAT_NAME: &str = "rigidref-trace";
+/// Value of the header's `version` key; raised on any incompatible change.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The first line of a JSON Lines trace.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceHeader {
+    /// Always [`FORMAT_NAME`].
+    pub format: String,
+    /// [`FORMAT_VERSION`].
+    pub version: u32,
+    /// 3 for mesh bodies, 2 for image-block bodies.
+    pub dimension: u32,
+    /// The scene's `name`.
+    pub scene: String,
+    /// Where the scene came from.
+    pub source: String,
+    /// Frame step, s.
+    pub dt: f64,
+    /// Substeps per frame.
+    pub substeps: u32,
+    /// Gravity, m/s².
+    pub gravity: [f64; 3],
+    /// The angular integrator's scene name.
+    pub integrator: String,
+    /// The bodies in index order.
+    pub bodies: Vec<TraceBodyInfo>,
+}
+
+/// A body's constant properties in the header.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceBodyInfo {
+    /// Name from the scene.
+    pub name: String,
+    /// Mass, kg.
+    pub mass: f64,
+}
+
+/// One recorded step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceRecord {
+    /// Frames completed (0 is the initial state).
+    pub step: u64,
+    /// Time, s.
+    pub t: f64,
+    /// Per-body state, in header order.
+    pub bodies: Vec<BodyState>,
+    /// System energy, J.
+    pub energy: Energy,
+    /// System momentum.
+    pub momentum: MomentumRecord,
+    /// Contacts found in this step (filled from issue #3 on).
+    pub contacts: Vec<ContactRecord>,
+}
+
+/// A body's state: position (m), rotation rows, velocity (m/s), angular velocity (rad/s, world).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BodyState {
+    /// Centre of mass, m.
+    pub x: [f64; 3],
+    /// Rotation matrix as a list of rows.
+    #[serde(rename = "R")]
+    pub rotation: [[f64; 3]; 3],
+    /// Linear velocity, m/s.
+    pub v: [f64; 3],
+    /// Angular velocity in the world frame, rad/s.
+    pub omega: [f64; 3],
+}
+
+/// System momentum.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MomentumRecord {
+    /// Linear momentum, kg·m/s.
+    pub linear: [f64; 3],
+    /// Angular momentum about the world origin, kg·m²/s.
+    pub angular: [f64; 3],
+    /// Angular momentum about the system's centre of mass, kg·m²/s.
+    pub angular_com: [f64; 3],
+}
+
+/// A contact: bodies (−1 is the ground), point (m), normal, depth (m), impulses (N·s).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactRecord {
+    /// Body indices; −1 for the ground.
+    pub bodies: [i64; 2],
+    /// Contact point, world frame, m.
+    pub p: [f64; 3],
+    /// Contact normal, world frame.
+    pub n: [f64; 3],
+    /// Penetration depth, m.
+    pub depth: f64,
+    /// Normal and two tangent impulses, N·s (force = λ / h).
+    pub lambda: [f64; 3],
+}
+
+impl TraceHeader {
+    /// The header for a world about to run.
+    pub fn for_world(world: &World, source: &str) -> TraceHeader {
+        TraceHeader {
+            format: FORMAT_NAME.into(),
+            version: FORMAT_VERSION,
+            dimension: 3,
+            scene: world.params.name.clone(),
+            source: source.into(),
+            dt: world.params.dt,
+            substeps: world.params.substeps,
+            gravity: world.params.gravity.into(),
+            integrator: world.params.integrator.name().into(),
+            bodies: world
+                .bodies
+                .iter()
+                .map(|b| TraceBodyInfo {
+                    name: b.name.clone(),
+                    mass: b.mass,
+                })
+                .collect(),
+        }
+    }
+}
+
+impl TraceRecord {
+    /// The world's current state.
+    /// Its contacts are those of the frame's last substep that had any (see
+    /// [`contact_records`]).
+    pub fn of_world(world: &World) -> TraceRecord {
+        let momentum = world.momentum();
+        let contacts = contact_records(world);
+        TraceRecord {
+            step: world.step,
+            t: world.time(),
+            bodies: world
+                .bodies
+                .iter()
+                .map(|b| BodyState {
+                    x: b.x.into(),
+                    rotation: std::array::from_fn(|i| std::array::from_fn(|j| b.rotation[(i, j)])),
+                    v: b.v.into(),
+                    omega: b.omega.into(),
+                })
+                .collect(),
+            energy: world.energy(),
+            momentum: MomentumRecord {
+                linear: momentum.linear.into(),
+                angular: momentum.angular.into(),
+                angular_com: momentum.angular_com.into(),
+            },
+            contacts,
+        }
+    }
+}
+
+/// The contacts of the last substep of the world's last frame that had contacts, with their
+/// impulses (empty when the frame had none). docs/trace-format.md §"Contacts".
+pub fn contact_records(world: &World) -> Vec<ContactRecord> {
+    let Some(solve) = world.solves.last() else {
+        return Vec::new();
+    };
+    solve
+        .contacts
+        .iter()
+        .zip(&solve.lambda)
+        .map(|(c, l)| ContactRecord {
+            bodies: [c.body1 as i64, c.body2.map_or(-1, |b| b as i64)],
+            p: c.point.into(),
+            n: c.frame.n.into(),
+            depth: c.depth,
+            lambda: [l[0], l[1], l[2]],
+        })
+        .collect()
+}
+
+/// The two trace encodings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TraceFormat {
+    /// JSON Lines: a header line, then one line per recorded step.
+    Jsonl,
+    /// Comma-separated values with one header row; no metadata.
+    Csv,
+}
+
+#[allow(clippy::large_enum_variant)] // one per trace; the size is irrelevant
+enum Sink {
+    Jsonl(BufWriter<Box<dyn Write>>),
+    Csv(csv::Writer<Box<dyn Write>>),
+}
+
+/// Writes a trace record by record. Each record is complete when [`TraceWriter::write`] returns;
+/// [`TraceWriter::flush`] makes everything written so far durable (also on an error path).
+pub struct TraceWriter {
+    sink: Sink,
+}
+
+impl TraceWriter {
+    /// Starts a trace on `out`, writing the header (JSON Lines) or the column names (CSV).
+    pub fn new(
+        out: Box<dyn Write>,
+        format: TraceFormat,
+        header: &TraceHeader,
+    ) -> std::io::Result<TraceWriter> {
+        let sink = match format {
+            TraceFormat::Jsonl => {
+                let mut w = BufWriter::new(out);
+                serde_json::to_writer(&mut w, header)?;
+                w.write_all(b"\n")?;
+                Sink::Jsonl(w)
+            }
+            TraceFormat::Csv => {
+                let mut w = csv::Writer::from_writer(out);
+                w.write_record(csv_columns(header.bodies.len()))?;
+                Sink::Csv(w)
+            }
+        };
+        Ok(TraceWriter { sink })
+    }
+
+    /// Appends one record.
+    pub fn write(&mut self, record: &TraceRecord) -> std::io::Result<()> {
+        match &mut self.sink {
+            Sink::Jsonl(w) => {
+                serde_json::to_writer(&mut *w, record)?;
+                w.write_all(b"\n")
+            }
+            Sink::Csv(w) => Ok(w.write_record(csv_row(record))?),
+        }
+    }
+
+    /// Flushes everything written so far to the underlying file or stream.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        match &mut self.sink {
+            Sink::Jsonl(w) => w.flush(),
+            Sink::Csv(w) => w.flush(),
+        }
+    }
+}
+
+/// CSV column names for `n` bodies (docs/trace-format.md §"CSV").
+pub fn csv_columns(n: usize) -> Vec<String> {
+    let mut cols: Vec<String> = vec!["step".into(), "t".into()];
+    for b in 0..n {
+        for q in ["x", "y", "z"] {
+            cols.push(format!("b{b}_{q}"));
+        }
+        for i in 0..3 {
+            for j in 0..3 {
+                cols.push(format!("b{b}_R{i}{j}"));
+            }
+        }
+        for q in ["vx", "vy", "vz", "wx", "wy", "wz"] {
+            cols.push(format!("b{b}_{q}"));
+        }
+    }
+    for q in ["kinetic_linear", "kinetic_angular", "potential", "total"] {
+        cols.push(q.into());
+    }
+    for prefix in ["p", "L", "Lcom"] {
+        for axis in ["x", "y", "z"] {
+            cols.push(format!("{prefix}_{axis}"));
+        }
+    }
+    cols.push("contacts".into());
+    cols
+}
+
+fn csv_row(r: &TraceRecord) -> Vec<String> {
+    // Rust's `{}` for f64 prints the shortest string that reads back to the same number.
+    let mut row = vec![r.step.to_string(), r.t.to_string()];
+    let mut push = |xs: &[f64]| row.extend(xs.iter().map(|x| x.to_string()));
+    for b in &r.bodies {
+        push(&b.x);
+        push(b.rotation.as_flattened());
+        push(&b.v);
+        push(&b.omega);
+    }
+    let e = &r.energy;
+    push(&[e.kinetic_linear, e.kinetic_angular, e.potential, e.total]);
+    push(&r.momentum.linear);
+    push(&r.momentum.angular);
+    push(&r.momentum.angular_com);
+    row.push(r.contacts.len().to_string());
+    row
+}
+
+/// A trace read back from JSON Lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trace {
+    /// The header line.
+    pub header: TraceHeader,
+    /// The records in file order.
+    pub records: Vec<TraceRecord>,
+}
+
+/// Reads a JSON Lines trace; errors name the line.
+pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
+    let mut lines = reader.lines().enumerate();
+    let (_, first) = lines
+        .next()
+        .ok_or_else(|| format!("{source}: empty trace"))?;
+    let first = first.map_err(|e| format!("{source}: {e}"))?;
+    let header: TraceHeader =
+        serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
+    if header.format != FORMAT_NAME || header.version != FORMAT_VERSION {
+        return Err(format!(
+            "{source}:1: not a {FORMAT_NAME} version {FORMAT_VERSION} trace"
+        ));
+    }
+    let mut records = Vec::new();
+    for (i, line) in lines {
+        let line = line.map_err(|e| format!("{source}: {e}"))?;
+        records.push(serde_json::from_str(&line).map_err(|e| format!("{source}:{}: {e}", i + 1))?);
+    }
+    Ok(Trace { header, records })
+}

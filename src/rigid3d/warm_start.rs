@@ -1,0 +1,67 @@
+//! Warm starting: each contact begins the solve from the impulse the same contact had at the
+//! previous substep. docs/contact.md §"Warm starting".
+//!
+//! A contact is "the same" when it has the same body 1, the same body 2 (or the ground) and the
+//! same vertex of body 1. Its frame may have turned since, so the impulse is kept as a world
+//! vector P = λn n + λt1 t1 + λt2 t2 and re-expressed in the new frame: λ₀ = (n·P, t1·P, t2·P).
+
+use crate::rigid3d::collide::Contact;
+use nalgebra::{SVector, Vector3};
+use std::collections::HashMap;
+
+/// Identifies a contact across substeps: (body 1, body 2 or ground, vertex of body 1).
+pub type ContactKey = (usize, Option<usize>, usize);
+
+/// The previous substep's impulses, by contact.
+#[derive(Clone, Debug, Default)]
+pub struct WarmStart {
+    /// Whether to use them (the scene's `warm_start`); when false every λ₀ is zero.
+    pub enabled: bool,
+    impulses: HashMap<ContactKey, Vector3<f64>>,
+}
+
+impl WarmStart {
+    /// An empty cache.
+    pub fn new(enabled: bool) -> WarmStart {
+        WarmStart {
+            enabled,
+            impulses: HashMap::new(),
+        }
+    }
+
+    /// λ₀ for `contact`: its previous world impulse in its current frame, or zero.
+    pub fn initial_impulse(&self, contact: &Contact) -> SVector<f64, 3> {
+        if !self.enabled {
+            return SVector::zeros();
+        }
+        match self.impulses.get(&key(contact)) {
+            Some(p) => SVector::<f64, 3>::new(
+                contact.frame.n.dot(p),
+                contact.frame.t1.dot(p),
+                contact.frame.t2.dot(p),
+            ),
+            None => SVector::zeros(),
+        }
+    }
+
+    /// Replaces the cache with this substep's contacts and impulses.
+    pub fn store(&mut self, contacts: &[Contact], lambda: &[SVector<f64, 3>]) {
+        self.impulses.clear();
+        if !self.enabled {
+            return;
+        }
+        for (c, l) in contacts.iter().zip(lambda) {
+            let p = c.frame.n * l[0] + c.frame.t1 * l[1] + c.frame.t2 * l[2];
+            self.impulses.insert(key(c), p);
+        }
+    }
+
+    /// Forgets everything (a substep without contacts).
+    pub fn clear(&mut self) {
+        self.impulses.clear();
+    }
+}
+
+fn key(c: &Contact) -> ContactKey {
+    (c.body1, c.body2, c.vertex)
+}

@@ -1,0 +1,246 @@
+//! One step of the simulation, in the order it runs. docs/dynamics.md §"The step".
+//!
+//! Per frame of length `dt`, `substeps` substeps of length h = dt / substeps, each:
+//!
+//! 1. zero the force accumulators and add gravity, f = m g;
+//! 2. step velocities (symplectic Euler, velocity half): [`RigidBody::step_velocity`];
+//! 3. contact processing, when `check_collisions` is on: detect ([`crate::rigid3d::collide`]) →
+//!    assemble the contact problem ([`crate::rigid3d::assemble`]) → solve ([`crate::solve::pgs`]) →
+//!    apply the velocity changes u⁺ = u + M⁻¹Jᵀλ;
+//! 4. step positions with the new velocities: [`RigidBody::step_position`];
+//! 5. check that every state component is finite.
+
+use crate::rigid3d::assemble::{ProblemSettings, assemble_problem};
+use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::collide::{Contact, MeshCollider, detect_contacts};
+use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
+use crate::rigid3d::scene::{Scene, SimParameters};
+use crate::rigid3d::warm_start::WarmStart;
+use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve};
+use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
+
+/// The contact solve of one substep (the shared record, with 3D contacts and 6 × 3 problems).
+pub type Solve3 = SubstepSolve<Contact, 6, 3>;
+
+/// A simulation in progress.
+#[derive(Clone, Debug)]
+pub struct World {
+    /// Parameters from the scene.
+    pub params: SimParameters,
+    /// The bodies, in scene order.
+    pub bodies: Vec<RigidBody>,
+    /// Frames completed.
+    pub step: u64,
+    /// The contact solves of the last frame, one per substep that had contacts.
+    pub solves: Vec<Solve3>,
+    colliders: Vec<MeshCollider>,
+    warm_start: WarmStart,
+    workspace: PgsWorkspace<6, 3>,
+    contact_buffer: Vec<Contact>,
+}
+
+impl World {
+    /// Sets up the bodies at their initial state. Fails only when a mesh cannot be prepared for
+    /// collision queries (scene loading has already checked that it bounds a solid).
+    pub fn new(scene: &Scene) -> Result<World, String> {
+        let bodies = scene
+            .bodies
+            .iter()
+            .map(|d| {
+                let mut b = RigidBody::new(&d.name, d.mass, d.inertia, d.mesh.clone());
+                b.x = d.x0;
+                b.rotation = d.r0;
+                b.v = d.v0;
+                b.omega = d.omega0;
+                b.update_world_inertia();
+                b
+            })
+            .collect();
+        let colliders = scene
+            .bodies
+            .iter()
+            .map(|d| {
+                MeshCollider::new(d.mesh.clone())
+                    .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        Ok(World {
+            params: scene.params.clone(),
+            bodies,
+            step: 0,
+            solves: Vec::new(),
+            colliders,
+            warm_start: WarmStart::new(scene.params.warm_start),
+            workspace: PgsWorkspace::new(scene.params.pgs_seed),
+            contact_buffer: Vec::new(),
+        })
+    }
+
+    /// The settings the problem is assembled with, from the scene parameters.
+    pub fn problem_settings(&self) -> ProblemSettings {
+        let p = &self.params;
+        ProblemSettings {
+            h: p.h(),
+            mu: p.mu,
+            friction: p.friction_model,
+            compliance: p.compliance,
+            stabilization: p.stabilization,
+            slop: p.stabilization_slop,
+        }
+    }
+
+    /// The PGS settings, from the scene parameters.
+    pub fn pgs_settings(&self) -> PgsSettings {
+        PgsSettings {
+            max_iterations: self.params.pgs_iterations,
+            tolerance: self.params.pgs_tolerance,
+            order: self.params.pgs_order,
+        }
+    }
+
+    /// Contact processing of one substep: detect → assemble → solve → apply. Changes velocities
+    /// only. Records the solve in `solves` when there were contacts.
+    fn process_contacts(&mut self, substep: u32) {
+        let mut contacts = std::mem::take(&mut self.contact_buffer);
+        detect_contacts(&self.bodies, &self.colliders, &mut contacts);
+        if contacts.is_empty() {
+            self.warm_start.clear();
+            self.contact_buffer = contacts;
+            return;
+        }
+        let problem = assemble_problem(
+            &self.bodies,
+            &contacts,
+            &self.problem_settings(),
+            &self.warm_start,
+        );
+        let mut lambda = Vec::with_capacity(contacts.len());
+        let settings = self.pgs_settings();
+        let (report, solve_seconds, cpu) = crate::common::timing::timed(|| {
+            solve_pgs(&problem, &settings, &mut self.workspace, &mut lambda)
+        });
+        for (i, body) in self.bodies.iter_mut().enumerate() {
+            let du = self.workspace.delta_velocity(i);
+            body.v += du.fixed_rows::<3>(0);
+            body.omega += du.fixed_rows::<3>(3);
+        }
+        self.warm_start.store(&contacts, &lambda);
+        self.solves.push(SubstepSolve {
+            substep,
+            contacts: contacts.clone(),
+            problem,
+            lambda,
+            report,
+            solve_seconds,
+            solve_cpu_seconds: cpu.unwrap_or(0.0),
+        });
+        self.contact_buffer = contacts;
+    }
+
+    /// Simulated time, s: `step · dt` (not a running sum, so it has no round-off drift).
+    pub fn time(&self) -> f64 {
+        self.step as f64 * self.params.dt
+    }
+
+    /// Advances one frame of `dt`. On error the world holds the non-finite state, for inspection.
+    pub fn step(&mut self) -> Result<(), NonFinite> {
+        let h = self.params.h();
+        let gravity = self.params.gravity;
+        let integrator = self.params.integrator;
+        self.solves.clear();
+        for substep in 0..self.params.substeps {
+            for body in &mut self.bodies {
+                body.zero_forces();
+                body.force += gravity * body.mass;
+            }
+            for body in &mut self.bodies {
+                body.step_velocity(h, integrator);
+            }
+            if self.params.check_collisions {
+                self.process_contacts(substep);
+            }
+            for body in &mut self.bodies {
+                body.step_position(h);
+            }
+            self.check_finite_at(Some(substep))?;
+        }
+        self.step += 1;
+        Ok(())
+    }
+
+    /// The first non-finite state component, at `substep` of the step being computed (or, with
+    /// `None`, in the state as it stands).
+    fn check_finite_at(&self, substep: Option<u32>) -> Result<(), NonFinite> {
+        for (index, body) in self.bodies.iter().enumerate() {
+            if let Some(quantity) = body.first_non_finite() {
+                return Err(NonFinite {
+                    quantity: quantity.to_string(),
+                    body: Some(BodyId {
+                        index,
+                        name: Some(body.name.clone()),
+                    }),
+                    step: self.step + u64::from(substep.is_some()),
+                    substep,
+                    time: self.time(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Total energy, J.
+    pub fn energy(&self) -> Energy {
+        system_energy(&self.bodies, &self.params.gravity)
+    }
+
+    /// Total momentum.
+    pub fn momentum(&self) -> Momentum {
+        system_momentum(&self.bodies)
+    }
+}
+
+impl Simulation<6, 3> for World {
+    type Contact = Contact;
+    type Energy = Energy;
+    type Momentum = Momentum;
+
+    fn step(&mut self) -> Result<(), NonFinite> {
+        World::step(self)
+    }
+    fn steps_done(&self) -> u64 {
+        self.step
+    }
+    fn time(&self) -> f64 {
+        World::time(self)
+    }
+    fn dt(&self) -> f64 {
+        self.params.dt
+    }
+    fn h(&self) -> f64 {
+        self.params.h()
+    }
+    fn solves(&self) -> &[Solve3] {
+        &self.solves
+    }
+    fn energy(&self) -> Energy {
+        World::energy(self)
+    }
+    fn momentum(&self) -> Momentum {
+        World::momentum(self)
+    }
+    fn check_finite(&self) -> Result<(), NonFinite> {
+        self.check_finite_at(None)
+    }
+}
+
+impl ContactGeometry for Contact {
+    fn point(&self) -> Vec<f64> {
+        self.point.iter().copied().collect()
+    }
+    fn normal(&self) -> Vec<f64> {
+        self.frame.n.iter().copied().collect()
+    }
+    fn depth(&self) -> f64 {
+        self.depth
+    }
+}

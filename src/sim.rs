@@ -1,0 +1,251 @@
+//! The one simulation interface both systems implement ([`Simulation`]), what one substep's
+//! contact solve leaves behind ([`SubstepSolve`]), the one error a step can end in
+//! ([`NonFinite`]), and the one driver loop ([`drive`]) with the one rule that turns a time into a
+//! number of steps ([`steps_in`]). Every command and test that runs a world runs it through
+//! [`drive`]. docs/architecture.md §"One interface, one loop".
+
+use crate::problem::ContactProblem;
+use crate::problem::json::{GeometryJson, ProblemFile, RunOrigin};
+use crate::solve::SolveReport;
+use nalgebra::SVector;
+
+/// A simulation whose contact problems have `D` degrees of freedom per body and `R` rows per
+/// contact: the 3D [`crate::rigid3d::world::World`] (6, 3) and the 2D
+/// [`crate::blocks2d::world::World2`] (3, 2).
+pub trait Simulation<const D: usize, const R: usize> {
+    /// A contact as collision detection found it.
+    type Contact: ContactGeometry + Clone;
+    /// The energies, as a struct (J in 3D; mass · blocks² / time² in 2D).
+    type Energy;
+    /// The momenta, as a struct.
+    type Momentum;
+
+    /// Advances one step of [`Simulation::dt`] (all its substeps). On error the world holds the
+    /// non-finite state, for inspection, and must not be stepped again.
+    fn step(&mut self) -> Result<(), NonFinite>;
+    /// Steps completed.
+    fn steps_done(&self) -> u64;
+    /// Simulated time, `steps_done · dt` (not a running sum, so it has no round-off drift).
+    fn time(&self) -> f64;
+    /// The step size (s in 3D, time units in 2D).
+    fn dt(&self) -> f64;
+    /// The substep size h = dt / substeps.
+    fn h(&self) -> f64;
+    /// The last step's contact solves, one per substep that solved a contact problem, in order.
+    fn solves(&self) -> &[SubstepSolve<Self::Contact, D, R>];
+    /// Energies now.
+    fn energy(&self) -> Self::Energy;
+    /// Momenta now.
+    fn momentum(&self) -> Self::Momentum;
+    /// Fails, naming the body and quantity, when a state component (or an energy) is not finite.
+    fn check_finite(&self) -> Result<(), NonFinite>;
+}
+
+/// What a contact contributes to a problem file's geometry (docs/contact-problem-format.md).
+pub trait ContactGeometry {
+    /// The contact point, world frame (m in 3D, blocks in 2D).
+    fn point(&self) -> Vec<f64>;
+    /// The unit normal, from body 2 into body 1.
+    fn normal(&self) -> Vec<f64>;
+    /// Penetration depth, ≥ 0.
+    fn depth(&self) -> f64;
+}
+
+/// One substep's contact solve: the contacts found, the problem assembled from them, the
+/// impulses PGS returned, its report and how long it took. Kept for the trace,
+/// `--dump-problems`, `rigidref contacts`, the crosscheck and the scaling report.
+#[derive(Clone, Debug)]
+pub struct SubstepSolve<C, const D: usize, const R: usize> {
+    /// The substep within its step (0-based).
+    pub substep: u32,
+    /// The contacts collision detection found.
+    pub contacts: Vec<C>,
+    /// The problem assembled from them.
+    pub problem: ContactProblem<D, R>,
+    /// The impulses PGS returned and the world applied, one per contact (normal first).
+    pub lambda: Vec<SVector<f64, R>>,
+    /// What PGS did.
+    pub report: SolveReport,
+    /// Wall time of the PGS solve, s.
+    pub solve_seconds: f64,
+    /// CPU time this thread spent in the PGS solve, s: unlike the wall time it does not count
+    /// time the thread was preempted on a shared machine. 0 where the platform cannot measure it.
+    pub solve_cpu_seconds: f64,
+}
+
+impl<C: ContactGeometry, const D: usize, const R: usize> SubstepSolve<C, D, R> {
+    /// The problem as a contact-problem file (docs/contact-problem-format.md), with the contacts'
+    /// geometry, where it came from (`scene`, step `step`, substep length `h`) and the solution.
+    pub fn problem_file(&self, scene: &str, step: u64, h: f64) -> ProblemFile {
+        let origin = RunOrigin {
+            scene,
+            step,
+            substep: self.substep,
+            h,
+        };
+        let geometry = self.contacts.iter().map(|c| GeometryJson {
+            p: c.point(),
+            n: c.normal(),
+            depth: c.depth(),
+        });
+        ProblemFile::of_run(&self.problem, origin, geometry, &self.lambda, &self.report)
+    }
+}
+
+/// A step's solves summed over its substeps: what the scaling report and the summaries use.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolveTotals {
+    /// Contacts solved, summed over the substeps.
+    pub contacts: usize,
+    /// The most contacts in one substep.
+    pub most_contacts: usize,
+    /// PGS sweeps, summed over the substeps.
+    pub sweeps: u64,
+    /// The largest residual of a solve.
+    pub worst_residual: f64,
+    /// Wall time of the PGS solves, s.
+    pub solve_seconds: f64,
+    /// Thread CPU time of the PGS solves, s (0 where not measurable).
+    pub solve_cpu_seconds: f64,
+}
+
+impl SolveTotals {
+    /// The totals of `solves`.
+    pub fn of<C, const D: usize, const R: usize>(solves: &[SubstepSolve<C, D, R>]) -> SolveTotals {
+        let mut t = SolveTotals::default();
+        for s in solves {
+            t.contacts += s.contacts.len();
+            t.most_contacts = t.most_contacts.max(s.contacts.len());
+            t.sweeps += u64::from(s.report.iterations);
+            t.worst_residual = t.worst_residual.max(s.report.residual);
+            t.solve_seconds += s.solve_seconds;
+            t.solve_cpu_seconds += s.solve_cpu_seconds;
+        }
+        t
+    }
+}
+
+/// A state component or an energy became NaN or infinite; the run must stop there (contacts of
+/// a non-finite body are meaningless, and JSON has no NaN).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("non-finite {quantity}{} at step {step}{} (t = {})",
+    .body.as_ref().map_or(String::new(), |b| b.describe()),
+    .substep.map_or(String::new(), |s| format!(", substep {s}")),
+    readable(*.time))]
+pub struct NonFinite {
+    /// Which quantity, e.g. "angular velocity ω" or "energy (kinetic 1e308, potential inf)".
+    pub quantity: String,
+    /// The body it belongs to (none for a system quantity such as the energy).
+    pub body: Option<BodyId>,
+    /// The step in which it happened (1-based: the step being computed).
+    pub step: u64,
+    /// The substep within that step, where the system checks per substep (3D).
+    pub substep: Option<u32>,
+    /// Time at the start of that step.
+    pub time: f64,
+}
+
+/// A body named in a message: its index and, where it has one, its name.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyId {
+    /// Index in the scene.
+    pub index: usize,
+    /// Its name (3D scenes name their bodies; 2D bodies have none).
+    pub name: Option<String>,
+}
+
+impl BodyId {
+    fn describe(&self) -> String {
+        match &self.name {
+            Some(name) => format!(" in body {} ({name:?})", self.index),
+            None => format!(" in body {}", self.index),
+        }
+    }
+}
+
+/// A number for a message: as written when moderate, in exponent form when huge or tiny (an
+/// absurd step of 1e300 must not print 300 digits).
+pub fn readable(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The most steps one run may take: far beyond any useful run (a day at a microsecond a step),
+/// so that a step size like 1e-300 is an error rather than a run that never ends.
+pub const MAX_STEPS: f64 = 1e11;
+
+/// Refuses a run of more than [`MAX_STEPS`] steps of size `dt`.
+pub fn check_step_count(steps: f64, dt: f64) -> Result<(), String> {
+    if steps > MAX_STEPS {
+        return Err(format!(
+            "{steps:.3e} steps of {dt:.3e} is more than the limit of {MAX_STEPS:.0e}; ask for fewer steps (a larger step size or a shorter time)"
+        ));
+    }
+    Ok(())
+}
+
+/// The one time-to-steps rule: the whole steps of size `dt` in `time`, at least 1. The 1e-9
+/// guards quotients such as 0.3 / 0.1 = 2.9999999999999996 against losing a step. Fails when
+/// `time` is not a positive number (`unit` names its unit in the message, e.g. " of seconds") or
+/// the count is beyond [`MAX_STEPS`].
+pub fn steps_in(time: f64, dt: f64, unit: &str) -> Result<u64, String> {
+    if !(time.is_finite() && time > 0.0) {
+        return Err(format!("--time must be a positive number{unit}, got {time}"));
+    }
+    let steps = whole_steps(time, dt).max(1.0);
+    check_step_count(steps, dt)?;
+    Ok(steps as u64)
+}
+
+/// The whole steps of size `dt` in `time`, as a float (no minimum, no limit): the rule of
+/// [`steps_in`] for callers that must compare counts before converting them.
+pub fn whole_steps(time: f64, dt: f64) -> f64 {
+    (time / dt + 1e-9).floor()
+}
+
+/// Whether step `k` of a run of `steps` is recorded when recording every `every`-th step: the
+/// multiples of `every` and the last step (the initial state, step 0, is recorded by the caller).
+pub fn is_recorded(k: u64, steps: u64, every: u64) -> bool {
+    k % every == 0 || k == steps
+}
+
+/// What the driver does after a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    /// Go on to the next step.
+    Continue,
+    /// Stop after this step (e.g. `stop_on_contact`, a first contact found, a factory that is done).
+    Stop,
+}
+
+/// The one driver loop: steps `sim` up to `steps` times, calling `after(sim, k)` after step k
+/// (1-based) to record, report or decide to stop (and, for a run that changes its world between
+/// steps such as the factory's drops, to change it). Returns the number of steps run. A step that
+/// ends in a non-finite state stops the run with that error (converted into the caller's error
+/// type); whatever `after` wrote for the earlier steps stays written.
+pub fn drive<S, E, const D: usize, const R: usize>(
+    sim: &mut S,
+    steps: u64,
+    mut after: impl FnMut(&mut S, u64) -> Result<Flow, E>,
+) -> Result<u64, E>
+where
+    S: Simulation<D, R>,
+    E: From<NonFinite>,
+{
+    for k in 1..=steps {
+        sim.step()?;
+        if after(sim, k)? == Flow::Stop {
+            return Ok(k);
+        }
+    }
+    Ok(steps)
+}
+
+impl From<NonFinite> for String {
+    fn from(e: NonFinite) -> String {
+        e.to_string()
+    }
+}

@@ -1,0 +1,160 @@
+//! A rapier3d mirror of a scene: the behavioural reference. docs/verification.md §"rapier3d".
+//!
+//! The same bodies (mass and inertia from the body files, set explicitly; colliders from the same
+//! OBJ: its convex hull when the mesh is convex, else the triangle mesh itself), the ground as a
+//! half-space y ≥ 0... below, gravity, frame step dt, friction μ (combined as the minimum, so
+//! body–ground and body–body pairs both get μ), restitution 0 and no damping. rapier integrates
+//! with its own substepped soft (TGS) solver and its own contact generation, so trajectories are
+//! compared through observables with documented tolerances, never state by state.
+
+use crate::rigid3d::mesh::TriMesh;
+use crate::rigid3d::scene::Scene;
+use nalgebra::{Matrix3, Vector3};
+use rapier3d_f64::math::{Rotation, Vector};
+use rapier3d_f64::prelude::*;
+
+/// One body's state, world frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Snapshot {
+    /// Centre of mass, m.
+    pub x: Vector3<f64>,
+    /// Rotation.
+    pub rotation: Matrix3<f64>,
+    /// Velocity, m/s.
+    pub v: Vector3<f64>,
+    /// Angular velocity, rad/s.
+    pub omega: Vector3<f64>,
+}
+
+/// The rapier world built from a scene.
+pub struct RapierMirror {
+    world: PhysicsWorld,
+    handles: Vec<RigidBodyHandle>,
+}
+
+fn vector(v: &Vector3<f64>) -> Vector {
+    Vector::new(v.x, v.y, v.z)
+}
+
+fn from_vector(v: Vector) -> Vector3<f64> {
+    Vector3::new(v.x, v.y, v.z)
+}
+
+fn rotation(m: &Matrix3<f64>) -> Rotation {
+    // glam matrices are column-major.
+    let cols = rapier3d_f64::math::Matrix::from_cols(
+        vector(&m.column(0).into()),
+        vector(&m.column(1).into()),
+        vector(&m.column(2).into()),
+    );
+    Rotation::from_mat3(&cols).normalize()
+}
+
+fn from_rotation(q: &Rotation) -> Matrix3<f64> {
+    let m = rapier3d_f64::math::Matrix::from_quat(*q);
+    Matrix3::from_columns(&[
+        from_vector(m.x_axis),
+        from_vector(m.y_axis),
+        from_vector(m.z_axis),
+    ])
+}
+
+/// A collider for `mesh`: its convex hull if the mesh is convex (within 1e-6 of its size), else
+/// the triangle mesh (rapier's trimesh is a surface, fine against the ground and convex bodies).
+fn collider(mesh: &TriMesh) -> Result<ColliderBuilder, String> {
+    let points: Vec<Vector> = mesh.vertices.iter().map(vector).collect();
+    if mesh.is_convex(1e-6 * mesh.bounding_radius()) {
+        ColliderBuilder::convex_hull(&points)
+            .ok_or_else(|| "rapier could not build the convex hull".to_string())
+    } else {
+        let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
+        ColliderBuilder::trimesh(points, indices)
+            .map_err(|e| format!("rapier could not build the triangle mesh: {e:?}"))
+    }
+}
+
+impl RapierMirror {
+    /// Builds the mirror of `scene`.
+    pub fn new(scene: &Scene) -> Result<RapierMirror, String> {
+        let p = &scene.params;
+        let mut world = PhysicsWorld::new();
+        world.gravity = vector(&p.gravity);
+        world.integration_parameters.dt = p.dt;
+        let mut handles = Vec::new();
+        for body in &scene.bodies {
+            let eigen = body.inertia.symmetric_eigen();
+            let mut frame = eigen.eigenvectors;
+            if frame.determinant() < 0.0 {
+                frame.column_mut(2).neg_mut();
+            }
+            let mass = MassProperties::with_principal_inertia_frame(
+                Vector::ZERO,
+                body.mass,
+                vector(&eigen.eigenvalues),
+                rotation(&frame),
+            );
+            let rb = RigidBodyBuilder::dynamic()
+                .translation(vector(&body.x0))
+                .rotation(rotation(&body.r0).to_scaled_axis())
+                .linvel(vector(&body.v0))
+                .angvel(vector(&body.omega0))
+                .additional_mass_properties(mass)
+                .linear_damping(0.0)
+                .angular_damping(0.0)
+                .can_sleep(false)
+                .build();
+            let handle = world.bodies.insert(rb);
+            if p.check_collisions {
+                let c = collider(&body.mesh)
+                    .map_err(|e| format!("{}: {e}", body.source))?
+                    .density(0.0)
+                    .friction(p.mu)
+                    .friction_combine_rule(CoefficientCombineRule::Min)
+                    .restitution(0.0)
+                    .build();
+                world
+                    .colliders
+                    .insert_with_parent(c, handle, &mut world.bodies);
+            }
+            handles.push(handle);
+        }
+        if p.check_collisions {
+            let ground =
+                ColliderBuilder::halfspace(rapier3d_f64::na::Unit::new_unchecked(Vector::Y))
+                    .friction(p.mu)
+                    .friction_combine_rule(CoefficientCombineRule::Min)
+                    .restitution(0.0)
+                    .build();
+            world.colliders.insert(ground);
+        }
+        Ok(RapierMirror { world, handles })
+    }
+
+    /// Advances one frame of dt.
+    pub fn step(&mut self) {
+        self.world.step();
+    }
+
+    /// Every body's state.
+    pub fn snapshots(&self) -> Vec<Snapshot> {
+        self.handles
+            .iter()
+            .map(|h| {
+                let b = &self.world.bodies[*h];
+                Snapshot {
+                    x: from_vector(b.translation()),
+                    rotation: from_rotation(b.rotation()),
+                    v: from_vector(b.linvel()),
+                    omega: from_vector(b.angvel()),
+                }
+            })
+            .collect()
+    }
+
+    /// Whether any pair of colliders is touching (has an active contact).
+    pub fn has_contacts(&self) -> bool {
+        self.world
+            .contact_pairs()
+            .any(|p| p.has_any_active_contact())
+    }
+}
