@@ -2,7 +2,7 @@
 //! ground contacts, and the broad phase against all pairs (docs/contact.md §"Collision
 //! detection").
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;

@@ -1,8 +1,7 @@
 //! Fresh runs of the canonical scenes against golden/ (docs/verification.md §"Golden traces").
 
-mod common;
+use crate::common;
 
-use rigidref::verify::faults::Faults;
 use rigidref::verify::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
 use rigidref::rigid3d::scene::load_scene;
 
@@ -17,7 +16,7 @@ fn canonical_scenes_match_their_golden_traces() {
         let golden = read_golden(&golden_path(&root.join("golden"), path)).unwrap_or_else(|e| {
             panic!("{e} (run `rigidref golden --update` after adding a scene)")
         });
-        let fresh = record(&load_scene(path).unwrap(), &source, Faults::NONE).unwrap();
+        let fresh = record(&load_scene(path).unwrap(), &source).unwrap();
         assert_eq!(fresh.header, golden.header, "{source}: the header differs");
         let mismatches = compare(&golden, &fresh, &Tolerances::default());
         println!(

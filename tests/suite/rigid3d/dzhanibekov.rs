@@ -3,7 +3,7 @@
 //! torque-free Euler equations. docs/dynamics.md §"The Dzhanibekov flip period" records the
 //! agreement measured here.
 
-mod common;
+use crate::common;
 
 use rigidref::rigid3d::diagnostics::{flip_period, sign_changes};
 use rigidref::verify::references::euler::torque_free_rk4;

@@ -1,12 +1,19 @@
 //! insta snapshots of compact run summaries (docs/verification.md §"Snapshots"): a change in
 //! behaviour of any canonical or assignment scene shows as a reviewable diff in
-//! tests/snapshots/. Review with `cargo insta review`; accept only intended changes.
+//! tests/suite/verify/snapshots/. Review with `cargo insta review`; accept only intended changes.
 
-mod common;
+use crate::common;
 
-use rigidref::verify::faults::Faults;
-use rigidref::verify::golden::summary;
 use rigidref::rigid3d::scene::load_scene;
+use rigidref::verify::snapshots::{summary, summary2};
+
+/// Checks `text` against tests/suite/verify/snapshots/snapshots__NAME.snap (the names the
+/// snapshots had when each test file was its own binary, kept so that the files are unchanged).
+fn assert_snapshot(name: &str, text: &str) {
+    insta::with_settings!({prepend_module_to_snapshot => false}, {
+        insta::assert_snapshot!(format!("snapshots__{name}"), text);
+    });
+}
 
 /// Seconds summarised per scene.
 const SECONDS: u32 = 5;
@@ -16,8 +23,8 @@ fn canonical_scene_summaries_are_unchanged() {
     let root = common::project_root();
     for path in rigidref::verify::golden::canonical_scenes(&root.join("scenes")).unwrap() {
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        let text = summary(&load_scene(&path).unwrap(), Faults::NONE, SECONDS).unwrap();
-        insta::assert_snapshot!(format!("canonical_{name}"), text);
+        let text = summary(&load_scene(&path).unwrap(), SECONDS).unwrap();
+        assert_snapshot(&format!("canonical_{name}"), &text);
     }
 }
 
@@ -28,8 +35,8 @@ fn assignment_scene_summaries_are_unchanged() {
     };
     for i in 1..=7 {
         let path = dir.join(format!("scenes/scene{i}.json"));
-        let text = summary(&load_scene(&path).unwrap(), Faults::NONE, SECONDS).unwrap();
-        insta::assert_snapshot!(format!("assignment_scene{i}"), text);
+        let text = summary(&load_scene(&path).unwrap(), SECONDS).unwrap();
+        assert_snapshot(&format!("assignment_scene{i}"), &text);
     }
 }
 
@@ -41,8 +48,8 @@ fn blocks_scene_summaries_are_unchanged() {
     for name in ["stack", "pyramid", "dominoes"] {
         let scene =
             rigidref::blocks2d::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
-        let text = rigidref::verify::golden::summary2(scene.world, 4.0, 20.0);
-        insta::assert_snapshot!(format!("blocks_{name}"), text);
+        let text = summary2(scene.world, 4.0, 20.0).unwrap();
+        assert_snapshot(&format!("blocks_{name}"), &text);
     }
 }
 
@@ -82,5 +89,5 @@ fn assignment_image_loading_is_unchanged() {
             moving_mass
         );
     }
-    insta::assert_snapshot!("blocks2d_images", text);
+    assert_snapshot("blocks2d_images", &text);
 }

@@ -1,7 +1,7 @@
 //! The contact frame, the contact Jacobian and the Delassus operator, checked against their
 //! definitions (docs/contact.md §"Contact frame", §"Contact Jacobian", §"Delassus operator").
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, SVector, Vector3};
 use proptest::prelude::*;
@@ -146,7 +146,7 @@ fn delassus_block_is_symmetric_psd_and_equals_the_dense_product() {
             let body2 = if b2 < 3 && b2 != b1 { Some(b2) } else { None };
             Contact { body1: b1, body2, vertex: 0, point: p, frame: ContactFrame::from_normal(&n), depth }
         }).collect();
-        let settings = ProblemSettings { h: 0.01, mu: 0.5, friction: FrictionModel::Box, compliance: 0.0, stabilization: 0.2, slop: 0.0, faults: Default::default() };
+        let settings = ProblemSettings { h: 0.01, mu: 0.5, friction: FrictionModel::Box, compliance: 0.0, stabilization: 0.2, slop: 0.0, };
         let problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         let dense = problem.dense_delassus();
         let scale = dense.amax();

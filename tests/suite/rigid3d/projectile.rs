@@ -1,7 +1,7 @@
 //! A body under gravity alone: symplectic Euler's discrete trajectory has a closed form, and it
 //! differs from the exact parabola by a first-order term. docs/dynamics.md §"Projectile".
 
-mod common;
+use crate::common;
 
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::rigid3d::world::World;

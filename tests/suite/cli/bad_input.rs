@@ -1,7 +1,7 @@
 //! Bad input gets one clear line naming the file (and for JSON the line and column) and exit
 //! code 1, never a panic and never a silent default.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 use std::process::{Command, Output};

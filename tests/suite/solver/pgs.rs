@@ -1,7 +1,7 @@
 //! Projected Gauss–Seidel and its residual (docs/contact.md §"PGS", §"Residual"), and the
 //! contact-problem file (docs/contact-problem-format.md).
 
-mod common;
+use crate::common;
 
 use common::problems::{build, spec};
 use nalgebra::SVector;
@@ -32,7 +32,6 @@ fn solve(
         max_iterations: iterations,
         tolerance,
         order,
-        faults: Default::default(),
     };
     let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     (lambda, report)
@@ -198,7 +197,6 @@ fn box_on_ground(
         compliance: 0.0,
         stabilization: 0.0,
         slop: 0.0,
-        faults: Default::default(),
     };
     assemble_problem(
         &[body],

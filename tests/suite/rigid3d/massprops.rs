@@ -1,6 +1,6 @@
 //! Polyhedral mass properties against the assignment's body files and the project's own.
 
-mod common;
+use crate::common;
 
 use rigidref::rigid3d::massprops::mass_properties;
 use rigidref::rigid3d::mesh::TriMesh;

@@ -5,13 +5,12 @@
 //! clarabel on the canonical contact scenes, and the rapier3d comparison on the scenes it is
 //! documented for.
 
-mod common;
+use crate::common;
 
 use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
-use rigidref::verify::faults::Faults;
-use rigidref::verify::golden::{
-    Tolerances, canonical_scenes, compare, golden_path, read_golden, record, summary,
-};
+use rigidref::verify::faults::{Faults, with_faults};
+use rigidref::verify::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
+use rigidref::verify::snapshots::summary;
 use rigidref::verify::references::compare::{
     compare as compare_observables, record_rapier, record_rigidref,
 };
@@ -43,7 +42,7 @@ fn golden_failures(faults: Faults) -> Vec<String> {
                 std::path::Path::new(source),
             ))
             .unwrap();
-            match record(scene, source, faults) {
+            match with_faults(faults, || record(scene, source)) {
                 Ok(fresh) => !compare(&golden, &fresh, &Tolerances::default()).is_empty(),
                 Err(_) => true, // a run that blows up certainly differs
             }
@@ -56,7 +55,7 @@ fn golden_failures(faults: Faults) -> Vec<String> {
 fn snapshot_failures(faults: Faults) -> Vec<String> {
     scenes()
         .into_iter()
-        .filter(|(_, scene)| summary(scene, faults, 5).ok() != summary(scene, Faults::NONE, 5).ok())
+        .filter(|(_, scene)| with_faults(faults, || summary(scene, 5)).ok() != summary(scene, 5).ok())
         .map(|(s, _)| s)
         .collect()
 }
@@ -66,19 +65,17 @@ fn snapshot_failures(faults: Faults) -> Vec<String> {
 /// it on every problem of these scenes: `the_unmodified_code_passes_every_check`); this is
 /// `rigidref crosscheck --strict`.
 fn crosscheck_failures(faults: Faults) -> Vec<String> {
-    let mut settings = CrosscheckSettings::default();
-    settings.pgs.faults = faults;
+    let settings = CrosscheckSettings::default();
     scenes()
         .into_iter()
         .filter(|(_, scene)| scene.params.check_collisions)
-        .filter(|(_, scene)| {
+        .filter(|(_, scene)| with_faults(faults, || {
             let mut world = World::new(scene).unwrap();
-            world.inject_faults(faults);
             for _ in 0..100 {
                 if world.step().is_err() {
                     return true;
                 }
-                for solve in &world.frame_contacts {
+                for solve in &world.solves {
                     let c = check_problem(&solve.problem, &settings).unwrap();
                     let bad = c.residual_pgs > 1e-10
                         || match c.comparison {
@@ -91,7 +88,7 @@ fn crosscheck_failures(faults: Faults) -> Vec<String> {
                 }
             }
             false
-        })
+        }))
         .map(|(s, _)| s)
         .collect()
 }
@@ -112,7 +109,7 @@ fn rapier_failures(faults: Faults) -> Vec<String> {
         .filter(|(s, scene)| {
             let seconds = if s.contains("dzhanibekov") { 20.0 } else { 5.0 };
             let steps = (seconds / scene.params.dt).round() as u64;
-            let ours = match record_rigidref(scene, steps, faults) {
+            let ours = match with_faults(faults, || record_rigidref(scene, steps)) {
                 Ok(t) => t,
                 Err(_) => return true,
             };

@@ -1,6 +1,6 @@
 //! PGS against clarabel on the same contact problem (docs/verification.md §"clarabel").
 
-mod common;
+use crate::common;
 
 use common::problems::{build, physical_spec};
 use nalgebra::{SVector, Vector3};
@@ -160,7 +160,6 @@ fn body_on_ground(
         compliance,
         stabilization: 0.0,
         slop: 0.0,
-        faults: Default::default(),
     };
     assemble_problem(
         &[body],

@@ -1,7 +1,7 @@
 //! The 3D assignment's seven scenes load unchanged and run. Skipped, with a printed reason, where
 //! ../shared is absent.
 
-mod common;
+use crate::common;
 
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::rigid3d::world::World;

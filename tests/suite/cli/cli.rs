@@ -1,17 +1,10 @@
 //! The command-line program: the default run, the trace formats, determinism.
 
-mod common;
+use crate::common;
 
 use rigidref::rigid3d::trace::{FORMAT_NAME, csv_columns, read_trace};
-use std::process::Command;
 
-fn rigidref(args: &[&str], dir: &std::path::Path) -> std::process::Output {
-    Command::new(common::rigidref_bin())
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
+use common::rigidref;
 
 /// `cargo run --release` with no arguments runs the embedded scene and writes trace.jsonl.
 #[test]

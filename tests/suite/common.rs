@@ -212,7 +212,6 @@ pub mod problems {
             compliance,
             stabilization: 0.0,
             slop: 0.0,
-            faults: Default::default(),
         };
         let mut problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         for (c, s) in problem.contacts.iter_mut().zip(&spec.contacts) {
@@ -233,5 +232,57 @@ pub fn blocks2d_assignment() -> Option<PathBuf> {
             dir.display()
         );
         None
+    }
+}
+
+/// Runs the built `rigidref` with `args` in `dir` and returns what it printed and its status.
+pub fn rigidref(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(rigidref_bin())
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+pub mod blocks {
+    //! 2D bodies for the tests: random blobs of blocks and bodies made of given cells.
+
+    use nalgebra::Vector2;
+    use proptest::prelude::*;
+    use rigidref::blocks2d::body::Body2;
+    use rigidref::blocks2d::image::{Block, BlockGroup, block_mass};
+
+    /// A random blob of up to 30 blocks grown from one cell.
+    pub fn blob() -> impl Strategy<Value = Vec<(i64, i64)>> {
+        proptest::collection::vec(0usize..4, 0..30).prop_map(|steps| {
+            let mut cells = vec![(0i64, 0i64)];
+            let mut at = (0, 0);
+            for s in steps {
+                let d = [(1, 0), (-1, 0), (0, 1), (0, -1)][s];
+                at = (at.0 + d.0, at.1 + d.1);
+                if !cells.contains(&at) {
+                    cells.push(at);
+                }
+            }
+            cells
+        })
+    }
+
+    /// A body of unit blocks at `cells` (dark red, or blue when `pinned`).
+    pub fn body_of(cells: &[(i64, i64)], pinned: bool) -> Body2 {
+        let colour = if pinned {
+            [0.0, 0.0, 0.64]
+        } else {
+            [0.2, 0.1, 0.1]
+        };
+        let blocks = cells
+            .iter()
+            .map(|&(x, y)| Block {
+                pixel: Vector2::new(x as f64, y as f64),
+                colour,
+                mass: block_mass(colour),
+            })
+            .collect();
+        Body2::from_group(&BlockGroup { blocks, pinned })
     }
 }

@@ -2,16 +2,15 @@
 //! (docs/verification.md §"rapier3d"; tolerances and expected differences in
 //! src/reference/compare.rs, printed with each result).
 
-mod common;
+use crate::common;
 
-use rigidref::verify::faults::Faults;
 use rigidref::verify::references::compare::{Observable, compare, record_rapier, record_rigidref};
 use rigidref::rigid3d::scene::load_scene;
 
 fn observables(scene_file: &str, seconds: f64) -> Vec<Observable> {
     let scene = load_scene(&common::project_root().join("scenes").join(scene_file)).unwrap();
     let steps = (seconds / scene.params.dt).round() as u64;
-    let ours = record_rigidref(&scene, steps, Faults::NONE).unwrap();
+    let ours = record_rigidref(&scene, steps).unwrap();
     let theirs = record_rapier(&scene, steps).unwrap();
     let out = compare(&scene, &ours, &theirs);
     for o in &out {

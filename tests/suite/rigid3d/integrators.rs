@@ -1,7 +1,7 @@
 //! Properties of the free-body integrators over random bodies at zero gravity.
 //! docs/dynamics.md §"Conservation properties of the schemes" states the bounds checked here.
 
-mod common;
+use crate::common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;

@@ -1,7 +1,7 @@
 //! Contact on whole scenes: the assignment's scenes and the project's canonical ones
 //! (docs/contact.md). Each test says which property of the contact model it checks.
 
-mod common;
+use crate::common;
 
 use nalgebra::Vector3;
 use rigidref::rigid3d::scene::{Scene, load_scene};
@@ -23,7 +23,7 @@ fn world(scene: &Scene) -> World {
 
 fn total_normal_impulse(world: &World) -> f64 {
     world
-        .frame_contacts
+        .solves
         .last()
         .map_or(0.0, |s| s.lambda.iter().map(|l| l[0]).sum())
 }
@@ -34,12 +34,12 @@ fn check_simple_jacobian(scene: &Scene, what: &str) {
     // Contacts are detected after the velocity step and before the position step, so the
     // lever arm is measured from where the body was at the start of the frame.
     let mut x_before = w.bodies[0].x;
-    while w.frame_contacts.is_empty() {
+    while w.solves.is_empty() {
         x_before = w.bodies[0].x;
         w.step().unwrap();
         assert!(w.step < 1000, "{what}: no contact");
     }
-    let solve = w.frame_contacts.last().unwrap();
+    let solve = w.solves.last().unwrap();
     let c = &solve.contacts[0];
     let r = c.point - x_before;
     let j = &solve.problem.contacts[0].jacobian;
@@ -109,7 +109,7 @@ fn check_rest(scene: &Scene, what: &str, settle: u64, window: u64, still: f64) {
         );
         worst_impulse_error =
             worst_impulse_error.max((total_normal_impulse(&w) - m * g * h).abs() / (m * g * h));
-        for c in &w.frame_contacts.last().unwrap().contacts {
+        for c in &w.solves.last().unwrap().contacts {
             deepest = deepest.max(c.depth);
         }
     }
@@ -153,7 +153,7 @@ fn corner_impulses(scene: &Scene, steps: u64) -> Vec<f64> {
     for _ in 0..steps {
         w.step().unwrap();
     }
-    w.frame_contacts
+    w.solves
         .last()
         .unwrap()
         .lambda
@@ -259,7 +259,7 @@ fn frictionless_box_keeps_its_velocity() {
     let mut w = world(&scene);
     for _ in 0..200 {
         w.step().unwrap();
-        assert!(!w.frame_contacts.is_empty(), "the box stays on the ground");
+        assert!(!w.solves.is_empty(), "the box stays on the ground");
     }
     let b = &w.bodies[0];
     println!(
@@ -314,7 +314,7 @@ fn mean_sweeps(scene: &Scene) -> f64 {
     for step in 1..=200 {
         w.step().unwrap();
         if step > 100 {
-            for s in &w.frame_contacts {
+            for s in &w.solves {
                 assert!(s.report.converged, "step {step}: {:?}", s.report);
                 sweeps += u64::from(s.report.iterations);
                 solves += 1;
@@ -379,7 +379,7 @@ fn assignment_scenes_run_five_seconds_with_contact() {
             let e = w.energy().total;
             lowest_energy = lowest_energy.min(e);
             worst_rise = worst_rise.max(e - lowest_energy);
-            for s in &w.frame_contacts {
+            for s in &w.solves {
                 for c in &s.contacts {
                     deepest = deepest.max(c.depth);
                     if step + 100 > steps {
@@ -419,7 +419,7 @@ fn check_momentum(scene: &Scene, what: &str) {
     let mut had_contact = false;
     for _ in 0..300 {
         w.step().unwrap();
-        had_contact |= !w.frame_contacts.is_empty();
+        had_contact |= !w.solves.is_empty();
     }
     assert!(had_contact, "{what}: the bodies never touched");
     let end = w.momentum();

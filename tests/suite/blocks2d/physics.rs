@@ -1,0 +1,328 @@
+//! 2D physics: momentum through contact, restitution, post-stabilisation, and the one shared
+//! solver (docs/blocks2d.md, docs/one-solver.md).
+
+use crate::common;
+use common::blocks::{blob, body_of};
+use common::rigidref;
+
+use nalgebra::Vector2;
+use proptest::prelude::*;
+use rigidref::blocks2d::image::{Block, BlockGroup, ImageSettings, block_mass, load_image};
+use rigidref::blocks2d::world::{Params2, World2};
+use rigidref::solve::ContactOrder;
+
+#[test]
+fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
+    // Bodies thrown at each other in zero gravity; post-stabilisation moves positions, not
+    // velocities, so it cannot change linear momentum; it is off here so that angular momentum
+    // about the origin (which depends on positions too) is also exact through contact.
+    // Set-up that guarantees contact: centres 7 blocks apart on a near-horizontal line (each
+    // blob covers the heights around its centre), neighbours closing at speed s ≥ 0.7, so they
+    // meet within 10 time units; 15 are run. Every case must have touched, or it tests nothing.
+    proptest!(common::seeded(40), |(
+        shapes in proptest::collection::vec((blob(), -0.05..0.05f64, -0.1..0.1f64), 2..5),
+        closing in 0.7..1.5f64,
+        mu in 0.0..1.0f64,
+        restitution in 0.0..1.0f64,
+    )| {
+        let mut world = World2::new(&[], Params2 { gravity: 0.0, mu, restitution, iterations: 20, post_stabilization: false, ..Params2::default() });
+        let middle = (shapes.len() - 1) as f64 / 2.0;
+        for (k, (cells, vy, omega)) in shapes.iter().enumerate() {
+            let mut b = body_of(cells, false);
+            b.x = Vector2::new(7.0 * k as f64, 0.3 * k as f64);
+            b.v = Vector2::new(-(k as f64 - middle) * closing, *vy);
+            b.omega = *omega;
+            world.add_body(b);
+        }
+        let m0 = world.momentum();
+        let (p0, l0) = (Vector2::from(m0.linear), m0.angular);
+        let mut contact_steps = 0;
+        for _ in 0..300 {
+            world.step().unwrap();
+            contact_steps += usize::from(!world.contacts.is_empty());
+        }
+        prop_assert!(contact_steps > 0, "no contact: the case tests nothing");
+        let m1 = world.momentum();
+        let (p1, l1) = (Vector2::from(m1.linear), m1.angular);
+        // Relative to the sum of the magnitudes that cancel in the totals: round-off in a sum of
+        // terms of size S is a few ε S, and 300 steps of impulses accumulate it; 1e-9 is the
+        // issue's bound.
+        let scale_p = world.bodies.iter().map(|b| b.mass * b.v.norm()).sum::<f64>().max(1e-12);
+        let scale_l = world.bodies.iter().map(|b| b.mass * b.x.norm() * b.v.norm() + b.inertia * b.omega.abs()).sum::<f64>().max(1e-12);
+        prop_assert!((p1 - p0).norm() <= 1e-9 * scale_p, "Δp {:?}", p1 - p0);
+        prop_assert!((l1 - l0).abs() <= 1e-9 * scale_l, "ΔL {}", l1 - l0);
+    });
+}
+
+/// Restitution (docs/blocks2d.md §"Contact problem"): a block dropped on a pinned floor bounces
+/// back up with e times the speed it arrived with, so each bounce's height is about e² of the
+/// last (e = 0.5: 0.25), and with e = 1 the bounces repeat without growing. The approach speed
+/// is taken before the substep's gravity kick; taken after it, e = 1 gained 0.1 block per bounce.
+#[test]
+fn restitution_scales_bounce_heights_by_e_squared_and_repeats_them_at_e_one() {
+    const START: f64 = -3.0;
+    // The tops of the bounces (y grows downward: where v_y turns from negative to positive),
+    // the final height and the largest speed.
+    let bounces = |e: f64| {
+        let floor: Vec<(i64, i64)> = (0..10).map(|x| (x, 0)).collect();
+        let mut world = World2::new(
+            &[],
+            Params2 {
+                restitution: e,
+                ..Params2::default()
+            },
+        );
+        let mut block = body_of(&[(0, 0)], false);
+        block.x = Vector2::new(4.0, START);
+        world.add_body(block);
+        world.add_body(body_of(&floor, true));
+        let (mut tops, mut previous_vy, mut fastest) = (Vec::new(), 0.0, 0.0f64);
+        while world.time() < 30.0 {
+            world.step().unwrap();
+            let b = &world.bodies[0];
+            fastest = fastest.max(b.v.norm());
+            if previous_vy < 0.0 && b.v.y >= 0.0 {
+                tops.push(b.x.y);
+            }
+            previous_vy = b.v.y;
+        }
+        (tops, world.bodies[0].x.y, fastest, world.params.h())
+    };
+    let (half, rest, _, _) = bounces(0.5);
+    let heights: Vec<f64> = half.iter().map(|y| rest - y).collect();
+    let drop = rest - START;
+    println!("e = 0.5: drop height {drop:.3}, bounce heights {heights:.3?}");
+    assert!(heights.len() >= 2, "{heights:?}");
+    let ratios = [heights[0] / drop, heights[1] / heights[0]];
+    // e² = 0.25; the discrete step (h = 0.05, a few per cent of a bounce's duration) moves it
+    // by a few per cent.
+    for r in &ratios {
+        assert!((r - 0.25).abs() < 0.03, "height ratios {ratios:?}");
+    }
+
+    let (tops, _, fastest, h) = bounces(1.0);
+    let heights: Vec<f64> = tops.iter().map(|y| rest - y).collect();
+    println!("e = 1: drop height {drop:.3}, bounce heights {heights:.4?}");
+    assert!(heights.len() >= 5, "{heights:?}");
+    // After the first bounce they repeat to round-off: no energy is gained or lost.
+    for x in &heights[1..] {
+        assert!((x - heights[0]).abs() < 1e-9, "{heights:?}");
+    }
+    // The first may top the drop height by the impact's penetration, at most one step's travel
+    // (fastest · h), which post-stabilisation lifts out without slowing the body.
+    assert!(
+        heights[0] <= drop + fastest * h,
+        "bounced {} above the drop height",
+        heights[0] - drop
+    );
+}
+
+/// Post-stabilisation (docs/blocks2d.md §"Post-stabilisation") corrects positions alone: two
+/// squares placed deep in each other, at rest and without gravity, are pushed apart until no
+/// disc pair overlaps by more than the slop, their velocities stay exactly zero (no energy is
+/// added), and their common centre of mass stays where it was (the correction is equal and
+/// opposite). Switched off, nothing moves them: the velocity-level solve sees b = 0.
+#[test]
+fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
+    let run = |post_stabilization: bool| {
+        let mut world = World2::new(
+            &[],
+            Params2 {
+                gravity: 0.0,
+                iterations: 50,
+                post_stabilization,
+                ..Params2::default()
+            },
+        );
+        for (k, x) in [0.0, 1.5].into_iter().enumerate() {
+            let mut b = body_of(&[(0, 0), (1, 0), (0, 1), (1, 1)], false);
+            b.x = Vector2::new(x, 0.1 * k as f64);
+            world.add_body(b);
+        }
+        let centre = |w: &World2| -> Vector2<f64> {
+            w.bodies.iter().map(|b| b.x * b.mass).sum::<Vector2<f64>>()
+                / w.bodies.iter().map(|b| b.mass).sum::<f64>()
+        };
+        let c0 = centre(&world);
+        world.step().unwrap();
+        let first = world.deepest_overlap();
+        for _ in 0..10 {
+            world.step().unwrap();
+        }
+        let speed = world
+            .bodies
+            .iter()
+            .map(|b| b.v.norm() + b.omega.abs())
+            .fold(0.0, f64::max);
+        (
+            first,
+            world.deepest_overlap(),
+            speed,
+            (centre(&world) - c0).norm(),
+            world.params.slop,
+        )
+    };
+    let (first, last, speed, shift, slop) = run(true);
+    println!(
+        "post-stabilisation: overlap {first:.3} → {last:.2e}, speed {speed}, centre moved {shift:.1e}"
+    );
+    assert!(first > 0.5, "the squares were placed overlapping: {first}");
+    // PGS at 50 sweeps on the position rows; 1e-6 is far below the 0.9 removed.
+    assert!(last <= slop + 1e-6, "overlap left: {last}");
+    assert_eq!(speed, 0.0);
+    // Σ m δx = h Σ (Jᵀλ)_linear = 0 up to round-off in positions of order 1.
+    assert!(shift < 1e-12, "centre of mass moved {shift}");
+    let (first_off, last_off, speed_off, _, _) = run(false);
+    assert_eq!(speed_off, 0.0);
+    assert_eq!(
+        first_off, last_off,
+        "without post-stabilisation nothing separates them"
+    );
+}
+
+#[test]
+fn the_2d_and_3d_systems_call_the_same_pgs() {
+    // In the source: both steps call solve::solve_pgs, and there is one PGS in the crate.
+    let root = common::project_root();
+    let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
+    assert!(read("src/rigid3d/world.rs").contains("solve_pgs("));
+    assert!(read("src/blocks2d/world.rs").contains("solve_pgs("));
+    let mut definitions = 0;
+    let mut stack = vec![root.join("src")];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else if p.extension().is_some_and(|e| e == "rs") {
+                definitions += std::fs::read_to_string(&p)
+                    .unwrap()
+                    .matches("fn solve_pgs")
+                    .count();
+            }
+        }
+    }
+    assert_eq!(definitions, 1, "one PGS implementation");
+    // In behaviour: re-solving a 2D world's last problem with that function gives its impulses.
+    let groups = vec![
+        BlockGroup {
+            blocks: (0..10)
+                .map(|j| Block {
+                    pixel: Vector2::new(j as f64, 5.0),
+                    colour: [0.0, 0.0, 0.64],
+                    mass: block_mass([0.0, 0.0, 0.64]),
+                })
+                .collect(),
+            pinned: true,
+        },
+        BlockGroup {
+            blocks: (3..6)
+                .map(|j| Block {
+                    pixel: Vector2::new(j as f64, 3.6),
+                    colour: [0.0; 3],
+                    mass: 1.0,
+                })
+                .collect(),
+            pinned: false,
+        },
+    ];
+    let mut world = World2::new(
+        &groups,
+        Params2 {
+            warm_start: false,
+            ..Params2::default()
+        },
+    );
+    world.step().unwrap();
+    let problem = world.solves.last().expect("a contact problem").problem.clone();
+    let mut workspace = rigidref::solve::PgsWorkspace::<3, 2>::new(0);
+    let mut lambda = Vec::new();
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: 10,
+        tolerance: None,
+        order: ContactOrder::Sequential,
+    };
+    rigidref::solve::solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
+    assert_eq!(lambda, world.solves.last().unwrap().lambda);
+}
+
+#[test]
+fn clarabel_crosscheck_runs_on_2d_contact_problems() {
+    let Some(dir) = common::blocks2d_assignment() else {
+        return;
+    };
+    let groups = load_image(&dir.join("delicate.png"), &ImageSettings::default()).unwrap();
+    let mut world = World2::new(
+        &groups,
+        Params2 {
+            substeps: 4,
+            iterations: 50,
+            order: ContactOrder::Random,
+            ..Params2::default()
+        },
+    );
+    let tmp = tempfile::tempdir().unwrap();
+    let mut checked = 0;
+    for step in 1..=200 {
+        world.step().unwrap();
+        if step % 20 == 0
+            && let Some(problem) = world.solves.last().map(|s| s.problem.clone())
+        {
+            let c = rigidref::verify::crosscheck::check_problem(&problem, &Default::default()).unwrap();
+            println!(
+                "delicate step {step}: {} contacts, {:?} {:.2e}, PGS residual {:.1e}",
+                c.contacts, c.comparison, c.disagreement, c.residual_pgs
+            );
+            if c.residual_pgs <= 1e-10 {
+                let tol = match c.comparison {
+                    rigidref::verify::crosscheck::Comparison::Lambda => 1e-5,
+                    rigidref::verify::crosscheck::Comparison::Objective => 1e-8,
+                };
+                assert!(c.disagreement <= tol, "{c:?}");
+                checked += 1;
+            }
+            let file = rigidref::problem::json::ProblemFile::new(&problem);
+            std::fs::write(
+                tmp.path().join(format!("p{step:04}.json")),
+                serde_json::to_string(&file).unwrap(),
+            )
+            .unwrap();
+        }
+    }
+    assert!(checked >= 5, "only {checked} problems converged");
+    // And through the command, from problem files with 3 degrees of freedom per body.
+    let out = std::process::Command::new(common::rigidref_bin())
+        .arg("crosscheck")
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("problems         9 ") || stdout.contains("problems         10 "),
+        "{stdout}"
+    );
+    // And on a 2D scene directly: every problem of 4 time units of the project's stack. Its
+    // step 79 is a problem where clarabel reports "Solved" short of the optimum (residual 1.8e-3,
+    // PGS 9e-13 with an objective 6e-9 lower): it must count as agreement, not as PGS's error.
+    let out = rigidref(
+        &["crosscheck", "stack.json", "--time", "4"],
+        &common::project_root().join("scenes/blocks"),
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("problems         178 (178 compared"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("result           agree"), "{stdout}");
+}

@@ -1,0 +1,11 @@
+//! The 3D system: integrators, mass properties, collision, the contact Jacobian and problem, and
+//! its scenes.
+
+mod assignment_scenes;
+mod collision;
+mod contact_jacobian;
+mod contact_scenes;
+mod dzhanibekov;
+mod integrators;
+mod massprops;
+mod projectile;

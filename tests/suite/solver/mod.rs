@@ -1,0 +1,3 @@
+//! The shared core: the contact problem and PGS.
+
+mod pgs;
