@@ -209,7 +209,7 @@ pub fn whole_steps(time: f64, dt: f64) -> f64 {
 /// Whether step `k` of a run of `steps` is recorded when recording every `every`-th step: the
 /// multiples of `every` and the last step (the initial state, step 0, is recorded by the caller).
 pub fn is_recorded(k: u64, steps: u64, every: u64) -> bool {
-    k % every == 0 || k == steps
+    k.is_multiple_of(every) || k == steps
 }
 
 /// What the driver does after a step.

@@ -286,3 +286,35 @@ pub mod blocks {
         Body2::from_group(&BlockGroup { blocks, pinned })
     }
 }
+
+/// Runs `steps` steps of `sim` through the one driver loop ([`rigidref::sim::drive`]), calling
+/// `each(sim, k)` after step k; panics, naming the step, if the state stops being finite.
+pub fn run<S, const D: usize, const R: usize>(
+    sim: &mut S,
+    steps: u64,
+    mut each: impl FnMut(&mut S, u64),
+) where
+    S: rigidref::sim::Simulation<D, R>,
+{
+    run_until(sim, steps, |w, k| {
+        each(w, k);
+        false
+    });
+}
+
+/// Runs `sim` through the one driver loop until `stop(sim, k)` is true after step k, at most
+/// `limit` steps; returns the steps run. Panics if the state stops being finite.
+pub fn run_until<S, const D: usize, const R: usize>(
+    sim: &mut S,
+    limit: u64,
+    mut stop: impl FnMut(&mut S, u64) -> bool,
+) -> u64
+where
+    S: rigidref::sim::Simulation<D, R>,
+{
+    use rigidref::sim::{Flow, NonFinite, drive};
+    drive(sim, limit, |w, k| {
+        Ok::<_, NonFinite>(if stop(w, k) { Flow::Stop } else { Flow::Continue })
+    })
+    .unwrap_or_else(|e| panic!("{e}"))
+}

@@ -71,9 +71,7 @@ fn penalty_contact_option_holds_the_stack_up() {
         ..Params2::default()
     };
     let mut world = World2::new(&groups, params);
-    for _ in 0..400 {
-        world.step().unwrap();
-    }
+    common::run(&mut world, 400, |_, _| {});
     let deepest = world.deepest_overlap();
     let bottom = world
         .bodies

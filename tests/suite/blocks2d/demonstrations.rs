@@ -46,16 +46,16 @@ fn demonstrate(
     };
     let mut moving_until = 0.0;
     let mut held_max: f64 = 0.0;
-    while world.time() < rest_by + hold - 1e-9 {
-        world.step().unwrap();
-        let ke = max_ke(&world);
+    common::run_until(&mut world, u64::MAX, |world, _| {
+        let ke = max_ke(world);
         if ke >= REST {
             moving_until = world.time();
         }
         if world.time() >= rest_by {
             held_max = held_max.max(ke);
         }
-    }
+        world.time() >= rest_by + hold - 1e-9
+    });
     let overlap = world.deepest_overlap();
     let drift = world
         .bodies
@@ -112,9 +112,7 @@ fn demonstrate(
         impulse: Vector2::new(5.0 * m, 0.0),
         point: None,
     });
-    for _ in 0..40 {
-        world.step().unwrap();
-    }
+    common::run(&mut world, 40, |_, _| {});
     let moved = |k: usize| (world.bodies[k].x - before[k]).norm();
     let moved_above = above.iter().filter(|&&k| moved(k) > 0.1).count();
     println!(

@@ -37,10 +37,9 @@ fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
         let m0 = world.momentum();
         let (p0, l0) = (Vector2::from(m0.linear), m0.angular);
         let mut contact_steps = 0;
-        for _ in 0..300 {
-            world.step().unwrap();
+        common::run(&mut world, 300, |world, _| {
             contact_steps += usize::from(!world.contacts.is_empty());
-        }
+        });
         prop_assert!(contact_steps > 0, "no contact: the case tests nothing");
         let m1 = world.momentum();
         let (p1, l1) = (Vector2::from(m1.linear), m1.angular);
@@ -77,15 +76,15 @@ fn restitution_scales_bounce_heights_by_e_squared_and_repeats_them_at_e_one() {
         world.add_body(block);
         world.add_body(body_of(&floor, true));
         let (mut tops, mut previous_vy, mut fastest) = (Vec::new(), 0.0, 0.0f64);
-        while world.time() < 30.0 {
-            world.step().unwrap();
+        common::run_until(&mut world, u64::MAX, |world, _| {
             let b = &world.bodies[0];
             fastest = fastest.max(b.v.norm());
             if previous_vy < 0.0 && b.v.y >= 0.0 {
                 tops.push(b.x.y);
             }
             previous_vy = b.v.y;
-        }
+            world.time() >= 30.0
+        });
         (tops, world.bodies[0].x.y, fastest, world.params.h())
     };
     let (half, rest, _, _) = bounces(0.5);
@@ -144,11 +143,9 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
                 / w.bodies.iter().map(|b| b.mass).sum::<f64>()
         };
         let c0 = centre(&world);
-        world.step().unwrap();
+        common::run(&mut world, 1, |_, _| {});
         let first = world.deepest_overlap();
-        for _ in 0..10 {
-            world.step().unwrap();
-        }
+        common::run(&mut world, 10, |_, _| {});
         let speed = world
             .bodies
             .iter()
@@ -233,7 +230,7 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
             ..Params2::default()
         },
     );
-    world.step().unwrap();
+    common::run(&mut world, 1, |_, _| {});
     let problem = world.solves.last().expect("a contact problem").problem.clone();
     let mut workspace = rigidref::solve::PgsWorkspace::<3, 2>::new(0);
     let mut lambda = Vec::new();
@@ -263,8 +260,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
     );
     let tmp = tempfile::tempdir().unwrap();
     let mut checked = 0;
-    for step in 1..=200 {
-        world.step().unwrap();
+    common::run(&mut world, 200, |world, step| {
         if step % 20 == 0
             && let Some(problem) = world.solves.last().map(|s| s.problem.clone())
         {
@@ -288,7 +284,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
             )
             .unwrap();
         }
-    }
+    });
     assert!(checked >= 5, "only {checked} problems converged");
     // And through the command, from problem files with 3 degrees of freedom per body.
     let out = std::process::Command::new(common::rigidref_bin())

@@ -1,4 +1,4 @@
 //! The command-line program: every command as a user runs it, and bad input.
 
 mod bad_input;
-mod cli;
+mod commands;

@@ -34,11 +34,15 @@ fn check_simple_jacobian(scene: &Scene, what: &str) {
     // Contacts are detected after the velocity step and before the position step, so the
     // lever arm is measured from where the body was at the start of the frame.
     let mut x_before = w.bodies[0].x;
-    while w.solves.is_empty() {
-        x_before = w.bodies[0].x;
-        w.step().unwrap();
-        assert!(w.step < 1000, "{what}: no contact");
-    }
+    // Until the first frame with contacts, remembering where the body was before it.
+    common::run_until(&mut w, 1000, |w, _| {
+        let touching = !w.solves.is_empty();
+        if !touching {
+            x_before = w.bodies[0].x;
+        }
+        touching
+    });
+    assert!(!w.solves.is_empty(), "{what}: no contact");
     let solve = w.solves.last().unwrap();
     let c = &solve.contacts[0];
     let r = c.point - x_before;
@@ -93,13 +97,10 @@ fn check_rest(scene: &Scene, what: &str, settle: u64, window: u64, still: f64) {
     // excess per step, 0.8¹⁰⁰ ≈ 2e-10 of it in the hundred frames after landing at about
     // frame 50. (Later, a polyhedral ball balanced on one vertex tips over: an unstable
     // equilibrium that round-off sets off after a few seconds.)
-    for _ in 0..settle {
-        w.step().unwrap();
-    }
+    common::run(&mut w, settle, |_, _| {});
     let mut worst_impulse_error: f64 = 0.0;
     let mut deepest: f64 = 0.0;
-    for _ in 0..window {
-        w.step().unwrap();
+    common::run(&mut w, window, |w, _| {
         let b = &w.bodies[0];
         assert!(
             b.v.norm() < still && b.omega.norm() < still,
@@ -108,11 +109,11 @@ fn check_rest(scene: &Scene, what: &str, settle: u64, window: u64, still: f64) {
             b.omega
         );
         worst_impulse_error =
-            worst_impulse_error.max((total_normal_impulse(&w) - m * g * h).abs() / (m * g * h));
+            worst_impulse_error.max((total_normal_impulse(w) - m * g * h).abs() / (m * g * h));
         for c in &w.solves.last().unwrap().contacts {
             deepest = deepest.max(c.depth);
         }
-    }
+    });
     println!(
         "{what}: at rest, Σλn vs m g h relative error {worst_impulse_error:.2e}, penetration {deepest:.6e} m (slop {slop} m)"
     );
@@ -150,9 +151,7 @@ fn sphere_comes_to_rest_and_carries_its_weight() {
 /// The normal impulses of the last frame, after `steps` frames.
 fn corner_impulses(scene: &Scene, steps: u64) -> Vec<f64> {
     let mut w = world(scene);
-    for _ in 0..steps {
-        w.step().unwrap();
-    }
+    common::run(&mut w, steps, |_, _| {});
     w.solves
         .last()
         .unwrap()
@@ -217,10 +216,8 @@ fn brick_corner_impulses_are_equal_with_compliance() {
 fn slide(scene: &Scene) -> (f64, u64) {
     let mut w = world(scene);
     let x0 = w.bodies[0].x;
-    while w.bodies[0].v.norm() > 1e-9 || w.step == 0 {
-        w.step().unwrap();
-        assert!(w.step < 10_000, "never stops");
-    }
+    common::run_until(&mut w, 10_000, |w, _| w.bodies[0].v.norm() <= 1e-9);
+    assert!(w.bodies[0].v.norm() <= 1e-9, "never stops");
     ((w.bodies[0].x - x0).norm(), w.step)
 }
 
@@ -257,10 +254,9 @@ fn frictionless_box_keeps_its_velocity() {
     scene.params.mu = 0.0;
     let v0 = scene.bodies[0].v0;
     let mut w = world(&scene);
-    for _ in 0..200 {
-        w.step().unwrap();
+    common::run(&mut w, 200, |w, _| {
         assert!(!w.solves.is_empty(), "the box stays on the ground");
-    }
+    });
     let b = &w.bodies[0];
     println!(
         "frictionless box after 2 s: v = {:?}, ω = {:?}",
@@ -286,9 +282,7 @@ fn box_on_incline_sticks_below_the_friction_angle_and_slides_above() {
         let mut w = world(&scene);
         let x0 = w.bodies[0].x;
         let steps = (t / scene.params.dt).round() as u64;
-        for _ in 0..steps {
-            w.step().unwrap();
-        }
+        common::run(&mut w, steps, |_, _| {});
         let moved = w.bodies[0].x.x - x0.x;
         let expected = 0.5 * g * (theta.sin() - mu * theta.cos()) * t * t;
         println!(
@@ -311,8 +305,7 @@ fn mean_sweeps(scene: &Scene) -> f64 {
     let mut w = world(scene);
     let mut sweeps = 0u64;
     let mut solves = 0u64;
-    for step in 1..=200 {
-        w.step().unwrap();
+    common::run(&mut w, 200, |w, step| {
         if step > 100 {
             for s in &w.solves {
                 assert!(s.report.converged, "step {step}: {:?}", s.report);
@@ -320,7 +313,7 @@ fn mean_sweeps(scene: &Scene) -> f64 {
                 solves += 1;
             }
         }
-    }
+    });
     sweeps as f64 / solves as f64
 }
 
@@ -374,8 +367,7 @@ fn assignment_scenes_run_five_seconds_with_contact() {
         let mut deepest: f64 = 0.0;
         let mut last_second_deepest: f64 = 0.0;
         let steps = (5.0 / scene.params.dt).round() as u64;
-        for step in 1..=steps {
-            w.step().unwrap_or_else(|e| panic!("{what}: {e}"));
+        common::run(&mut w, steps, |w, step| {
             let e = w.energy().total;
             lowest_energy = lowest_energy.min(e);
             worst_rise = worst_rise.max(e - lowest_energy);
@@ -387,7 +379,7 @@ fn assignment_scenes_run_five_seconds_with_contact() {
                     }
                 }
             }
-        }
+        });
         // Documented bounds (docs/contact.md §"Stabilisation"):
         // - at no time deeper than 0.1 m (a tenth of the bodies' size: one frame's travel at the
         //   fastest impact speed here, ~5.5 m/s × 0.01 s, plus margin);
@@ -417,10 +409,9 @@ fn check_momentum(scene: &Scene, what: &str) {
     let mut w = world(scene);
     let start = w.momentum();
     let mut had_contact = false;
-    for _ in 0..300 {
-        w.step().unwrap();
+    common::run(&mut w, 300, |w, _| {
         had_contact |= !w.solves.is_empty();
-    }
+    });
     assert!(had_contact, "{what}: the bodies never touched");
     let end = w.momentum();
     let dp = (end.linear - start.linear).norm() / start.linear.norm().max(1e-300);

@@ -25,10 +25,9 @@ fn flips(scene: &Scene, seconds: f64) -> (Vec<f64>, Vec<f64>) {
     let mut world = World::new(scene).unwrap();
     let frames = (seconds / scene.params.dt).round() as usize;
     let mut samples = vec![(0.0, world.bodies[0].omega_body()[axis])];
-    for _ in 0..frames {
-        world.step().unwrap();
+    common::run(&mut world, frames as u64, |world, _| {
         samples.push((world.time(), world.bodies[0].omega_body()[axis]));
-    }
+    });
     let changes = sign_changes(&samples);
 
     // Reference: RK4 at a step 100× smaller than the simulator's h, sampled at the same frames.

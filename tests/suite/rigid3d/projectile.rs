@@ -19,8 +19,7 @@ fn projectile_matches_the_closed_form_of_symplectic_euler_to_round_off() {
     );
     let mut world = World::new(&scene).unwrap();
     let mut worst = 0.0f64;
-    for _ in 0..300 {
-        world.step().unwrap();
+    common::run(&mut world, 300, |world, _| {
         let n = (world.step * scene.params.substeps as u64) as f64;
         let v = v0 + g * (n * h);
         let x = x0 + v0 * (n * h) + g * (h * h * n * (n + 1.0) / 2.0);
@@ -36,7 +35,7 @@ fn projectile_matches_the_closed_form_of_symplectic_euler_to_round_off() {
             x
         );
         assert!((b.v - v).norm() < 1e-12 * n.max(1.0) * v.norm().max(1.0));
-    }
+    });
     eprintln!("largest deviation from the discrete closed form over 300 steps: {worst:.2e}");
 }
 
@@ -49,9 +48,7 @@ fn projectile_differs_from_the_parabola_by_half_g_h_t() {
     for substeps in [1, 2, 4] {
         scene.params.substeps = substeps;
         let mut world = World::new(&scene).unwrap();
-        for _ in 0..200 {
-            world.step().unwrap();
-        }
+        common::run(&mut world, 200, |_, _| {});
         let t = world.time();
         let exact = x0 + v0 * t + g * (0.5 * t * t);
         let error = world.bodies[0].x - exact;
