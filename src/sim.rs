@@ -193,7 +193,9 @@ pub fn check_step_count(steps: f64, dt: f64) -> Result<(), String> {
 /// the count is beyond [`MAX_STEPS`].
 pub fn steps_in(time: f64, dt: f64, unit: &str) -> Result<u64, String> {
     if !(time.is_finite() && time > 0.0) {
-        return Err(format!("--time must be a positive number{unit}, got {time}"));
+        return Err(format!(
+            "--time must be a positive number{unit}, got {time}"
+        ));
     }
     let steps = whole_steps(time, dt).max(1.0);
     check_step_count(steps, dt)?;

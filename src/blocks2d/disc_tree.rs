@@ -81,3 +81,61 @@ impl DiscTree {
         self.nodes.first()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Structure on small cases; that the tree finds exactly the touching block pairs is
+    //! tests/suite/blocks2d/properties.rs::disc_tree_finds_exactly_the_block_pairs_the_brute_force_test_finds.
+
+    use super::*;
+
+    /// The blocks below node `i` (its leaves), after checking that the node's disc contains
+    /// every one of their block discs (centre `centres[b]`, radius [`BLOCK_RADIUS`]).
+    fn leaves(tree: &DiscTree, centres: &[Vector2<f64>], i: usize) -> Vec<usize> {
+        let node = &tree.nodes[i];
+        let below = match node.kind {
+            NodeKind::Leaf(b) => vec![b],
+            NodeKind::Inner(a, b) => {
+                let mut v = leaves(tree, centres, a);
+                v.extend(leaves(tree, centres, b));
+                v
+            }
+        };
+        for &b in &below {
+            // Round-off only: the radius is a square root of sums of squares.
+            let reach = (centres[b] - node.centre).norm() + BLOCK_RADIUS;
+            assert!(
+                reach <= node.radius + 1e-9,
+                "node {i} does not contain block {b}"
+            );
+        }
+        below
+    }
+
+    #[test]
+    fn an_empty_body_has_no_tree_and_one_block_is_a_single_leaf() {
+        assert!(DiscTree::build(&[], &[]).root().is_none());
+        let tree = DiscTree::build(&[Vector2::new(2.0, 5.0)], &[0]);
+        assert_eq!(tree.nodes.len(), 1);
+        let root = tree.root().unwrap();
+        assert_eq!(root.kind, NodeKind::Leaf(0));
+        assert_eq!(
+            (root.centre, root.radius),
+            (Vector2::new(2.0, 5.0), BLOCK_RADIUS)
+        );
+    }
+
+    #[test]
+    fn every_block_is_one_leaf_and_every_disc_contains_the_block_discs_below_it() {
+        let centres: Vec<Vector2<f64>> = (0..7)
+            .flat_map(|i| (0..3).map(move |j| Vector2::new(i as f64, j as f64)))
+            .collect();
+        let indices: Vec<usize> = (0..centres.len()).collect();
+        let tree = DiscTree::build(&centres, &indices);
+        let mut found = leaves(&tree, &centres, 0);
+        found.sort();
+        assert_eq!(found, indices);
+        // A full binary tree over n leaves has 2n − 1 nodes.
+        assert_eq!(tree.nodes.len(), 2 * centres.len() - 1);
+    }
+}

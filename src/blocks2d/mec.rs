@@ -110,3 +110,41 @@ pub fn brute_force_enclosing_circle(points: &[Vector2<f64>]) -> Option<Circle> {
     }
     best
 }
+
+#[cfg(test)]
+mod tests {
+    //! Small exact cases; the randomised comparison with [`brute_force_enclosing_circle`] is
+    //! tests/suite/blocks2d/properties.rs::minimum_enclosing_circle_contains_every_point_and_matches_brute_force.
+
+    use super::*;
+
+    fn p(x: f64, y: f64) -> Vector2<f64> {
+        Vector2::new(x, y)
+    }
+
+    #[test]
+    fn no_points_have_no_circle_and_one_point_has_radius_zero() {
+        assert_eq!(min_enclosing_circle(&[]), None);
+        let c = min_enclosing_circle(&[p(3.0, -2.0)]).unwrap();
+        assert_eq!((c.centre, c.radius), (p(3.0, -2.0), 0.0));
+    }
+
+    #[test]
+    fn the_corners_of_a_square_lie_on_the_circle_of_its_diagonal() {
+        let c =
+            min_enclosing_circle(&[p(0.0, 0.0), p(2.0, 0.0), p(2.0, 2.0), p(0.0, 2.0)]).unwrap();
+        // Round-off only: the centre is an average of exact values.
+        assert!((c.centre - p(1.0, 1.0)).norm() < 1e-12, "{c:?}");
+        assert!((c.radius - 2f64.sqrt()).abs() < 1e-12, "{c:?}");
+    }
+
+    #[test]
+    fn interior_points_do_not_change_the_circle_of_an_obtuse_triangle() {
+        // An obtuse triangle's smallest circle has its longest side as diameter, not the
+        // circumcircle; the point inside changes nothing.
+        let c =
+            min_enclosing_circle(&[p(-3.0, 0.0), p(3.0, 0.0), p(0.0, 1.0), p(0.5, 0.2)]).unwrap();
+        assert!((c.centre - p(0.0, 0.0)).norm() < 1e-12, "{c:?}");
+        assert!((c.radius - 3.0).abs() < 1e-12, "{c:?}");
+    }
+}

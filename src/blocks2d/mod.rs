@@ -6,14 +6,20 @@
 //! - [`body`]: a 2D rigid body and its integrator;
 //! - [`mec`], [`disc_tree`]: minimum enclosing circles and bounding-disc trees;
 //! - [`collide`]: block-disc contacts, tree against tree, sweep-and-prune between bodies;
-//! - [`world`]: the step: detect → assemble the shared contact problem → solve → stabilise →
-//!   integrate.
+//! - [`assemble`]: the shared contact problem with 3 degrees of freedom per body;
+//! - [`world`]: the step, [`world::World2::step`]: detect → assemble → solve → post-stabilise →
+//!   integrate;
+//! - [`params`], [`scene`]: parameters, 2D scene files and the one loader of images and scenes;
+//! - [`diagnostics`], [`trace`]: energy and momentum, and the 2D trace.
 
+pub mod assemble;
 pub mod body;
 pub mod collide;
+pub mod diagnostics;
 pub mod disc_tree;
 pub mod image;
 pub mod mec;
+pub mod params;
 pub mod scene;
 pub mod trace;
 pub mod world;

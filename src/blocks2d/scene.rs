@@ -161,7 +161,7 @@ impl Parameters2 {
     pub fn resolve(&self) -> Result<(Params2, ImageSettings), ParamError> {
         let d = Params2::default();
         let p = Params2 {
-            step: self.step.unwrap_or(d.step),
+            dt: self.step.unwrap_or(d.dt),
             substeps: self.substeps.unwrap_or(d.substeps),
             gravity: self.gravity.unwrap_or(d.gravity),
             gravity_angle: self.gravity_angle.unwrap_or(d.gravity_angle),
@@ -183,8 +183,8 @@ impl Parameters2 {
         let fail = |key, message: String| Err(ParamError { key, message });
         let positive = |x: f64| x.is_finite() && x > 0.0;
         let non_negative = |x: f64| x.is_finite() && x >= 0.0;
-        if !positive(p.step) {
-            return fail("step", format!("must be a positive number, got {}", p.step));
+        if !positive(p.dt) {
+            return fail("step", format!("must be a positive number, got {}", p.dt));
         }
         if p.substeps == 0 {
             return fail("substeps", "must be at least 1".into());
@@ -192,7 +192,12 @@ impl Parameters2 {
         if p.iterations == 0 {
             return fail("iterations", "must be at least 1".into());
         }
-        for (key, x) in [("gravity", p.gravity), ("mu", p.mu), ("restitution", p.restitution), ("slop", p.slop)] {
+        for (key, x) in [
+            ("gravity", p.gravity),
+            ("mu", p.mu),
+            ("restitution", p.restitution),
+            ("slop", p.slop),
+        ] {
             if !non_negative(x) {
                 return fail(key, format!("must be a number ≥ 0, got {x}"));
             }
@@ -201,15 +206,24 @@ impl Parameters2 {
             return fail("gravity_angle", "must be finite".into());
         }
         if p.restitution > 1.0 {
-            return fail("restitution", format!("must be in [0, 1], got {}", p.restitution));
+            return fail(
+                "restitution",
+                format!("must be in [0, 1], got {}", p.restitution),
+            );
         }
         if let Some(t) = p.tolerance
             && !positive(t)
         {
-            return fail("pgs_tolerance", format!("must be a positive number, got {t}"));
+            return fail(
+                "pgs_tolerance",
+                format!("must be a positive number, got {t}"),
+            );
         }
         if !(0.0..1.0).contains(&white_threshold) {
-            return fail("white_threshold", format!("must be in [0, 1), got {white_threshold}"));
+            return fail(
+                "white_threshold",
+                format!("must be in [0, 1), got {white_threshold}"),
+            );
         }
         Ok((p, ImageSettings { white_threshold }))
     }
@@ -241,7 +255,10 @@ impl ParametersFile2 {
 
 /// Whether `path` is a 2D scene: a .png image, or a JSON file with an `image` key.
 pub fn is_2d_scene(path: &Path) -> bool {
-    let has = |ext: &str| path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext));
+    let has = |ext: &str| {
+        path.extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case(ext))
+    };
     has("png") || (has("json") && std::fs::read_to_string(path).is_ok_and(|t| is_scene2(&t)))
 }
 
@@ -265,7 +282,10 @@ pub struct CommandLine2 {
 /// between the two). Warnings are returned, not printed.
 pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
     let source = path.display().to_string();
-    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
         if !cli.given.is_empty() {
             return Err(SceneError(format!(
                 "{source}: a 2D scene file sets its own parameters; {} on the command line apply to .png scenes only",
@@ -313,13 +333,14 @@ pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
         .map_err(|e| SceneError(format!("{source}: cannot read scene: {e}")))?;
     let mut warnings = Vec::new();
     let file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;
-    let (params, settings) = file.parameters
+    let (params, settings) = file
+        .parameters
         .plain()
         .resolve()
         .map_err(|e| SceneError(format!("{source}: parameters.{} {}", e.key, e.message)))?;
     let image = path.parent().unwrap_or(Path::new(".")).join(&file.image);
-    let groups = load_image(&image, &settings)
-        .map_err(|e| SceneError(format!("{source}: image: {e}")))?;
+    let groups =
+        load_image(&image, &settings).map_err(|e| SceneError(format!("{source}: image: {e}")))?;
     let mut world = World2::new(&groups, params);
     let n = world.bodies.len();
     for (k, i) in file.impulses.iter().enumerate() {

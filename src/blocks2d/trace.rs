@@ -1,6 +1,7 @@
 //! The 2D trace: the same JSON Lines format as 3D (docs/trace-format.md §"2D traces") with
 //! `"dimension": 2` in the header and 2D states in the records.
 
+use super::diagnostics::{Energy2, Momentum2};
 use super::world::World2;
 use serde::{Deserialize, Serialize};
 
@@ -70,26 +71,6 @@ pub struct State2 {
     pub omega: f64,
 }
 
-/// Energies.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Energy2 {
-    /// ½ m v² + ½ I ω².
-    pub kinetic: f64,
-    /// −m g·x.
-    pub potential: f64,
-    /// Sum.
-    pub total: f64,
-}
-
-/// Momenta.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Momentum2 {
-    /// Σ m v.
-    pub linear: [f64; 2],
-    /// Σ (x × m v + I ω) about the origin.
-    pub angular: f64,
-}
-
 /// A contact.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Contact2Record {
@@ -115,7 +96,7 @@ impl TraceHeader2 {
             dimension: 2,
             scene: scene.into(),
             source: source.into(),
-            dt: world.params.step,
+            dt: world.params.dt,
             substeps: world.params.substeps,
             gravity: [g.x, g.y],
             bodies: world

@@ -12,131 +12,16 @@
 //!    position-only velocity that removes the penetration beyond the slop;
 //! 5. positions: x += h (v + δv), θ += h (ω + δω).
 
+use super::assemble::{ContactProblem2, WarmStart2, assemble_problem2, empty_problem2, tangent};
 use super::body::{Body2, cross};
 use super::collide::{Contact2, detect_contacts};
+use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
-use super::trace::{Energy2, Momentum2};
-use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+pub use super::params::{ContactModel, Params2};
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve, readable};
-use crate::solve::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
-use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
+use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+use nalgebra::{SVector, Vector2, Vector3};
 use std::collections::HashMap;
-
-/// Warm-start impulses by contact: (body 1, body 2, block 1, block 2) → world impulse.
-pub type WarmStart2 = HashMap<(usize, usize, usize, usize), Vector2<f64>>;
-
-/// The 2D problem: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
-pub type ContactProblem2 = ContactProblem<3, 2>;
-
-/// How contacts are resolved.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "snake_case")]
-pub enum ContactModel {
-    /// Velocity-level complementarity solved by PGS (the assignment's objective).
-    #[default]
-    Pgs,
-    /// The starter's penalty springs (frictionless), for comparison.
-    Penalty,
-}
-
-/// Parameters of the 2D system. Defaults are the assignment's starter's where it has one.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Params2 {
-    /// Step size (default 0.05, the starter's).
-    pub step: f64,
-    /// Substeps per step (default 1).
-    pub substeps: u32,
-    /// Gravity magnitude, blocks per time² (default 1).
-    pub gravity: f64,
-    /// Gravity direction, degrees from +x toward +y (default 90: toward increasing image row).
-    pub gravity_angle: f64,
-    /// Friction coefficient (default 0.33, the starter's).
-    pub mu: f64,
-    /// Coefficient of restitution (default 0).
-    pub restitution: f64,
-    /// PGS sweeps per solve (default 10, the starter's).
-    pub iterations: u32,
-    /// Optional early stop on the residual.
-    pub tolerance: Option<f64>,
-    /// Contact order in PGS (default sequential).
-    pub order: ContactOrder,
-    /// Seed of the random order.
-    pub seed: u64,
-    /// Warm start (default true).
-    pub warm_start: bool,
-    /// Post-stabilisation of penetration (default true).
-    pub post_stabilization: bool,
-    /// Penetration left alone by post-stabilisation, blocks (default 0.01).
-    pub slop: f64,
-    /// PGS (default) or penalty springs.
-    pub contact_model: ContactModel,
-    /// Penalty spring stiffness, per unit penetration (default 1000).
-    pub penalty_stiffness: f64,
-    /// Penalty damping, per unit approach speed (default 10).
-    pub penalty_damping: f64,
-}
-
-impl Default for Params2 {
-    fn default() -> Self {
-        Params2 {
-            step: 0.05,
-            substeps: 1,
-            gravity: 1.0,
-            gravity_angle: 90.0,
-            mu: 0.33,
-            restitution: 0.0,
-            iterations: 10,
-            tolerance: None,
-            order: ContactOrder::Sequential,
-            seed: 0,
-            warm_start: true,
-            post_stabilization: true,
-            slop: 0.01,
-            contact_model: ContactModel::Pgs,
-            penalty_stiffness: 1000.0,
-            penalty_damping: 10.0,
-        }
-    }
-}
-
-impl Params2 {
-    /// The settings under which the assignment's four demonstration images (delicate, tower100,
-    /// wallWideSparseHigh, wallWideDenseHigh) come to rest and stay at rest: 4 substeps of the
-    /// starter's 0.05 step, 200 PGS sweeps in seeded random order, the rest at the defaults. On
-    /// the command line: `--substeps 4 --iterations 200 --order random`. Why these and not the
-    /// starter's 10 sweeps in order: docs/blocks2d.md §"Demonstration settings".
-    pub fn demonstration() -> Params2 {
-        Params2 {
-            substeps: 4,
-            iterations: 200,
-            order: ContactOrder::Random,
-            ..Params2::default()
-        }
-    }
-
-    /// h = step / substeps.
-    pub fn h(&self) -> f64 {
-        self.step / self.substeps as f64
-    }
-
-    /// The gravity vector. Components below 1e-15 of the magnitude are zero, so the default
-    /// 90° is exactly (0, g) (cos 90° in floating point is 6e-17).
-    pub fn gravity_vector(&self) -> Vector2<f64> {
-        let a = self.gravity_angle.to_radians();
-        let snap = |c: f64| if c.abs() < 1e-15 { 0.0 } else { c };
-        Vector2::new(snap(a.cos()), snap(a.sin())) * self.gravity
-    }
-}
 
 /// The contact solve of one substep (the shared record, with 2D contacts and 3 × 2 problems).
 pub type Solve2 = SubstepSolve<Contact2, 3, 2>;
@@ -198,75 +83,6 @@ pub struct World2 {
     warm: WarmStart2,
 }
 
-/// A problem with no bodies and no contacts: a buffer to assemble into.
-fn empty_problem2() -> ContactProblem2 {
-    ContactProblem {
-        friction: FrictionModel::Box,
-        bodies: Vec::new(),
-        contacts: Vec::new(),
-    }
-}
-
-/// The Jacobian block of a body at lever arm r for direction rows (n, t): [d_x, d_y, r × d].
-fn jacobian_block2(n: &Vector2<f64>, t: &Vector2<f64>, r: &Vector2<f64>) -> SMatrix<f64, 2, 3> {
-    SMatrix::<f64, 2, 3>::new(n.x, n.y, cross(r, n), t.x, t.y, cross(r, t))
-}
-
-/// The tangent of a 2D contact: n turned by +90°, t = (−n_y, n_x).
-pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
-    Vector2::new(-n.y, n.x)
-}
-
-/// The 2D contact problem of `contacts`, assembled into `problem` (its buffers reused, so that a
-/// substep does not allocate once they have grown): M⁻¹ = diag(1/m, 1/m, 1/I) (zero for pinned
-/// bodies), u = (vx, vy, ω), J₁ = [nᵀ, r₁×n; tᵀ, r₁×t], J₂ = −[… r₂ …], b = J u with restitution
-/// on approaching normal rows (b_n = (J u)_n + e (J u⁰)_n where (J u⁰)_n < 0, u⁰ = `before_kick`,
-/// each body's (vx, vy, ω) before this substep's forces), λ₀ from `warm`. docs/blocks2d.md
-/// §"Contact problem".
-pub fn assemble_problem2(
-    bodies: &[Body2],
-    before_kick: &[Vector3<f64>],
-    contacts: &[Contact2],
-    params: &Params2,
-    warm: Option<&WarmStart2>,
-    problem: &mut ContactProblem2,
-) {
-    problem.friction = FrictionModel::Box;
-    problem.bodies.clear();
-    problem.bodies.extend(bodies.iter().map(|b| ProblemBody {
-        inverse_mass: Matrix3::from_diagonal(&Vector3::new(b.inv_mass, b.inv_mass, b.inv_inertia)),
-        velocity: Vector3::new(b.v.x, b.v.y, b.omega),
-    }));
-    let problem_bodies = &problem.bodies;
-    problem.contacts.clear();
-    problem.contacts.extend(contacts.iter().map(|c| {
-        let t = tangent(&c.normal);
-        let j1 = jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body1].x));
-        let j2 = -jacobian_block2(&c.normal, &t, &(c.point - bodies[c.body2].x));
-        let mut b = j1 * problem_bodies[c.body1].velocity + j2 * problem_bodies[c.body2].velocity;
-        // The bounce is e times the approach speed the body arrived with, not the speed after
-        // this substep's gravity kick: that would add e g h per bounce (e = 1 gained 0.1 block
-        // of height per bounce) and make resting contacts hop.
-        let approach = (j1 * before_kick[c.body1] + j2 * before_kick[c.body2])[0];
-        if approach < 0.0 {
-            b[0] += params.restitution * approach;
-        }
-        let lambda0 = warm
-            .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
-            .map_or(SVector::<f64, 2>::zeros(), |p| {
-                SVector::<f64, 2>::new(p.dot(&c.normal), p.dot(&t))
-            });
-        ProblemContact {
-            bodies: [Some(c.body1), Some(c.body2)],
-            jacobian: [j1, j2],
-            b,
-            mu: params.mu,
-            compliance: 0.0,
-            lambda0,
-        }
-    }));
-}
-
 impl World2 {
     /// A world of the bodies of `groups`, at rest.
     pub fn new(groups: &[BlockGroup], params: Params2) -> World2 {
@@ -295,7 +111,7 @@ impl World2 {
 
     /// Time, step · step size.
     pub fn time(&self) -> f64 {
-        self.step as f64 * self.params.step
+        self.step as f64 * self.params.dt
     }
 
     /// The PGS settings of the velocity solve (and of post-stabilisation): the parameters'
@@ -408,7 +224,12 @@ impl World2 {
         );
         let settings = self.pgs_settings();
         let (report, wall, cpu) = crate::common::timing::timed(|| {
-            solve_pgs(&solve.problem, &settings, &mut self.workspace, &mut solve.lambda)
+            solve_pgs(
+                &solve.problem,
+                &settings,
+                &mut self.workspace,
+                &mut solve.lambda,
+            )
         });
         solve.report = report;
         (solve.solve_seconds, solve.solve_cpu_seconds) = (wall, cpu.unwrap_or(0.0));
@@ -564,7 +385,7 @@ impl Simulation<3, 2> for World2 {
         World2::time(self)
     }
     fn dt(&self) -> f64 {
-        self.params.step
+        self.params.dt
     }
     fn h(&self) -> f64 {
         self.params.h()

@@ -160,8 +160,12 @@ impl Blocks2dOptions {
         let shakes = self.shake.iter().map(|t| parse_shake(t));
         Ok(CommandLine2 {
             parameters: self.parameters(),
-            impulses: impulses.collect::<Result<_, _>>().map_err(anyhow::Error::msg)?,
-            shakes: shakes.collect::<Result<_, _>>().map_err(anyhow::Error::msg)?,
+            impulses: impulses
+                .collect::<Result<_, _>>()
+                .map_err(anyhow::Error::msg)?,
+            shakes: shakes
+                .collect::<Result<_, _>>()
+                .map_err(anyhow::Error::msg)?,
             given: self.given(),
         })
     }

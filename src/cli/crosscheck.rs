@@ -1,14 +1,15 @@
 //! `rigidref crosscheck`: every contact problem of a run (or of problem files) solved by PGS run
 //! to convergence and by clarabel, and compared. docs/verification.md §"clarabel".
 
+use super::crosscheck_report::{Limits, Row, print_summary, print_table, summarise};
+use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, ProblemCheck, check_problem};
 use rigidref::problem::json::ProblemFile;
 use rigidref::rigid3d::world::World;
-use std::path::{Path, PathBuf};
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
-use super::{Progress, Stopped};
+use rigidref::verify::crosscheck::{CrosscheckSettings, check_problem};
+use std::path::{Path, PathBuf};
 
 /// Arguments of `rigidref crosscheck`.
 #[derive(Args)]
@@ -55,33 +56,6 @@ pub struct CrosscheckArgs {
     pub rapier: bool,
 }
 
-/// One problem's check and where it came from.
-#[derive(serde::Serialize)]
-struct Row {
-    source: String,
-    #[serde(flatten)]
-    check: ProblemCheck,
-}
-
-#[derive(serde::Serialize)]
-struct Summary {
-    input: String,
-    problems: usize,
-    compared: usize,
-    unverified: usize,
-    compared_by_lambda: usize,
-    compared_by_objective: usize,
-    max_lambda_difference: f64,
-    median_lambda_difference: f64,
-    max_objective_gap: f64,
-    median_objective_gap: f64,
-    worst: Option<String>,
-    failures: usize,
-    tolerance: f64,
-    objective_tolerance: f64,
-    passed: bool,
-}
-
 /// Runs the cross-check.
 pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     if args.rapier {
@@ -91,33 +65,13 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         bail!("--tolerance and --objective-tolerance must be positive");
     }
     let settings = CrosscheckSettings::default();
-    let (input, rows) = match &args.input {
-        Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, &settings)?),
-        Some(path) if is_problem_file(path) => (
-            path.display().to_string(),
-            vec![check_file(path, &settings)?],
-        ),
-        Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
-            // An image with the default parameters, or a 2D scene file with its own.
-            let mut world = super::run2d::load_world(path, &Default::default())?;
-            let source = path.display().to_string();
-            let rows = check_run(&mut world, args.time, &source, &settings)?;
-            (source, rows)
-        }
-        other => {
-            let scene = super::load_scene_or_default(other.as_deref())?;
-            if !scene.params.check_collisions {
-                eprintln!(
-                    "note: {}: check_collisions is false: no contact problems to check",
-                    scene.source
-                );
-            }
-            let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
-            let rows = check_run(&mut world, args.time, &scene.source, &settings)?;
-            (scene.source.clone(), rows)
-        }
+    let (input, rows) = rows_of(&args, &settings)?;
+    let limits = Limits {
+        tolerance: args.tolerance,
+        objective_tolerance: args.objective_tolerance,
+        strict: args.strict,
     };
-    let summary = summarise(&input, &rows, &args);
+    let summary = summarise(&input, &rows, &limits);
     if args.json {
         let value = if args.table {
             serde_json::json!({"summary": summary, "problems": rows})
@@ -127,37 +81,7 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&value)?);
     } else {
         if args.table {
-            println!(
-                "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12}",
-                "problem",
-                "contacts",
-                "formulation",
-                "compared",
-                "disagree",
-                "res PGS",
-                "res QP",
-                "sweeps",
-                "clarabel"
-            );
-            for r in &rows {
-                println!(
-                    "{:<28} {:>8} {:<36} {:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>7} {:<12}",
-                    r.source,
-                    r.check.contacts,
-                    r.check.formulation,
-                    if r.check.comparison == Comparison::Lambda {
-                        "λ"
-                    } else {
-                        "objective"
-                    },
-                    r.check.disagreement,
-                    r.check.residual_pgs,
-                    r.check.residual_qp,
-                    r.check.pgs_iterations,
-                    format!("{} ({})", r.check.qp_status, r.check.qp_iterations),
-                );
-            }
-            println!();
+            print_table(&rows);
         }
         print_summary(&summary);
     }
@@ -170,6 +94,41 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The input's name and one row per contact problem: a folder of problem files, one problem
+/// file, a 2D scene (an image with the default parameters, or a 2D scene file with its own) or a
+/// 3D scene, run for --time.
+fn rows_of(
+    args: &CrosscheckArgs,
+    settings: &CrosscheckSettings,
+) -> anyhow::Result<(String, Vec<Row>)> {
+    Ok(match &args.input {
+        Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, settings)?),
+        Some(path) if is_problem_file(path) => (
+            path.display().to_string(),
+            vec![check_file(path, settings)?],
+        ),
+        Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
+            // An image with the default parameters, or a 2D scene file with its own.
+            let mut world = super::run2d::load_world(path, &Default::default())?;
+            let source = path.display().to_string();
+            let rows = check_run(&mut world, args.time, &source, settings)?;
+            (source, rows)
+        }
+        other => {
+            let scene = super::common::load_scene_or_default(other.as_deref())?;
+            if !scene.params.check_collisions {
+                eprintln!(
+                    "note: {}: check_collisions is false: no contact problems to check",
+                    scene.source
+                );
+            }
+            let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+            let rows = check_run(&mut world, args.time, &scene.source, settings)?;
+            (scene.source.clone(), rows)
+        }
+    })
 }
 
 fn is_problem_file(path: &Path) -> bool {
@@ -234,105 +193,4 @@ fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
     progress.finish();
     Stopped::outcome(ran, |e| format!("{source}: the run stopped: {e}"))?;
     Ok(rows)
-}
-
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// PGS converged when its residual is at most this (m/s); the run asks for 1e-12.
-const CONVERGED: f64 = 1e-10;
-
-fn summarise(input: &str, rows: &[Row], args: &CrosscheckArgs) -> Summary {
-    let compared: Vec<&Row> = rows
-        .iter()
-        .filter(|r| r.check.residual_pgs <= CONVERGED)
-        .collect();
-    let by = |c: Comparison| {
-        compared
-            .iter()
-            .filter(|r| r.check.comparison == c)
-            .map(|r| r.check.disagreement)
-            .collect::<Vec<_>>()
-    };
-    let lambda = by(Comparison::Lambda);
-    let objective = by(Comparison::Objective);
-    let fails = |r: &&&Row| {
-        !(r.check.qp_status == "Solved" || r.check.qp_status == "AlmostSolved")
-            || match r.check.comparison {
-                Comparison::Lambda => r.check.disagreement > args.tolerance,
-                Comparison::Objective => r.check.disagreement > args.objective_tolerance,
-            }
-    };
-    let mut failures = compared.iter().filter(fails).count();
-    if args.strict {
-        failures += rows.len() - compared.len();
-    }
-    // The worst relative to its own tolerance.
-    let worst = compared
-        .iter()
-        .max_by(|a, b| {
-            let ratio = |r: &Row| {
-                r.check.disagreement
-                    / match r.check.comparison {
-                        Comparison::Lambda => args.tolerance,
-                        Comparison::Objective => args.objective_tolerance,
-                    }
-            };
-            ratio(a).total_cmp(&ratio(b))
-        })
-        .map(|r| {
-            format!(
-                "{}: {:?} {:.2e}",
-                r.source, r.check.comparison, r.check.disagreement
-            )
-        });
-    Summary {
-        input: input.to_string(),
-        problems: rows.len(),
-        compared: compared.len(),
-        unverified: rows.len() - compared.len(),
-        compared_by_lambda: lambda.len(),
-        compared_by_objective: objective.len(),
-        max_lambda_difference: lambda.iter().copied().fold(0.0, f64::max),
-        median_lambda_difference: median(lambda),
-        max_objective_gap: objective.iter().copied().fold(0.0, f64::max),
-        median_objective_gap: median(objective),
-        worst,
-        failures,
-        tolerance: args.tolerance,
-        objective_tolerance: args.objective_tolerance,
-        passed: failures == 0,
-    }
-}
-
-fn print_summary(s: &Summary) {
-    println!("input            {}", s.input);
-    println!(
-        "problems         {} ({} compared: {} by λ, {} by objective; {} unverified: PGS did not converge)",
-        s.problems, s.compared, s.compared_by_lambda, s.compared_by_objective, s.unverified
-    );
-    println!(
-        "λ difference     max {:.2e}, median {:.2e} (tolerance {:.0e})",
-        s.max_lambda_difference, s.median_lambda_difference, s.tolerance
-    );
-    println!(
-        "objective gap    max {:.2e}, median {:.2e} (tolerance {:.0e})",
-        s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
-    );
-    println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
-    println!(
-        "result           {}",
-        if s.passed && s.compared == 0 {
-            "nothing compared (no contact problem was verified)".to_string()
-        } else if s.passed {
-            "agree".to_string()
-        } else {
-            format!("{} problems disagree", s.failures)
-        }
-    );
 }

@@ -2,7 +2,7 @@
 //! report of the 2D system (and, with a container image and --pieces tetris, the Tetris tube).
 //! docs/blocks2d.md §"Challenges", §"Scaling".
 
-use super::Progress;
+use super::progress::Progress;
 use clap::Args;
 use rigidref::tools::factory::{FactoryReport, FactorySettings, Pieces, run_factory};
 use std::path::{Path, PathBuf};
@@ -116,7 +116,8 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
         bar.tick(p.step);
         if p.step.is_multiple_of(20) {
             bar.bar().set_length(p.planned);
-            bar.bar().set_message(format!("{} bodies, {} contacts", p.bodies, p.contacts));
+            bar.bar()
+                .set_message(format!("{} bodies, {} contacts", p.bodies, p.contacts));
         }
     })
     .map_err(anyhow::Error::msg)?;

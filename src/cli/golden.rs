@@ -57,8 +57,7 @@ pub fn golden(args: GoldenArgs) -> anyhow::Result<()> {
             }
         };
         let scene = rigidref::rigid3d::scene::load_scene(path)?;
-        let fresh = record(&scene, &source)
-            .map_err(|e| anyhow::anyhow!(e))?;
+        let fresh = record(&scene, &source).map_err(|e| anyhow::anyhow!(e))?;
         let mismatches = compare(&golden, &fresh, &Tolerances::default());
         if mismatches.is_empty() {
             println!(

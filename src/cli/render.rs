@@ -1,7 +1,7 @@
 //! `rigidref render IMAGE.png`: run the 2D system and write PNG frames and an animated GIF.
 
-use super::{Progress, Stopped};
 use super::args::{Blocks2dOptions, RestThreshold, RunLength};
+use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
 use image::codecs::gif::{GifEncoder, Repeat};
@@ -60,7 +60,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     let Some(image_path) = args.scene.clone() else {
         bail!("render needs an image (a .png scene)");
     };
-    super::check_readable(Some(&image_path))?;
+    super::common::check_readable(Some(&image_path))?;
     if !rigidref::blocks2d::scene::is_2d_scene(&image_path) {
         bail!(
             "{}: render draws 2D scenes (a .png image or a 2D scene file naming one); this is not one",
@@ -70,7 +70,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     check_render_args(&args)?;
     let rest_threshold = args.rest.value()?;
     let mut world = super::run2d::load_world(&image_path, &args.blocks)?;
-    let steps = args.length.steps(world.params.step, "")?;
+    let steps = args.length.steps(world.params.dt, "")?;
     let mut settings = RenderSettings::fit(&world, args.scale);
     // A frame is width × height RGBA pixels, all held at once: refuse what cannot be held
     // rather than abort on a failed allocation.
@@ -90,7 +90,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     settings.contacts = args.show_contacts;
     settings.discs = args.show_discs;
     settings.rest_threshold = rest_threshold;
-    let mut frames = Frames::new(&args, world.params.step)?;
+    let mut frames = Frames::new(&args, world.params.dt)?;
     let mut progress = Progress::steps(steps, args.quiet);
     frames.draw(&render(&world, &settings), 0)?;
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
@@ -101,7 +101,9 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
         Ok(Flow::Continue)
     });
     progress.finish();
-    Stopped::outcome(ran, |e| format!("{}: the run stopped: {e}", image_path.display()))?;
+    Stopped::outcome(ran, |e| {
+        format!("{}: the run stopped: {e}", image_path.display())
+    })?;
     if !args.quiet {
         eprintln!(
             "{} frames of {} ({steps} steps){}{}",
@@ -160,7 +162,9 @@ impl<'a> Frames<'a> {
             }
             None => None,
         };
-        let delay_ms = ((step * args.frame_every as f64) * 1000.0).round().max(20.0) as u32;
+        let delay_ms = ((step * args.frame_every as f64) * 1000.0)
+            .round()
+            .max(20.0) as u32;
         Ok(Frames {
             dir: args.frames.as_deref(),
             gif,

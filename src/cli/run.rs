@@ -1,105 +1,7 @@
 //! `rigidref run`: simulate a scene (3D or 2D) and write its trace, with a progress bar and a
-//! summary. The 3D run is in run3d.rs, the 2D run in run2d.rs; this file holds the arguments and
-//! chooses between them.
+//! summary. The 3D run is in run3d.rs, the 2D run in run2d.rs; this chooses between them.
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, TraceOutput};
-use clap::Args;
-use std::path::PathBuf;
-
-const SCENE_KEYS: &str = "\
-SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
-  sim_parameters[0] keys and their defaults when missing (the starter code's):
-    name              scene name                       (file name)
-    dt                frame step, s; h = dt/substeps   0.01
-    gravity           m/s², y is up                    [0, 0, 0]
-    mu                friction coefficient             0
-    substeps          integration steps per frame      1
-    check_collisions  detect and resolve contacts      true
-    stop_on_contact   stop at the first contact        false
-    pgs_iterations    PGS iterations per solve         100
-    damping           only 0 is accepted (the assignment defines no damping model)
-    show_contacts, is_running   user-interface keys; no effect here
-  Keys this project adds (docs/scene-format.md, docs/contact.md):
-    integrator        angular velocity update: \"spatial\" (the assignment's explicit
-                      spatial-frame scheme; default), \"body\" (the same equations in
-                      the body frame), \"implicit_gyroscopic\" (implicit Euler on the
-                      ω×Jω term, solved by Newton: stable at high spin)
-    friction_model    \"box\" (each tangent impulse in [−μλn, μλn]; default) or
-                      \"cone\" (the tangent pair in the disk of radius μλn)
-    compliance        c ≥ 0 added to each normal row's diagonal, kg⁻¹ (constraint
-                      force mixing: w_n = … + c λn); 0 = rigid          0
-    stabilization     Baumgarte β in [0, 1]: fraction of the penetration beyond the
-                      slop pushed out per step                         0.2
-    stabilization_slop  penetration left alone, m                      0.005
-    warm_start        start PGS from the previous substep's impulses   true
-    pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
-    pgs_order         \"sequential\" or \"random\" (seeded shuffle each sweep)  sequential
-    pgs_seed          seed of the random order                        0
-  Any other key is reported as a warning and ignored.
-  bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
-    assignment root = parent of the scene's folder, then the scene's folder, then the
-    working directory), x0 (m), R0 (rows; default identity), v0 (m/s), omega0 (rad/s,
-    world frame); missing R0 is the identity, missing v0/omega0 are zero.
-
-TRACE (docs/trace-format.md): JSON Lines, a header line then one line per recorded step
-with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the same.";
-
-/// Arguments of `rigidref run`.
-#[derive(Args)]
-#[command(after_long_help = SCENE_KEYS)]
-pub struct RunArgs {
-    /// Scene file: the 3D assignment's JSON, a 2D image (.png), or a 2D scene file (JSON naming
-    /// an image; docs/blocks2d.md). Without one, the built-in default 3D scene (the project's
-    /// Dzhanibekov-effect scene) runs.
-    pub scene: Option<PathBuf>,
-    #[command(flatten)]
-    pub length: RunLength,
-    #[command(flatten)]
-    pub output: TraceOutput,
-    /// Print no progress bar and no summary.
-    #[arg(long, short)]
-    pub quiet: bool,
-    /// 3D: run with check_collisions = false, whatever the scene says.
-    #[arg(long)]
-    pub no_collisions: bool,
-    #[command(flatten)]
-    pub blocks: Blocks2dOptions,
-    #[command(flatten)]
-    pub rest: RestThreshold,
-    #[command(flatten)]
-    pub reports: Run2dReports,
-}
-
-/// Reports a 2D run can write beside its trace.
-#[derive(Args)]
-#[command(next_help_heading = "2D scenes (an image, run with these; a 2D scene file sets its own)")]
-pub struct Run2dReports {
-    /// 2D: write, per recorded step, where the heaviest fifth of the moving bodies is relative to
-    /// the rest (the nut-bag challenge) to this CSV.
-    #[arg(long)]
-    pub nut_report: Option<PathBuf>,
-    /// 2D: write step, bodies, contacts, PGS solve seconds per step to this CSV (contacts and
-    /// seconds summed over the step's substeps).
-    #[arg(long)]
-    pub scaling_csv: Option<PathBuf>,
-}
-
-impl RunArgs {
-    /// Every option given that applies to 2D scenes only.
-    fn only_2d_given(&self) -> Vec<String> {
-        let mut names = self.blocks.given();
-        for (name, given) in [
-            ("--rest-threshold", self.rest.rest_threshold.is_some()),
-            ("--nut-report", self.reports.nut_report.is_some()),
-            ("--scaling-csv", self.reports.scaling_csv.is_some()),
-        ] {
-            if given {
-                names.push(name.to_string());
-            }
-        }
-        names
-    }
-}
+use super::run_args::RunArgs;
 
 /// Runs a scene: a 2D one (an image or a 2D scene file) in 2D, anything else in 3D.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
@@ -110,15 +12,21 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     }
     let only_2d = args.only_2d_given();
     if !only_2d.is_empty() {
-        super::check_readable(args.scene.as_deref())?;
+        super::common::check_readable(args.scene.as_deref())?;
         let scene_name = args
             .scene
             .as_ref()
-            .map_or("the built-in default scene".to_string(), |p| p.display().to_string());
+            .map_or("the built-in default scene".to_string(), |p| {
+                p.display().to_string()
+            });
         anyhow::bail!(
             "{scene_name}: {} {} to 2D scenes (images and 2D scene files) only; a 3D scene sets its parameters in the file",
             only_2d.join(", "),
-            if only_2d.len() == 1 { "applies" } else { "apply" }
+            if only_2d.len() == 1 {
+                "applies"
+            } else {
+                "apply"
+            }
         );
     }
     super::run3d::run(&args)

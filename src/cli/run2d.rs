@@ -1,8 +1,8 @@
 //! `rigidref run IMAGE.png` (or a 2D scene file): the 2D image-block system's trace, reports and
 //! summary. docs/blocks2d.md.
 
-use super::run::RunArgs;
-use super::{Progress, Stopped};
+use super::progress::{Progress, Stopped};
+use super::run_args::RunArgs;
 use anyhow::bail;
 use rigidref::blocks2d::scene::load_2d;
 use rigidref::blocks2d::trace::{Record2, TraceHeader2};
@@ -32,17 +32,20 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         );
     }
     if args.no_collisions {
-        bail!("{}: --no-collisions applies to 3D scenes only", image.display());
+        bail!(
+            "{}: --no-collisions applies to 3D scenes only",
+            image.display()
+        );
     }
     let rest_threshold = args.rest.value()?;
     let mut world = load_world(image, &args.blocks)?;
     world
         .check_finite()
         .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
-    let steps = args.length.steps(world.params.step, "")?;
+    let steps = args.length.steps(world.params.dt, "")?;
     args.output.prepare()?;
     let out_path = args.output.path();
-    let mut out = std::io::BufWriter::new(super::create_trace_output(&out_path)?);
+    let mut out = std::io::BufWriter::new(super::common::create_trace_output(&out_path)?);
     let name = image
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -52,24 +55,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let header = TraceHeader2::for_world(&world, &name, &image.display().to_string());
     write_json_line(&mut out, &header).map_err(write_err)?;
     write_json_line(&mut out, &Record2::of_world(&world)).map_err(write_err)?;
-    let mut scaling = match &args.reports.scaling_csv {
-        Some(p) => Some(super::create_file(p)?),
-        None => None,
-    };
-    if let Some(f) = &mut scaling {
-        writeln!(f, "step,bodies,contacts,pgs_seconds").map_err(write_err)?;
-    }
-    let mut nuts = match &args.reports.nut_report {
-        Some(p) => Some(super::create_file(p)?),
-        None => None,
-    };
-    if let Some(f) = &mut nuts {
-        writeln!(
-            f,
-            "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half"
-        )
-        .map_err(write_err)?;
-    }
+    let mut reports = Reports2::open(&args.reports)?;
     let mut progress = Progress::steps(steps, args.quiet);
     let (mut most_contacts, mut last_done) = (0, 0);
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
@@ -78,34 +64,19 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         most_contacts = most_contacts.max(totals.most_contacts);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
-                super::dump_problem(dir, &name, k, w.params.h(), solve)?;
+                super::common::dump_problem(dir, &name, k, w.params.h(), solve)?;
             }
         }
-        if let Some(f) = &mut scaling {
-            let (bodies, contacts) = (w.bodies.len(), totals.contacts);
-            writeln!(f, "{k},{bodies},{contacts},{:.9}", totals.solve_seconds)?;
-        }
+        reports.scaling(w, k, &totals)?;
         if is_recorded(k, steps, args.output.every) {
             write_json_line(&mut out, &Record2::of_world(w))?;
-            if let Some(f) = &mut nuts {
-                let s = nut_statistics(w);
-                writeln!(
-                    f,
-                    "{},{},{},{}",
-                    w.time(),
-                    s.heaviest_mean_height,
-                    s.others_mean_height,
-                    s.heaviest_fraction_in_upper_half
-                )?;
-            }
+            reports.nuts(w)?;
         }
         progress.tick(k);
         Ok(Flow::Continue)
     });
     out.flush().map_err(write_err)?;
-    for f in [&mut nuts, &mut scaling].into_iter().flatten() {
-        f.flush().map_err(write_err)?;
-    }
+    reports.flush()?;
     progress.finish();
     Stopped::outcome(ran, |e| {
         format!(
@@ -126,6 +97,74 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         eprintln!("trace          {}", out_path.display());
     }
     Ok(())
+}
+
+/// The reports a 2D run writes beside its trace: the scaling CSV (every step) and the nut
+/// report (every recorded step).
+struct Reports2 {
+    scaling: Option<std::io::BufWriter<std::fs::File>>,
+    nuts: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl Reports2 {
+    /// Creates the files asked for, with their header lines.
+    fn open(asked: &super::run_args::Run2dReports) -> anyhow::Result<Reports2> {
+        let mut reports = Reports2 {
+            scaling: None,
+            nuts: None,
+        };
+        if let Some(p) = &asked.scaling_csv {
+            let mut f = super::common::create_file(p)?;
+            writeln!(f, "step,bodies,contacts,pgs_seconds")?;
+            reports.scaling = Some(f);
+        }
+        if let Some(p) = &asked.nut_report {
+            let mut f = super::common::create_file(p)?;
+            writeln!(
+                f,
+                "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half"
+            )?;
+            reports.nuts = Some(f);
+        }
+        Ok(reports)
+    }
+
+    /// Step `k`'s line of the scaling CSV: contacts and seconds summed over its substeps.
+    fn scaling(&mut self, w: &World2, k: u64, totals: &SolveTotals) -> std::io::Result<()> {
+        match &mut self.scaling {
+            Some(f) => writeln!(
+                f,
+                "{k},{},{},{:.9}",
+                w.bodies.len(),
+                totals.contacts,
+                totals.solve_seconds
+            ),
+            None => Ok(()),
+        }
+    }
+
+    /// A line of the nut report: where the heaviest fifth of the moving bodies is now.
+    fn nuts(&mut self, w: &World2) -> std::io::Result<()> {
+        let Some(f) = &mut self.nuts else {
+            return Ok(());
+        };
+        let s = nut_statistics(w);
+        writeln!(
+            f,
+            "{},{},{},{}",
+            w.time(),
+            s.heaviest_mean_height,
+            s.others_mean_height,
+            s.heaviest_fraction_in_upper_half
+        )
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        for f in [&mut self.nuts, &mut self.scaling].into_iter().flatten() {
+            f.flush()?;
+        }
+        Ok(())
+    }
 }
 
 /// Writes `value` as one line of JSON.
@@ -171,7 +210,10 @@ impl Summary2<'_> {
             p.contact_model, p.iterations, p.order, p.mu, p.restitution, p.post_stabilization
         );
         eprintln!("wall time      {:.3} s", self.wall);
-        eprintln!("energy         kinetic {:.6e}, potential {:.6e}", e.kinetic, e.potential);
+        eprintln!(
+            "energy         kinetic {:.6e}, potential {:.6e}",
+            e.kinetic, e.potential
+        );
         eprintln!(
             "at rest        {resting} of {moving} bodies below kinetic energy {}",
             self.rest_threshold

@@ -1,24 +1,24 @@
 //! `rigidref run SCENE.json` for a 3D scene: the trace, the problem dumps and the summary.
 
-use super::run::RunArgs;
-use super::{Progress, Stopped};
+use super::progress::{Progress, Stopped};
+use super::run_args::RunArgs;
 use anyhow::Context;
 use rigidref::rigid3d::diagnostics::{Energy, Momentum};
-use rigidref::rigid3d::scene::DEFAULT_SCENE_NAME;
+use rigidref::rigid3d::scene::embedded::DEFAULT_SCENE_NAME;
 use rigidref::rigid3d::trace::{TraceHeader, TraceRecord, TraceWriter};
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, SolveTotals, drive, is_recorded};
 
 /// Runs a 3D scene. A run that fails midway keeps the trace written so far, flushed and valid.
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
-    let mut scene = super::load_scene_or_default(args.scene.as_deref())?;
+    let mut scene = super::common::load_scene_or_default(args.scene.as_deref())?;
     if args.no_collisions {
         scene.params.check_collisions = false;
     }
     let steps = args.length.steps(scene.params.dt, " of seconds")?;
     args.output.prepare()?;
     let (format, out_path) = (args.output.format(), args.output.path());
-    let out = super::create_trace_output(&out_path)?;
+    let out = super::common::create_trace_output(&out_path)?;
     let source = if args.scene.is_some() {
         scene.source.clone()
     } else {
@@ -31,7 +31,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         .with_context(|| format!("{}: cannot write", out_path.display()))?;
     let write_err =
         |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
-    writer.write(&TraceRecord::of_world(&world)).map_err(write_err)?;
+    writer
+        .write(&TraceRecord::of_world(&world))
+        .map_err(write_err)?;
     let (mut records, mut last_recorded) = (1u64, 0u64);
     let start = (world.energy(), world.momentum());
     let mut progress = Progress::steps(steps, args.quiet);
@@ -42,7 +44,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         stats.add(w);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
-                super::dump_problem(dir, &w.params.name, k, w.params.h(), solve)?;
+                super::common::dump_problem(dir, &w.params.name, k, w.params.h(), solve)?;
             }
         }
         let stop_here = w.params.stop_on_contact && !w.solves.is_empty();
@@ -71,14 +73,19 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);
         print_summary(&world, steps, wall, start, &stats);
-        eprintln!("trace          {} ({records} records, {format:?})", out_path.display());
+        eprintln!(
+            "trace          {} ({records} records, {format:?})",
+            out_path.display()
+        );
     }
     if let Some(k) = stopped_at_contact {
         let n = world.solves.last().map_or(0, |s| s.contacts.len());
         eprintln!(
             "stop_on_contact: stopped at the first frame with contacts, step {k} (t = {} s), {n} contacts; inspect them with `rigidref contacts {}`",
             world.time(),
-            args.scene.as_ref().map_or(String::new(), |p| p.display().to_string())
+            args.scene
+                .as_ref()
+                .map_or(String::new(), |p| p.display().to_string())
         );
     }
     Ok(())
@@ -118,7 +125,10 @@ fn print_summary(
         world.time(),
         p.integrator.name()
     );
-    eprintln!("wall time      {wall:.3} s ({:.0} steps/s)", steps as f64 / wall.max(1e-9));
+    eprintln!(
+        "wall time      {wall:.3} s ({:.0} steps/s)",
+        steps as f64 / wall.max(1e-9)
+    );
     eprintln!(
         "energy         {:.6e} J → {:.6e} J, drift {de:+.3e} J{}",
         start_energy.total,

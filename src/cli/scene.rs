@@ -12,7 +12,7 @@ pub struct SceneArgs {
 
 /// Prints the resolved parameters and each body's mass properties and initial state.
 pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
-    let scene = super::load_scene_or_default(args.scene.as_deref())?;
+    let scene = super::common::load_scene_or_default(args.scene.as_deref())?;
     let p = &scene.params;
     println!("scene            {} ({})", p.name, scene.source);
     println!(

@@ -231,33 +231,4 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
     }
 }
 
-/// Projects one contact's impulse onto its feasible set: λn ≥ 0 and the friction rows within
-/// the box or disk of radius μ λn. docs/contact.md §"Box and cone friction".
-pub fn project_feasible<const R: usize>(
-    lambda: &SVector<f64, R>,
-    mu: f64,
-    friction: FrictionModel,
-) -> SVector<f64, R> {
-    let mut p = *lambda;
-    p[0] = p[0].max(0.0);
-    let bound = mu * p[0];
-    match friction {
-        FrictionModel::Box => {
-            for r in 1..R {
-                p[r] = p[r].clamp(-bound, bound);
-            }
-        }
-        FrictionModel::Cone => {
-            let norm = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
-            if norm > bound {
-                let scale = if norm > 0.0 { bound / norm } else { 0.0 };
-                for r in 1..R {
-                    p[r] *= scale;
-                }
-            }
-        }
-    }
-    p
-}
-
 pub mod json;

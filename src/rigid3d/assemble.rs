@@ -1,10 +1,10 @@
 //! Assembling the 3D contact problem from the contacts that collision detection found.
 //! docs/contact.md §"Contact Jacobian", §"The right-hand side b", §"Stabilisation".
 
+use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::collide::Contact;
 use crate::rigid3d::contact::{generalized_velocity, inverse_mass_matrix, jacobian_block};
-use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
 use crate::rigid3d::warm_start::WarmStart;
 use nalgebra::SMatrix;
 

@@ -138,7 +138,7 @@ impl RigidBody {
     }
 
     /// Position half of the symplectic Euler step, with the new velocities: x += h v,
-    /// R ← exp(h[ω]×) R (re-orthonormalised), then the world inertia follows R.
+    /// R ← exp(h \[ω\]×) R (re-orthonormalised), then the world inertia follows R.
     /// docs/dynamics.md §"Rotation update".
     pub fn step_position(&mut self, h: f64) {
         self.x += self.v * h;
@@ -183,7 +183,7 @@ impl RigidBody {
 /// Implicit Euler on the torque-free gyroscopic equation in the body frame.
 ///
 /// Solves f(ω) = J₀(ω − ω₀) + h ω × J₀ω = 0 by Newton's method from ω₀ with the Jacobian
-/// ∂f/∂ω = J₀ + h([ω]× J₀ − [J₀ω]×), iterated until the update is below 1e-15 |ω| (two to four
+/// ∂f/∂ω = J₀ + h(\[ω\]× J₀ − \[J₀ω\]×), iterated until the update is below 1e-15 |ω| (two to four
 /// iterations at h|ω| ≤ 0.1; at most [`IMPLICIT_GYROSCOPIC_MAX_NEWTON`]). Solving to convergence
 /// matters: the exact solution never gains energy or |L|, a single Newton step can (by ~1e-10
 /// per step on a thin rod). If the Jacobian is singular (only for absurd h|ω|) the result is NaN,

@@ -1,5 +1,8 @@
-//! One 3D contact: its frame (n, t1, t2), its 3×12 Jacobian, its Delassus block and b.
-//! docs/contact.md §"Contact frame", §"Contact Jacobian", §"Delassus operator".
+//! One 3D contact's geometry and kinematics: its frame (n, t1, t2), a body's 3×6 Jacobian block,
+//! and a body's 6×6 inverse mass matrix and generalised velocity. docs/contact.md §"Contact
+//! frame", §"Contact Jacobian". The Delassus block A = J M⁻¹ Jᵀ is computed from the assembled
+//! problem ([`crate::problem::ContactProblem::delassus_block`]) and b by assembly
+//! ([`crate::rigid3d::assemble::assemble_problem`]).
 //!
 //! Sign convention: a contact is between body 1 and body 2 (body 2 may be the ground). The normal
 //! n points from body 2 into body 1: it is the direction along which body 1 must move to separate.
@@ -55,7 +58,7 @@ impl ContactFrame {
     }
 }
 
-/// The Jacobian block of a body at lever arm `r` = p − x (m): rows dᵀ [I | [r]×ᵀ] for d in
+/// The Jacobian block of a body at lever arm `r` = p − x (m): rows dᵀ \[I | \[r\]×ᵀ\] for d in
 /// (n, t1, t2), i.e. [dᵀ, (r × d)ᵀ], so that block · (v, ω) = d · (v + ω × r).
 /// Body 2's block is the negative of this with its own r. docs/contact.md §"Contact Jacobian".
 pub fn jacobian_block(frame: &ContactFrame, r: &Vector3<f64>) -> JacobianBlock3 {

@@ -7,7 +7,7 @@
 //! 3. assemble: contact frames and Jacobians ([`contact`]) into the shared contact problem
 //!    ([`assemble`], [`crate::problem`]), warm-started ([`warm_start`]);
 //! 4. solve: the shared PGS ([`crate::solve::pgs`]), then u⁺ = u + M⁻¹Jᵀλ;
-//! 5. integrate positions: x += h v, R ← exp(h[ω]×) R.
+//! 5. integrate positions: x += h v, R ← exp(h \[ω\]×) R.
 //!
 //! Around the step: [`scene`] (the assignment's JSON, read as it is), [`mesh`] and [`massprops`]
 //! (OBJ meshes and polyhedral mass properties), [`diagnostics`] (energy, momentum, flips) and

@@ -1,11 +1,13 @@
 //! Solvers of the contact problem ([`crate::problem::ContactProblem`]).
 //!
 //! - [`pgs`]: projected Gauss–Seidel with delta velocities (Erleben 2007), the project's solver;
-//! - [`residual`]: the natural-map residual that says how far a λ is from a solution, for any
+//! - [`projection`]: the feasible set of a contact's impulse and the projections onto it;
+//! - [`residual`](mod@residual): the natural-map residual that says how far a λ is from a solution, for any
 //!   solver's answer;
 //! - [`qp`]: the same problem as a convex QP/SOCP solved by clarabel, the independent reference.
 
 pub mod pgs;
+pub mod projection;
 pub mod qp;
 pub mod residual;
 

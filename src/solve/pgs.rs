@@ -6,8 +6,9 @@
 //! body. One sweep visits every contact once: the normal row first, then its friction rows with
 //! bounds from the λn just computed.
 
-use super::residual::{RowScales, contact_residual, project_disk, row_scales};
-use crate::problem::{ContactProblem, FrictionModel, project_feasible};
+use super::projection::{project_disk, project_feasible};
+use super::residual::{RowScales, contact_residual, row_scales};
+use crate::problem::{ContactProblem, FrictionModel};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;

@@ -29,9 +29,9 @@ use nalgebra::SVector;
 pub enum QpFormulation {
     /// λn ≥ 0, friction rows fixed at zero.
     Frictionless,
-    /// λn ≥ 0, |λt_r| ≤ μ λ̄n[k] per friction row, λ̄n given per contact (N·s).
+    /// λn ≥ 0, |λt_r| ≤ μ λ̄n\[k\] per friction row, λ̄n given per contact (N·s).
     BoxFixed(Vec<f64>),
-    /// λn ≥ 0, ‖λt‖ ≤ μ λ̄n[k], λ̄n given per contact (N·s).
+    /// λn ≥ 0, ‖λt‖ ≤ μ λ̄n\[k\], λ̄n given per contact (N·s).
     ConeFixed(Vec<f64>),
     /// ‖λt‖ ≤ μ λn (second-order cone; Anitescu's relaxation).
     Cone,

@@ -76,7 +76,7 @@ pub fn contact_residual<const R: usize>(
                 for r in 1..R {
                     trial[r] = lambda[r] - w[r] / rho;
                 }
-                let projected = project_disk(&trial, bound);
+                let projected = super::projection::project_disk(&trial, bound);
                 rho * (1..R)
                     .map(|r| (lambda[r] - projected[r]).powi(2))
                     .sum::<f64>()
@@ -87,19 +87,6 @@ pub fn contact_residual<const R: usize>(
         }
     };
     normal.max(friction)
-}
-
-/// Scales the friction rows 1..R of `lambda` into the disk of radius `bound`; row 0 unchanged.
-pub fn project_disk<const R: usize>(lambda: &SVector<f64, R>, bound: f64) -> SVector<f64, R> {
-    let mut p = *lambda;
-    let norm = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
-    if norm > bound {
-        let scale = if norm > 0.0 { bound / norm } else { 0.0 };
-        for r in 1..R {
-            p[r] *= scale;
-        }
-    }
-    p
 }
 
 /// The residual of impulses `lambda` for `problem` (m/s): the largest row residual, 0 for a

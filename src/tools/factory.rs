@@ -1,18 +1,20 @@
 //! The factory: random bodies dropped into a container at an interval, for stress tests and the
 //! scaling report; and the Tetris variant. docs/blocks2d.md §"Challenges".
 
+use crate::blocks2d::assemble::ContactProblem2;
 use crate::blocks2d::body::Body2;
 use crate::blocks2d::collide::tree_contacts;
 use crate::blocks2d::image::{Block, BlockGroup, block_mass};
 use crate::blocks2d::image::{ImageSettings, load_image};
-use crate::blocks2d::world::{ContactProblem2, Params2, World2};
+use crate::blocks2d::params::Params2;
+use crate::blocks2d::world::World2;
 use crate::sim::{Flow, SolveTotals, drive};
 use crate::tools::scaling::{LinearFit, linear_fit, plot, retime};
 use nalgebra::Vector2;
-use std::io::Write;
-use std::path::Path;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::io::Write;
+use std::path::Path;
 
 /// The kind of bodies the factory makes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -352,23 +354,38 @@ impl FactorySettings {
             );
         }
         if !(self.interval.is_finite() && self.interval > 0.0) {
-            return Err(format!("--interval must be a positive number, got {}", self.interval));
+            return Err(format!(
+                "--interval must be a positive number, got {}",
+                self.interval
+            ));
         }
         if !(self.settle.is_finite() && self.settle >= 0.0) {
-            return Err(format!("--settle must be a number ≥ 0, got {}", self.settle));
+            return Err(format!(
+                "--settle must be a number ≥ 0, got {}",
+                self.settle
+            ));
         }
         if !(self.drop_speed.is_finite() && self.drop_speed >= 0.0) {
-            return Err(format!("--drop-speed must be a number ≥ 0, got {}", self.drop_speed));
+            return Err(format!(
+                "--drop-speed must be a number ≥ 0, got {}",
+                self.drop_speed
+            ));
         }
         if self.width.is_some_and(|w| w < 10) || self.depth.is_some_and(|d| d < 5) {
             return Err("the container must be at least 10 wide and 5 deep".into());
         }
         // Far above any useful run, so that an absurd value is an error, not a run that never ends.
         if self.bodies > 1_000_000 {
-            return Err(format!("--bodies may be at most 1000000, got {}", self.bodies));
+            return Err(format!(
+                "--bodies may be at most 1000000, got {}",
+                self.bodies
+            ));
         }
         if self.piece_scale > 16 {
-            return Err(format!("--piece-scale may be at most 16, got {}", self.piece_scale));
+            return Err(format!(
+                "--piece-scale may be at most 16, got {}",
+                self.piece_scale
+            ));
         }
         Ok(())
     }
@@ -443,7 +460,10 @@ fn container_of(s: &FactorySettings) -> Result<(Vec<BlockGroup>, Option<[usize; 
         Some(p) => {
             let g = load_image(p, &ImageSettings::default())?;
             if !g.iter().any(|g| g.pinned) {
-                return Err(format!("{}: no pinned (blue) body to use as a container", p.display()));
+                return Err(format!(
+                    "{}: no pinned (blue) body to use as a container",
+                    p.display()
+                ));
             }
             Ok((g, None))
         }
@@ -462,6 +482,181 @@ fn container_of(s: &FactorySettings) -> Result<(Vec<BlockGroup>, Option<[usize; 
     }
 }
 
+/// The world of a factory run: the container (generated, or an image's pinned bodies) with the
+/// factory's PGS settings, and where bodies are dropped into it.
+fn factory_world(s: &FactorySettings) -> Result<(World2, DropZone, Option<[usize; 2]>), String> {
+    let (groups, size) = container_of(s)?;
+    let params = Params2 {
+        iterations: s.iterations,
+        substeps: s.substeps,
+        order: crate::solve::ContactOrder::Random,
+        seed: s.seed,
+        ..Params2::default()
+    };
+    let world = World2::new(&groups, params);
+    let zone = DropZone::above_pinned(&world).ok_or("no pinned body to drop into")?;
+    // The pile is full when it reaches the rim: a container must have walls to fill.
+    if zone.floor - zone.rim < 5.0 {
+        return Err(format!(
+            "{}: the pinned bodies rise only {} blocks above their lowest row; a container needs walls at least 5 blocks high",
+            s.container
+                .as_ref()
+                .map_or("the container".to_string(), |p| p.display().to_string()),
+            zone.floor - zone.rim
+        ));
+    }
+    Ok((world, zone, size))
+}
+
+/// The drop schedule: a batch every `steps_per_drop` steps while bodies remain and the
+/// container is not full, then `settle_steps` more.
+struct DropSchedule<'a> {
+    settings: &'a FactorySettings,
+    factory: Factory,
+    zone: DropZone,
+    steps_per_drop: u64,
+    settle_steps: u64,
+    dropped: usize,
+    /// Drops in a row that placed nothing; after [`FULL_AFTER`] of them the container is full.
+    fruitless: u32,
+    full: bool,
+    settled: u64,
+}
+
+impl DropSchedule<'_> {
+    /// Drops a batch if one is due before step k + 1 (k steps done); then says whether the run is
+    /// done: nothing left to drop and the pile settled for `settle_steps`.
+    fn before_step(&mut self, world: &mut World2, k: u64) -> bool {
+        let s = self.settings;
+        let dropping = self.dropped < s.bodies && !self.full;
+        if dropping && k.is_multiple_of(self.steps_per_drop) {
+            if self.zone.is_full(world) {
+                self.full = true;
+            } else {
+                let n = s.batch.min(s.bodies - self.dropped);
+                let placed = self.factory.drop_batch(world, &self.zone, n, s.drop_speed);
+                self.dropped += placed;
+                self.fruitless = if placed == 0 { self.fruitless + 1 } else { 0 };
+                self.full = self.fruitless >= FULL_AFTER;
+            }
+        }
+        if dropping {
+            return false;
+        }
+        if self.settled >= self.settle_steps {
+            return true;
+        }
+        self.settled += 1;
+        false
+    }
+}
+
+/// What the run measures of its solves: the per-step CSV, the in-run points, the problems kept
+/// for re-timing.
+struct SolveLog {
+    csv: std::io::BufWriter<std::fs::File>,
+    csv_path: std::path::PathBuf,
+    keep_every: u64,
+    kept: Vec<ContactProblem2>,
+    in_run_wall: Vec<(f64, f64)>,
+    in_run_cpu: Vec<(f64, f64)>,
+    max_contacts: usize,
+    pgs_seconds: f64,
+    pgs_cpu_seconds: f64,
+}
+
+impl SolveLog {
+    fn create(out: &Path, keep_every: u64) -> Result<SolveLog, String> {
+        let csv_path = out.join("scaling.csv");
+        let mut csv = create(&csv_path)?;
+        writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds")
+            .map_err(|e| format!("{}: cannot write: {e}", csv_path.display()))?;
+        Ok(SolveLog {
+            csv,
+            csv_path,
+            keep_every,
+            kept: Vec::new(),
+            in_run_wall: Vec::new(),
+            in_run_cpu: Vec::new(),
+            max_contacts: 0,
+            pgs_seconds: 0.0,
+            pgs_cpu_seconds: 0.0,
+        })
+    }
+
+    /// Step k's solves, summed over its substeps (one solve each), so that time and contacts
+    /// match. Returns the step's contacts.
+    fn record(&mut self, w: &World2, k: u64) -> Result<usize, String> {
+        let totals = SolveTotals::of(&w.solves);
+        let (contacts, wall, cpu) = (
+            totals.contacts,
+            totals.solve_seconds,
+            totals.solve_cpu_seconds,
+        );
+        self.max_contacts = self.max_contacts.max(totals.most_contacts);
+        self.pgs_seconds += wall;
+        self.pgs_cpu_seconds += cpu;
+        writeln!(
+            self.csv,
+            "{},{},{},{},{wall:.9},{cpu:.9}",
+            w.step,
+            w.time(),
+            w.bodies.len(),
+            contacts,
+        )
+        .map_err(|e| format!("{}: cannot write: {e}", self.csv_path.display()))?;
+        if contacts > 0 {
+            self.in_run_wall.push((contacts as f64, wall));
+            self.in_run_cpu.push((contacts as f64, cpu));
+            if k.is_multiple_of(self.keep_every)
+                && let Some(solve) = w.solves.last()
+            {
+                self.kept.push(solve.problem.clone());
+            }
+        }
+        Ok(contacts)
+    }
+
+    /// Re-times the kept problems side by side, writes retimed.csv and scaling.svg, and returns
+    /// the fit and how many problems were re-timed.
+    fn write_fit(
+        &mut self,
+        out: &Path,
+        settings: &crate::solve::PgsSettings,
+        seed: u64,
+    ) -> Result<(Option<LinearFit>, usize), String> {
+        self.csv
+            .flush()
+            .map_err(|e| format!("{}: cannot write: {e}", self.csv_path.display()))?;
+        let retimed = retime(&self.kept, settings, RETIME_ROUNDS, seed);
+        let retimed_path = out.join("retimed.csv");
+        let mut retimed_csv = create(&retimed_path)?;
+        let retimed_err =
+            |e: std::io::Error| format!("{}: cannot write: {e}", retimed_path.display());
+        writeln!(retimed_csv, "contacts,pgs_cpu_seconds_median").map_err(retimed_err)?;
+        for (contacts, seconds) in &retimed {
+            writeln!(retimed_csv, "{contacts},{seconds:.9}").map_err(retimed_err)?;
+        }
+        retimed_csv.flush().map_err(retimed_err)?;
+        let fit = linear_fit(&retimed);
+        let svg = out.join("scaling.svg");
+        match &fit {
+            Some(f) => plot(
+                &retimed,
+                &self.in_run_cpu,
+                f,
+                &svg,
+                "PGS solve CPU time (re-timed)",
+            )?,
+            // No line to draw: do not leave an earlier run's plot looking like this one's.
+            None => {
+                let _ = std::fs::remove_file(&svg);
+            }
+        }
+        Ok((fit, retimed.len()))
+    }
+}
+
 /// Runs the factory: drops `bodies` in batches every `interval` into the container until all are
 /// dropped or the container is full, lets them settle, and writes the scaling report into `out`
 /// (scaling.csv, retimed.csv, scaling.svg, report.json; docs/blocks2d.md §"Scaling").
@@ -475,30 +670,8 @@ pub fn run_factory(
     s.check()?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let started = std::time::Instant::now();
-    let (groups, size) = container_of(s)?;
-    let params = Params2 {
-        iterations: s.iterations,
-        substeps: s.substeps,
-        order: crate::solve::ContactOrder::Random,
-        seed: s.seed,
-        ..Params2::default()
-    };
-    let mut world = World2::new(&groups, params);
-    let settings = world.pgs_settings();
-    let zone = DropZone::above_pinned(&world).ok_or("no pinned body to drop into")?;
-    // The pile is full when it reaches the rim: a container must have walls to fill.
-    if zone.floor - zone.rim < 5.0 {
-        return Err(format!(
-            "{}: the pinned bodies rise only {} blocks above their lowest row; a container needs walls at least 5 blocks high",
-            s.container
-                .as_ref()
-                .map_or("the container".to_string(), |p| p.display().to_string()),
-            zone.floor - zone.rim
-        ));
-    }
-    let mut factory = Factory::new(s.seed, s.pieces);
-    factory.scale = s.piece_scale;
-    let dt = world.params.step;
+    let (mut world, zone, size) = factory_world(s)?;
+    let dt = world.params.dt;
     let steps_per_drop = (s.interval / dt).round().max(1.0) as u64;
     let settle = (s.settle / dt).round();
     let drops = (s.interval / dt).round() * s.bodies.div_ceil(s.batch) as f64;
@@ -507,121 +680,55 @@ pub fn run_factory(
     // The length of the run if every drop places a whole batch; drops that must wait (the drop
     // zone still occupied) lengthen it.
     let planned = s.bodies.div_ceil(s.batch) as u64 * steps_per_drop + settle_steps;
-    let keep_every = (planned / RETIMED_PROBLEMS).max(1);
-    let csv_path = out.join("scaling.csv");
-    let mut csv = create(&csv_path)?;
-    let csv_err = |e: std::io::Error| format!("{}: cannot write: {e}", csv_path.display());
-    writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds").map_err(csv_err)?;
-    let (mut in_run_wall, mut in_run_cpu) = (Vec::new(), Vec::new());
-    let mut kept: Vec<ContactProblem2> = Vec::new();
-    let (mut dropped, mut max_contacts) = (0usize, 0usize);
-    let (mut pgs_seconds, mut pgs_cpu_seconds) = (0.0, 0.0);
-    // Drops in a row that placed nothing; after FULL_AFTER of them the container is full.
-    let (mut fruitless, mut full) = (0u32, false);
-    let mut settled = 0u64;
-    // The drop schedule: before step k + 1 (k steps done), every `steps_per_drop` steps while
-    // bodies remain and the container is not full. Returns whether bodies were still being
-    // dropped.
-    let mut drop_before_step = |world: &mut World2, k: u64, dropped: &mut usize, full: &mut bool| {
-        let dropping = *dropped < s.bodies && !*full;
-        if dropping && k.is_multiple_of(steps_per_drop) {
-            if zone.is_full(world) {
-                *full = true;
-            } else {
-                let n = s.batch.min(s.bodies - *dropped);
-                let placed = factory.drop_batch(world, &zone, n, s.drop_speed);
-                *dropped += placed;
-                fruitless = if placed == 0 { fruitless + 1 } else { 0 };
-                *full = fruitless >= FULL_AFTER;
-            }
-        }
-        dropping
+    let mut log = SolveLog::create(out, (planned / RETIMED_PROBLEMS).max(1))?;
+    let mut factory = Factory::new(s.seed, s.pieces);
+    factory.scale = s.piece_scale;
+    let mut schedule = DropSchedule {
+        settings: s,
+        factory,
+        zone,
+        steps_per_drop,
+        settle_steps,
+        dropped: 0,
+        fruitless: 0,
+        full: false,
+        settled: 0,
     };
-    // Done when nothing is left to drop and the pile has settled for `settle_steps`.
-    let done = |dropping: bool, settled: &mut u64| {
-        if !dropping {
-            if *settled >= settle_steps {
-                return true;
-            }
-            *settled += 1;
-        }
-        false
-    };
-    let dropping = drop_before_step(&mut world, 0, &mut dropped, &mut full);
-    if !done(dropping, &mut settled) {
+    if !schedule.before_step(&mut world, 0) {
         // An open-ended run: it stops when the schedule says it is done.
         drive(&mut world, u64::MAX, |w, k| -> Result<Flow, String> {
-            // Summed over the step's substeps (one solve each), so that time and contacts match.
-            let totals = SolveTotals::of(&w.solves);
-            let (contacts, wall, cpu) =
-                (totals.contacts, totals.solve_seconds, totals.solve_cpu_seconds);
-            max_contacts = max_contacts.max(totals.most_contacts);
-            pgs_seconds += wall;
-            pgs_cpu_seconds += cpu;
-            writeln!(
-                csv,
-                "{},{},{},{},{wall:.9},{cpu:.9}",
-                w.step,
-                w.time(),
-                w.bodies.len(),
-                contacts,
-            )
-            .map_err(csv_err)?;
-            if contacts > 0 {
-                in_run_wall.push((contacts as f64, wall));
-                in_run_cpu.push((contacts as f64, cpu));
-                if k.is_multiple_of(keep_every)
-                    && let Some(solve) = w.solves.last()
-                {
-                    kept.push(solve.problem.clone());
-                }
-            }
+            let contacts = log.record(w, k)?;
             progress(&FactoryProgress {
                 step: k,
-                planned: if k > planned { k + settle_steps } else { planned },
+                planned: if k > planned {
+                    k + settle_steps
+                } else {
+                    planned
+                },
                 bodies: w.bodies.len(),
                 contacts,
             });
-            let dropping = drop_before_step(w, k, &mut dropped, &mut full);
-            Ok(if done(dropping, &mut settled) {
+            Ok(if schedule.before_step(w, k) {
                 Flow::Stop
             } else {
                 Flow::Continue
             })
         })?;
     }
-    csv.flush().map_err(csv_err)?;
+    let (dropped, full) = (schedule.dropped, schedule.full);
     let note = full.then(|| {
         format!(
             "the container is full (the pile reached its rim, or {FULL_AFTER} drops in a row found no free place): {dropped} of {} bodies were dropped",
             s.bodies
         )
     });
-
-    let retimed = retime(&kept, &settings, RETIME_ROUNDS, s.seed);
-    let retimed_path = out.join("retimed.csv");
-    let mut retimed_csv = create(&retimed_path)?;
-    let retimed_err = |e: std::io::Error| format!("{}: cannot write: {e}", retimed_path.display());
-    writeln!(retimed_csv, "contacts,pgs_cpu_seconds_median").map_err(retimed_err)?;
-    for (contacts, seconds) in &retimed {
-        writeln!(retimed_csv, "{contacts},{seconds:.9}").map_err(retimed_err)?;
-    }
-    retimed_csv.flush().map_err(retimed_err)?;
-    let fit = linear_fit(&retimed);
-    let svg = out.join("scaling.svg");
-    match &fit {
-        Some(f) => plot(&retimed, &in_run_cpu, f, &svg, "PGS solve CPU time (re-timed)")?,
-        // No line to draw: do not leave an earlier run's plot looking like this one's.
-        None => {
-            let _ = std::fs::remove_file(&svg);
-        }
-    }
+    let (fit, retimed_problems) = log.write_fit(out, &world.pgs_settings(), s.seed)?;
     let report = FactoryReport {
         bodies: world.bodies.len(),
         dropped,
         container_full: full,
         container: size,
-        max_contacts,
+        max_contacts: log.max_contacts,
         deepest_overlap_at_end: world.deepest_overlap(),
         kinetic_energy_at_end: world.energy().kinetic,
         outside_container_at_end: world
@@ -631,12 +738,12 @@ pub fn run_factory(
             .count(),
         steps: world.step,
         fit,
-        retimed_problems: retimed.len(),
+        retimed_problems,
         retime_rounds: RETIME_ROUNDS,
-        fit_in_run: linear_fit(&in_run_cpu),
-        fit_in_run_wall: linear_fit(&in_run_wall),
-        pgs_seconds,
-        pgs_cpu_seconds,
+        fit_in_run: linear_fit(&log.in_run_cpu),
+        fit_in_run_wall: linear_fit(&log.in_run_wall),
+        pgs_seconds: log.pgs_seconds,
+        pgs_cpu_seconds: log.pgs_cpu_seconds,
         wall_seconds: started.elapsed().as_secs_f64(),
     };
     let report_path = out.join("report.json");

@@ -1,8 +1,8 @@
 //! The scaling report: PGS solve time against the number of contacts, a least-squares line and
 //! its R², as CSV and an SVG plot. docs/blocks2d.md §"Scaling".
 
-use crate::problem::ContactProblem;
 use crate::common::timing::timed;
+use crate::problem::ContactProblem;
 use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
 use plotters::prelude::*;
 use rand::SeedableRng;

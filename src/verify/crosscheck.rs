@@ -6,6 +6,7 @@
 //! compared: by λ where the solution is unique, by the objective where it is not.
 
 use crate::problem::{ContactProblem, FrictionModel};
+use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::{PgsSettings, PgsWorkspace, residual, solve_pgs};
 use nalgebra::{DMatrix, DVector, SVector};
@@ -47,7 +48,7 @@ pub struct ProblemCheck {
     /// f(λ_pgs) − f(λ_qp), signed, unscaled (negative: PGS found the lower objective).
     pub objective_difference: f64,
     /// An upper bound on ‖λ_qp − λ*‖ / max(‖λ_qp‖, λ_ref), λ* the program's exact minimiser,
-    /// from clarabel's natural residual ([`distance_bound`]); `None` where λ* is not unique.
+    /// from clarabel's natural residual (`distance_bound`); `None` where λ* is not unique.
     pub lambda_uncertainty: Option<f64>,
     /// The number held against the tolerance: `lambda_difference` or `objective_gap`.
     pub disagreement: f64,
@@ -128,8 +129,8 @@ fn solve_precisely<const D: usize, const R: usize>(
     })
 }
 
-/// The projection of one contact's λ onto the feasible set of `formulation` (λn ≥ 0; friction
-/// rows zero, clamped to ±μλ̄n, or projected onto the disk of radius μλ̄n).
+/// Projects λ of contact `k` onto the feasible set of `formulation` (the friction bounds fixed at
+/// μ times the given normal impulses, or zero without friction).
 fn project_feasible<const R: usize>(
     formulation: &QpFormulation,
     mu: f64,
@@ -138,22 +139,13 @@ fn project_feasible<const R: usize>(
 ) -> SVector<f64, R> {
     let mut p = *lambda;
     p[0] = p[0].max(0.0);
-    match formulation {
-        QpFormulation::Frictionless => (1..R).for_each(|r| p[r] = 0.0),
-        QpFormulation::BoxFixed(fixed) => {
-            let bound = mu * fixed[k].max(0.0);
-            (1..R).for_each(|r| p[r] = p[r].clamp(-bound, bound));
-        }
-        QpFormulation::ConeFixed(fixed) => {
-            let bound = mu * fixed[k].max(0.0);
-            let t = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
-            if t > bound {
-                (1..R).for_each(|r| p[r] *= bound / t);
-            }
-        }
+    let (bound, friction) = match formulation {
+        QpFormulation::Frictionless => (0.0, FrictionModel::Box),
+        QpFormulation::BoxFixed(fixed) => (mu * fixed[k].max(0.0), FrictionModel::Box),
+        QpFormulation::ConeFixed(fixed) => (mu * fixed[k].max(0.0), FrictionModel::Cone),
         QpFormulation::Cone => unreachable!("the Anitescu cone is not compared by λ"),
-    }
-    p
+    };
+    project_friction(&p, bound, friction)
 }
 
 /// An upper bound on ‖λ − λ*‖ (N·s), λ* the exact minimiser of f over the feasible set K of

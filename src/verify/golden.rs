@@ -3,7 +3,9 @@
 //! (`rigidref golden --update`) is legitimate.
 
 use crate::rigid3d::scene::{Scene, load_scene};
-use crate::rigid3d::trace::{Trace, TraceFormat, TraceHeader, TraceRecord, TraceWriter, read_trace};
+use crate::rigid3d::trace::{
+    Trace, TraceFormat, TraceHeader, TraceRecord, TraceWriter, read_trace,
+};
 use crate::rigid3d::world::World;
 use crate::sim::{Flow, drive, is_recorded, steps_in};
 use std::path::{Path, PathBuf};

@@ -103,13 +103,13 @@ pub fn summary2(
         "{} bodies ({} pinned), step {}, {} substeps, {} iterations {:?}, μ {}",
         world.bodies.len(),
         world.bodies.iter().filter(|b| b.pinned).count(),
-        p.step,
+        p.dt,
         p.substeps,
         p.iterations,
         p.order,
         p.mu
     );
-    let steps_per_report = (every / p.step).round().max(1.0) as u64;
+    let steps_per_report = (every / p.dt).round().max(1.0) as u64;
     let reports = (until / every).round() as u64;
     let mut deepest: f64 = 0.0;
     for report in 0..=reports {

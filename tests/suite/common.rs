@@ -64,10 +64,10 @@ pub mod problems {
 
     use nalgebra::{Matrix3, SVector, Vector3};
     use proptest::prelude::*;
+    use rigidref::problem::{ContactProblem3, FrictionModel};
     use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     use rigidref::rigid3d::collide::Contact;
     use rigidref::rigid3d::contact::ContactFrame;
-    use rigidref::problem::{ContactProblem3, FrictionModel};
     use rigidref::rigid3d::rotation::exp_so3;
     use rigidref::rigid3d::warm_start::WarmStart;
 
@@ -314,7 +314,11 @@ where
 {
     use rigidref::sim::{Flow, NonFinite, drive};
     drive(sim, limit, |w, k| {
-        Ok::<_, NonFinite>(if stop(w, k) { Flow::Stop } else { Flow::Continue })
+        Ok::<_, NonFinite>(if stop(w, k) {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        })
     })
     .unwrap_or_else(|e| panic!("{e}"))
 }

@@ -1,6 +1,6 @@
 //! Contacts with the ground plane y = 0. docs/contact.md §"Ground contacts".
 
-use super::Contact;
+use super::vertex_contact::Contact;
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::contact::ContactFrame;
 use nalgebra::Vector3;

@@ -1,9 +1,9 @@
 //! Mesh–mesh contacts: the vertices of one body against the signed distance of the other, through
 //! parry3d's bounding-volume hierarchy. docs/contact.md §"Mesh contacts".
 
-use super::Contact;
-use crate::common::broad::Aabb;
 use super::closest_point::SignedDistance;
+use super::vertex_contact::Contact;
+use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::contact::ContactFrame;
 use crate::rigid3d::mesh::TriMesh;

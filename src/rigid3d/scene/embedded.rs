@@ -1,7 +1,8 @@
 //! The scene `rigidref run` uses when given none: the project's own Dzhanibekov scene, compiled
 //! into the binary from scenes/ so that a fresh clone runs without any files.
 
-use super::{BodyFileTexts, BodyFiles, Scene, SceneError};
+use super::{BodyFileTexts, BodyFiles, Scene, parse_scene};
+use crate::common::scene_json::SceneError;
 
 /// The name shown for the embedded scene.
 pub const DEFAULT_SCENE_NAME: &str = "scenes/dzhanibekov.json";
@@ -30,9 +31,9 @@ impl BodyFiles for Embedded {
 }
 
 /// The embedded default scene.
-/// (It cannot fail in a released binary: tests/cli.rs runs it.)
+/// (It cannot fail in a released binary: tests/suite/cli/commands.rs runs it.)
 pub fn default_scene() -> Result<Scene, SceneError> {
-    super::parse_scene(
+    parse_scene(
         SCENE,
         &format!("<embedded>/{DEFAULT_SCENE_NAME}"),
         "dzhanibekov",

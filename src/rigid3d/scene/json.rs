@@ -1,12 +1,13 @@
 //! The JSON shapes of the 3D assignment's scene and body files, and the one reader that turns
 //! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
 
+use super::params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
+use crate::common::scene_json::SceneError;
 use crate::common::values::{
     Count, Fraction, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping,
 };
-use super::{SceneError, SimParameters};
-use crate::rigid3d::body::AngularIntegrator;
 use crate::problem::FrictionModel;
+use crate::rigid3d::body::AngularIntegrator;
 use crate::solve::ContactOrder;
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
@@ -63,10 +64,8 @@ impl SimParametersJson {
             integrator: self.integrator.unwrap_or_default(),
             friction_model: self.friction_model.unwrap_or_default(),
             compliance: self.compliance.map_or(0.0, |x| x.0),
-            stabilization: self
-                .stabilization
-                .map_or(super::DEFAULT_STABILIZATION, |x| x.0),
-            stabilization_slop: self.stabilization_slop.map_or(super::DEFAULT_SLOP, |x| x.0),
+            stabilization: self.stabilization.map_or(DEFAULT_STABILIZATION, |x| x.0),
+            stabilization_slop: self.stabilization_slop.map_or(DEFAULT_SLOP, |x| x.0),
             warm_start: self.warm_start.unwrap_or(true),
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
             pgs_order: self.pgs_order.unwrap_or_default(),
@@ -95,7 +94,6 @@ struct BodyFileJson {
     #[serde(rename = "J")]
     inertia: Inertia,
 }
-
 
 /// Reads a body file: mass (kg) and inertia about the centre of mass (kg·m²). Warns when
 /// `mesh_file` names a different file than `ROOT.obj` (the starter reads `ROOT.obj`) and when

@@ -19,7 +19,7 @@ fn canonical_2d_scenes_run_and_their_scripted_impulses_act() {
         assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
         let mut world = scene.world;
         let start: Vec<Vector2<f64>> = world.bodies.iter().map(|b| b.x).collect();
-        let steps = (20.0 / world.params.step) as u64;
+        let steps = (20.0 / world.params.dt) as u64;
         common::run(&mut world, steps, |_, _| {});
         let moved: Vec<f64> = world
             .bodies
@@ -102,7 +102,7 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
         let file = rigidref::problem::json::ProblemFile::read(&path).unwrap();
         assert_eq!((file.dof_per_body, file.rows_per_contact), (3, 2));
         assert_eq!(file.step, Some(step));
-        let problem: rigidref::blocks2d::world::ContactProblem2 = file.to_problem().unwrap();
+        let problem: rigidref::blocks2d::assemble::ContactProblem2 = file.to_problem().unwrap();
         let solution = file.solution.as_ref().unwrap();
         assert_eq!(solution.lambda.len(), contacts.len());
         for (l, c) in solution.lambda.iter().zip(contacts) {
@@ -516,7 +516,10 @@ fn bad_2d_input_is_a_one_line_error() {
     // render does not offer run's outputs at all (it writes --frames and --gif): the argument
     // parser refuses them as unknown, with its usage status 2.
     for flag in ["--every", "--out", "--format", "--dump-problems"] {
-        let out = rigidref(&["render", "stack.png", flag, "3", "--frames", &dir("fr")], &scenes);
+        let out = rigidref(
+            &["render", "stack.png", flag, "3", "--frames", &dir("fr")],
+            &scenes,
+        );
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{flag}: {stderr}");
         assert!(

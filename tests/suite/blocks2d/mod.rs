@@ -1,7 +1,7 @@
 //! The 2D image-block system.
 
-mod properties;
-mod physics;
-mod demonstrations;
 mod challenges;
 mod commands;
+mod demonstrations;
+mod physics;
+mod properties;

@@ -231,7 +231,12 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
         },
     );
     common::run(&mut world, 1, |_, _| {});
-    let problem = world.solves.last().expect("a contact problem").problem.clone();
+    let problem = world
+        .solves
+        .last()
+        .expect("a contact problem")
+        .problem
+        .clone();
     let mut workspace = rigidref::solve::PgsWorkspace::<3, 2>::new(0);
     let mut lambda = Vec::new();
     let settings = rigidref::solve::PgsSettings {
@@ -264,7 +269,8 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
         if step % 20 == 0
             && let Some(problem) = world.solves.last().map(|s| s.problem.clone())
         {
-            let c = rigidref::verify::crosscheck::check_problem(&problem, &Default::default()).unwrap();
+            let c =
+                rigidref::verify::crosscheck::check_problem(&problem, &Default::default()).unwrap();
             println!(
                 "delicate step {step}: {} contacts, {:?} {:.2e}, PGS residual {:.1e}",
                 c.contacts, c.comparison, c.disagreement, c.residual_pgs

@@ -414,7 +414,8 @@ fn open_body_mesh_is_reported_not_a_panic() {
 #[test]
 fn degenerate_triangles_are_reported_as_a_warning() {
     use nalgebra::Vector3;
-    let mut mesh = rigidref::rigid3d::mesh::TriMesh::cuboid(Vector3::repeat(-0.5), Vector3::repeat(0.5));
+    let mut mesh =
+        rigidref::rigid3d::mesh::TriMesh::cuboid(Vector3::repeat(-0.5), Vector3::repeat(0.5));
     // Split triangle (0, 2, 1) at the midpoint m of edge 0–2 and close the gap with the
     // zero-area triangle (2, m, 0); triangle (0, 4, 2) still uses the edge 2→0.
     let m = mesh.vertices.len();

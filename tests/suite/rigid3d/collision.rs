@@ -6,8 +6,8 @@ use crate::common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use rigidref::rigid3d::body::RigidBody;
 use rigidref::common::broad::{Aabb, overlapping_pairs};
+use rigidref::rigid3d::body::RigidBody;
 use rigidref::rigid3d::collide::closest_point::brute_force_signed_distance;
 use rigidref::rigid3d::collide::ground::ground_contacts;
 use rigidref::rigid3d::collide::{MeshCollider, detect_contacts};

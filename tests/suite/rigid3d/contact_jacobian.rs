@@ -5,10 +5,10 @@ use crate::common;
 
 use nalgebra::{Matrix3, SVector, Vector3};
 use proptest::prelude::*;
+use rigidref::problem::FrictionModel;
 use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
 use rigidref::rigid3d::collide::Contact;
 use rigidref::rigid3d::contact::{ContactFrame, jacobian_block};
-use rigidref::problem::FrictionModel;
 use rigidref::rigid3d::rotation::exp_so3;
 use rigidref::rigid3d::warm_start::WarmStart;
 

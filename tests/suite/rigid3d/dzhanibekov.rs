@@ -6,9 +6,9 @@
 use crate::common;
 
 use rigidref::rigid3d::diagnostics::{flip_period, sign_changes};
-use rigidref::verify::references::euler::torque_free_rk4;
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
+use rigidref::verify::references::euler::torque_free_rk4;
 
 /// Index of the intermediate principal axis of a (near-)diagonal body inertia.
 fn intermediate_axis(scene: &Scene) -> usize {

@@ -174,8 +174,10 @@ fn box_on_ground(
 ) -> ContactProblem3 {
     use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     let mesh = std::sync::Arc::new(
-        rigidref::rigid3d::mesh::TriMesh::load_obj(&common::project_root().join("scenes/data/box.obj"))
-            .unwrap(),
+        rigidref::rigid3d::mesh::TriMesh::load_obj(
+            &common::project_root().join("scenes/data/box.obj"),
+        )
+        .unwrap(),
     );
     let mut body = rigidref::rigid3d::body::RigidBody::new(
         "box",

@@ -5,9 +5,9 @@ use crate::common;
 use common::problems::{build, physical_spec};
 use nalgebra::{SVector, Vector3};
 use proptest::prelude::*;
-use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
 use rigidref::problem::FrictionModel;
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 
@@ -145,8 +145,12 @@ fn body_on_ground(
         )
         .unwrap(),
     );
-    let mut body =
-        rigidref::rigid3d::body::RigidBody::new(name, mass, nalgebra::Matrix3::identity() * moment, mesh);
+    let mut body = rigidref::rigid3d::body::RigidBody::new(
+        name,
+        mass,
+        nalgebra::Matrix3::identity() * moment,
+        mesh,
+    );
     body.x = Vector3::new(0.0, y, 0.0);
     body.v = v;
     body.update_world_inertia();

@@ -2,8 +2,10 @@
 
 use crate::common;
 
-use rigidref::verify::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
 use rigidref::rigid3d::scene::load_scene;
+use rigidref::verify::golden::{
+    Tolerances, canonical_scenes, compare, golden_path, read_golden, record,
+};
 
 #[test]
 fn canonical_scenes_match_their_golden_traces() {

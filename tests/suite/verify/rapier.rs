@@ -4,8 +4,8 @@
 
 use crate::common;
 
-use rigidref::verify::references::compare::{Observable, compare, record_rapier, record_rigidref};
 use rigidref::rigid3d::scene::load_scene;
+use rigidref::verify::references::compare::{Observable, compare, record_rapier, record_rigidref};
 
 fn observables(scene_file: &str, seconds: f64) -> Vec<Observable> {
     let scene = load_scene(&common::project_root().join("scenes").join(scene_file)).unwrap();

@@ -7,16 +7,18 @@
 
 use crate::common;
 
-use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
-use rigidref::verify::faults::{Faults, with_faults};
-use rigidref::verify::golden::{Tolerances, canonical_scenes, compare, golden_path, read_golden, record};
-use rigidref::verify::snapshots::summary;
-use rigidref::verify::references::compare::{
-    compare as compare_observables, record_rapier, record_rigidref,
-};
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, NonFinite, drive};
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
+use rigidref::verify::faults::{Faults, with_faults};
+use rigidref::verify::golden::{
+    Tolerances, canonical_scenes, compare, golden_path, read_golden, record,
+};
+use rigidref::verify::references::compare::{
+    compare as compare_observables, record_rapier, record_rigidref,
+};
+use rigidref::verify::snapshots::summary;
 
 fn scenes() -> Vec<(String, Scene)> {
     let root = common::project_root();
@@ -56,7 +58,9 @@ fn golden_failures(faults: Faults) -> Vec<String> {
 fn snapshot_failures(faults: Faults) -> Vec<String> {
     scenes()
         .into_iter()
-        .filter(|(_, scene)| with_faults(faults, || summary(scene, 5)).ok() != summary(scene, 5).ok())
+        .filter(|(_, scene)| {
+            with_faults(faults, || summary(scene, 5)).ok() != summary(scene, 5).ok()
+        })
         .map(|(s, _)| s)
         .collect()
 }
@@ -70,24 +74,26 @@ fn crosscheck_failures(faults: Faults) -> Vec<String> {
     scenes()
         .into_iter()
         .filter(|(_, scene)| scene.params.check_collisions)
-        .filter(|(_, scene)| with_faults(faults, || {
-            let mut world = World::new(scene).unwrap();
-            // Stops at the first problem where the two disagree; a run that blows up certainly
-            // differs.
-            let mut disagree = false;
-            let ran = drive(&mut world, 100, |world, _| {
-                for solve in &world.solves {
-                    let c = check_problem(&solve.problem, &settings).unwrap();
-                    disagree |= c.residual_pgs > 1e-10
-                        || match c.comparison {
-                            Comparison::Lambda => c.lambda_difference > 1e-5,
-                            Comparison::Objective => c.objective_gap > 1e-8,
-                        };
-                }
-                Ok::<_, NonFinite>(if disagree { Flow::Stop } else { Flow::Continue })
-            });
-            ran.is_err() || disagree
-        }))
+        .filter(|(_, scene)| {
+            with_faults(faults, || {
+                let mut world = World::new(scene).unwrap();
+                // Stops at the first problem where the two disagree; a run that blows up certainly
+                // differs.
+                let mut disagree = false;
+                let ran = drive(&mut world, 100, |world, _| {
+                    for solve in &world.solves {
+                        let c = check_problem(&solve.problem, &settings).unwrap();
+                        disagree |= c.residual_pgs > 1e-10
+                            || match c.comparison {
+                                Comparison::Lambda => c.lambda_difference > 1e-5,
+                                Comparison::Objective => c.objective_gap > 1e-8,
+                            };
+                    }
+                    Ok::<_, NonFinite>(if disagree { Flow::Stop } else { Flow::Continue })
+                });
+                ran.is_err() || disagree
+            })
+        })
         .map(|(s, _)| s)
         .collect()
 }

@@ -1,0 +1,175 @@
+//! What `rigidref crosscheck` reports: a row per problem, the summary and its verdict.
+
+use rigidref::verify::crosscheck::{Comparison, ProblemCheck};
+
+/// The tolerances the verdict is judged by (the command's options).
+pub(crate) struct Limits {
+    /// Largest relative λ difference accepted where λ is unique.
+    pub(crate) tolerance: f64,
+    /// Largest relative objective gap accepted where λ is not unique.
+    pub(crate) objective_tolerance: f64,
+    /// Unverified problems fail too.
+    pub(crate) strict: bool,
+}
+
+/// One problem's check and where it came from.
+#[derive(serde::Serialize)]
+pub(crate) struct Row {
+    pub(crate) source: String,
+    #[serde(flatten)]
+    pub(crate) check: ProblemCheck,
+}
+
+#[derive(serde::Serialize)]
+pub(crate) struct Summary {
+    pub(crate) input: String,
+    pub(crate) problems: usize,
+    pub(crate) compared: usize,
+    pub(crate) unverified: usize,
+    pub(crate) compared_by_lambda: usize,
+    pub(crate) compared_by_objective: usize,
+    pub(crate) max_lambda_difference: f64,
+    pub(crate) median_lambda_difference: f64,
+    pub(crate) max_objective_gap: f64,
+    pub(crate) median_objective_gap: f64,
+    pub(crate) worst: Option<String>,
+    pub(crate) failures: usize,
+    pub(crate) tolerance: f64,
+    pub(crate) objective_tolerance: f64,
+    pub(crate) passed: bool,
+}
+
+/// One line per problem.
+pub(crate) fn print_table(rows: &[Row]) {
+    println!(
+        "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12}",
+        "problem",
+        "contacts",
+        "formulation",
+        "compared",
+        "disagree",
+        "res PGS",
+        "res QP",
+        "sweeps",
+        "clarabel"
+    );
+    for r in rows {
+        println!(
+            "{:<28} {:>8} {:<36} {:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>7} {:<12}",
+            r.source,
+            r.check.contacts,
+            r.check.formulation,
+            if r.check.comparison == Comparison::Lambda {
+                "λ"
+            } else {
+                "objective"
+            },
+            r.check.disagreement,
+            r.check.residual_pgs,
+            r.check.residual_qp,
+            r.check.pgs_iterations,
+            format!("{} ({})", r.check.qp_status, r.check.qp_iterations),
+        );
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// PGS converged when its residual is at most this (m/s); the run asks for 1e-12.
+const CONVERGED: f64 = 1e-10;
+
+pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
+    let compared: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.check.residual_pgs <= CONVERGED)
+        .collect();
+    let by = |c: Comparison| {
+        compared
+            .iter()
+            .filter(|r| r.check.comparison == c)
+            .map(|r| r.check.disagreement)
+            .collect::<Vec<_>>()
+    };
+    let lambda = by(Comparison::Lambda);
+    let objective = by(Comparison::Objective);
+    let fails = |r: &&&Row| {
+        !(r.check.qp_status == "Solved" || r.check.qp_status == "AlmostSolved")
+            || match r.check.comparison {
+                Comparison::Lambda => r.check.disagreement > args.tolerance,
+                Comparison::Objective => r.check.disagreement > args.objective_tolerance,
+            }
+    };
+    let mut failures = compared.iter().filter(fails).count();
+    if args.strict {
+        failures += rows.len() - compared.len();
+    }
+    // The worst relative to its own tolerance.
+    let worst = compared
+        .iter()
+        .max_by(|a, b| {
+            let ratio = |r: &Row| {
+                r.check.disagreement
+                    / match r.check.comparison {
+                        Comparison::Lambda => args.tolerance,
+                        Comparison::Objective => args.objective_tolerance,
+                    }
+            };
+            ratio(a).total_cmp(&ratio(b))
+        })
+        .map(|r| {
+            format!(
+                "{}: {:?} {:.2e}",
+                r.source, r.check.comparison, r.check.disagreement
+            )
+        });
+    Summary {
+        input: input.to_string(),
+        problems: rows.len(),
+        compared: compared.len(),
+        unverified: rows.len() - compared.len(),
+        compared_by_lambda: lambda.len(),
+        compared_by_objective: objective.len(),
+        max_lambda_difference: lambda.iter().copied().fold(0.0, f64::max),
+        median_lambda_difference: median(lambda),
+        max_objective_gap: objective.iter().copied().fold(0.0, f64::max),
+        median_objective_gap: median(objective),
+        worst,
+        failures,
+        tolerance: args.tolerance,
+        objective_tolerance: args.objective_tolerance,
+        passed: failures == 0,
+    }
+}
+
+pub(crate) fn print_summary(s: &Summary) {
+    println!("input            {}", s.input);
+    println!(
+        "problems         {} ({} compared: {} by λ, {} by objective; {} unverified: PGS did not converge)",
+        s.problems, s.compared, s.compared_by_lambda, s.compared_by_objective, s.unverified
+    );
+    println!(
+        "λ difference     max {:.2e}, median {:.2e} (tolerance {:.0e})",
+        s.max_lambda_difference, s.median_lambda_difference, s.tolerance
+    );
+    println!(
+        "objective gap    max {:.2e}, median {:.2e} (tolerance {:.0e})",
+        s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
+    );
+    println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
+    println!(
+        "result           {}",
+        if s.passed && s.compared == 0 {
+            "nothing compared (no contact problem was verified)".to_string()
+        } else if s.passed {
+            "agree".to_string()
+        } else {
+            format!("{} problems disagree", s.failures)
+        }
+    );
+}

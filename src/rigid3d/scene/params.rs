@@ -1,0 +1,63 @@
+//! The simulation parameters of a 3D scene (`sim_parameters[0]`) and the project's defaults.
+
+use crate::problem::FrictionModel;
+use crate::rigid3d::body::AngularIntegrator;
+use crate::solve::ContactOrder;
+use nalgebra::Vector3;
+
+/// Simulation parameters: the first entry of the scene's `sim_parameters`, with the starter's
+/// defaults for missing keys.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimParameters {
+    /// Scene name (`name`; default: the file's stem).
+    pub name: String,
+    /// Frame step `dt`, s (default 0.01). One trace step is one frame.
+    pub dt: f64,
+    /// `gravity`, m/s² (default zero).
+    pub gravity: Vector3<f64>,
+    /// Friction coefficient `mu` (default 0).
+    pub mu: f64,
+    /// `substeps` per frame (default 1); the integration step is h = dt / substeps.
+    pub substeps: u32,
+    /// `check_collisions` (default true).
+    pub check_collisions: bool,
+    /// `stop_on_contact` (default false).
+    pub stop_on_contact: bool,
+    /// `pgs_iterations` (default 100, the assignment's).
+    pub pgs_iterations: u32,
+    /// `integrator` (this project's key; default `spatial`).
+    pub integrator: AngularIntegrator,
+    /// `friction_model`: `box` (default, the assignment's) or `cone`.
+    pub friction_model: FrictionModel,
+    /// `compliance` c ≥ 0 on each contact's normal row, kg⁻¹ (default 0: rigid contacts).
+    pub compliance: f64,
+    /// `stabilization`: Baumgarte factor β ∈ [0, 1], the fraction of the penetration beyond the
+    /// slop pushed out per step (default [`DEFAULT_STABILIZATION`]).
+    pub stabilization: f64,
+    /// `stabilization_slop`: penetration left alone by stabilisation, m (default
+    /// [`DEFAULT_SLOP`]).
+    pub stabilization_slop: f64,
+    /// `warm_start`: start each solve from the previous substep's impulses (default true).
+    pub warm_start: bool,
+    /// `pgs_tolerance`: stop PGS once its residual is at or below this, m/s (default none: run
+    /// all `pgs_iterations`).
+    pub pgs_tolerance: Option<f64>,
+    /// `pgs_order`: `sequential` (default) or `random` (a fresh seeded permutation per sweep).
+    pub pgs_order: ContactOrder,
+    /// `pgs_seed`: seed of the random contact order (default 0).
+    pub pgs_seed: u64,
+}
+
+/// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough
+/// to undo a landing's penetration in a few tenths of a second, slow enough not to launch bodies.
+pub const DEFAULT_STABILIZATION: f64 = 0.2;
+/// Default stabilisation slop, m: penetration this small is left alone, so resting contacts do
+/// not jitter (a few millimetres against bodies of a metre).
+pub const DEFAULT_SLOP: f64 = 0.005;
+
+impl SimParameters {
+    /// The integration step h = dt / substeps, s.
+    pub fn h(&self) -> f64 {
+        self.dt / self.substeps as f64
+    }
+}
