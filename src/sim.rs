@@ -125,6 +125,62 @@ impl SolveTotals {
     }
 }
 
+/// A run's solves summed over its steps: what the run summaries of both systems report.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RunTotals {
+    /// Steps with at least one contact solve.
+    pub steps_with_contacts: u64,
+    /// Contact solves (one per substep with contacts).
+    pub solves: u64,
+    /// The most contacts in one solve.
+    pub most_contacts: usize,
+    /// PGS sweeps, summed over the solves.
+    pub sweeps: u64,
+    /// The largest residual a solve ended with.
+    pub worst_residual: f64,
+    /// The deepest penetration of a contact found (m in 3D, blocks in 2D).
+    pub deepest: f64,
+}
+
+impl RunTotals {
+    /// Adds one step's solves.
+    pub fn add<C: ContactGeometry, const D: usize, const R: usize>(
+        &mut self,
+        solves: &[SubstepSolve<C, D, R>],
+    ) {
+        if !solves.is_empty() {
+            self.steps_with_contacts += 1;
+        }
+        self.solves += solves.len() as u64;
+        let t = SolveTotals::of(solves);
+        self.most_contacts = self.most_contacts.max(t.most_contacts);
+        self.sweeps += t.sweeps;
+        self.worst_residual = self.worst_residual.max(t.worst_residual);
+        for s in solves {
+            for c in &s.contacts {
+                self.deepest = self.deepest.max(c.depth());
+            }
+        }
+    }
+
+    /// The summary line: solves, the most contacts, PGS's mean sweeps and worst residual, the
+    /// deepest penetration; `velocity` and `length` name the units.
+    pub fn describe(&self, velocity: &str, length: &str) -> String {
+        if self.solves == 0 {
+            return "none".to_string();
+        }
+        format!(
+            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}, deepest penetration {:.3e} {length}",
+            self.solves,
+            self.steps_with_contacts,
+            self.most_contacts,
+            self.sweeps as f64 / self.solves as f64,
+            self.worst_residual,
+            self.deepest
+        )
+    }
+}
+
 /// A state component or an energy became NaN or infinite; the run must stop there (contacts of
 /// a non-finite body are meaningless, and JSON has no NaN).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

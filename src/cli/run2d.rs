@@ -8,7 +8,7 @@ use rigidref::blocks2d::scene::load_2d;
 use rigidref::blocks2d::trace::{Record2, TraceHeader2};
 use rigidref::blocks2d::world::World2;
 use rigidref::rigid3d::trace::TraceFormat;
-use rigidref::sim::{Flow, SolveTotals, drive, is_recorded};
+use rigidref::sim::{Flow, RunTotals, SolveTotals, drive, is_recorded};
 use rigidref::tools::nuts::nut_statistics;
 use std::io::Write;
 use std::path::Path;
@@ -57,11 +57,11 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     write_json_line(&mut out, &Record2::of_world(&world)).map_err(write_err)?;
     let mut reports = Reports2::open(&args.reports)?;
     let mut progress = Progress::steps(steps, args.quiet);
-    let (mut most_contacts, mut last_done) = (0, 0);
+    let (mut run_totals, mut last_done) = (RunTotals::default(), 0);
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         last_done = k;
         let totals = SolveTotals::of(&w.solves);
-        most_contacts = most_contacts.max(totals.most_contacts);
+        run_totals.add(&w.solves);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
                 super::common::dump_problem(dir, &name, k, w.params.h(), solve)?;
@@ -91,7 +91,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             steps,
             wall: progress.elapsed(),
             rest_threshold,
-            most_contacts,
+            totals: run_totals,
         };
         summary.print(&world);
         eprintln!("trace          {}", out_path.display());
@@ -179,7 +179,7 @@ struct Summary2<'a> {
     steps: u64,
     wall: f64,
     rest_threshold: f64,
-    most_contacts: usize,
+    totals: RunTotals,
 }
 
 impl Summary2<'_> {
@@ -219,9 +219,10 @@ impl Summary2<'_> {
             self.rest_threshold
         );
         eprintln!(
-            "contacts       {} now, at most {}",
+            "contacts       {} now; {}",
             world.contacts.len(),
-            self.most_contacts
+            self.totals
+                .describe("blocks per time unit", "blocks (disc overlap)")
         );
     }
 }

@@ -4,10 +4,10 @@ use super::progress::{Progress, Stopped};
 use super::run_args::RunArgs;
 use anyhow::Context;
 use rigidref::rigid3d::diagnostics::{Energy, Momentum};
-use rigidref::rigid3d::scene::embedded::DEFAULT_SCENE_NAME;
+use rigidref::rigid3d::scene::embedded::BUILT_IN_SOURCE;
 use rigidref::rigid3d::trace::{TraceHeader, TraceRecord, TraceWriter};
 use rigidref::rigid3d::world::World;
-use rigidref::sim::{Flow, SolveTotals, drive, is_recorded};
+use rigidref::sim::{Flow, RunTotals, drive, is_recorded};
 
 /// Runs a 3D scene. A run that fails midway keeps the trace written so far, flushed and valid.
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
@@ -22,7 +22,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let source = if args.scene.is_some() {
         scene.source.clone()
     } else {
-        DEFAULT_SCENE_NAME.to_string()
+        BUILT_IN_SOURCE.to_string()
     };
 
     let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
@@ -37,11 +37,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let (mut records, mut last_recorded) = (1u64, 0u64);
     let start = (world.energy(), world.momentum());
     let mut progress = Progress::steps(steps, args.quiet);
-    let mut stats = ContactStats::default();
+    let mut stats = RunTotals::default();
     let mut stopped_at_contact = None;
 
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
-        stats.add(w);
+        stats.add(&w.solves);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
                 super::common::dump_problem(dir, &w.params.name, k, w.params.h(), solve)?;
@@ -62,7 +62,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     });
     writer.flush().map_err(write_err)?;
     progress.finish();
-    Stopped::outcome(ran, |failure| {
+    let ran = Stopped::outcome(ran, |failure| {
         format!(
             "{}: the run stopped: {failure}; the trace up to step {last_recorded} is in {}",
             scene.source,
@@ -72,7 +72,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let wall = progress.elapsed();
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);
-        print_summary(&world, steps, wall, start, &stats);
+        print_summary(&world, ran, wall, start, &stats);
         eprintln!(
             "trace          {} ({records} records, {format:?})",
             out_path.display()
@@ -97,7 +97,7 @@ fn print_summary(
     steps: u64,
     wall: f64,
     (start_energy, start_momentum): (Energy, Momentum),
-    c: &ContactStats,
+    c: &RunTotals,
 ) {
     let (end_energy, end_momentum) = (world.energy(), world.momentum());
     let total_mass: f64 = world.bodies.iter().map(|b| b.mass).sum();
@@ -142,48 +142,5 @@ fn print_summary(
     if !p.check_collisions {
         return;
     }
-    if c.solves > 0 {
-        eprintln!(
-            "contacts       {} solves in {} frames, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} m/s, deepest penetration {:.3e} m",
-            c.solves,
-            c.frames,
-            c.totals.most_contacts,
-            c.totals.sweeps as f64 / c.solves as f64,
-            c.totals.worst_residual,
-            c.max_depth
-        );
-    } else {
-        eprintln!("contacts       none");
-    }
-}
-
-/// Contact figures for the summary, over the whole run.
-#[derive(Default)]
-struct ContactStats {
-    /// Frames with contacts.
-    frames: u64,
-    /// Contact solves.
-    solves: u64,
-    /// The solves' totals: the most contacts, sweeps and the worst residual.
-    totals: SolveTotals,
-    /// The deepest penetration of a contact found, m.
-    max_depth: f64,
-}
-
-impl ContactStats {
-    fn add(&mut self, world: &World) {
-        if !world.solves.is_empty() {
-            self.frames += 1;
-        }
-        self.solves += world.solves.len() as u64;
-        let t = SolveTotals::of(&world.solves);
-        self.totals.most_contacts = self.totals.most_contacts.max(t.most_contacts);
-        self.totals.sweeps += t.sweeps;
-        self.totals.worst_residual = self.totals.worst_residual.max(t.worst_residual);
-        for s in &world.solves {
-            for c in &s.contacts {
-                self.max_depth = self.max_depth.max(c.depth);
-            }
-        }
-    }
+    eprintln!("contacts       {}", c.describe("m/s", "m"));
 }

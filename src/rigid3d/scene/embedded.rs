@@ -4,8 +4,12 @@
 use super::{BodyFileTexts, BodyFiles, Scene, parse_scene};
 use crate::common::scene_json::SceneError;
 
-/// The name shown for the embedded scene.
+/// The project file the embedded scene is a copy of.
 pub const DEFAULT_SCENE_NAME: &str = "scenes/dzhanibekov.json";
+
+/// Where a run of the embedded scene says it came from (summary and trace header): it runs the
+/// copy compiled into the binary, whether or not the file exists where it is run.
+pub const BUILT_IN_SOURCE: &str = "built-in (compiled-in copy of scenes/dzhanibekov.json)";
 
 const SCENE: &str = include_str!("../../../scenes/dzhanibekov.json");
 /// (file_root, body JSON, OBJ) of every body file the embedded scene may name.
