@@ -11,7 +11,8 @@
 //! the command line; unknown keys are warnings; bad values are errors naming file, line, column.
 
 use super::image::{ImageSettings, load_image};
-use super::world::{ContactModel, Params2, ScriptedImpulse, Shake, World2};
+use super::params::{ContactModel, Params2, Preset};
+use super::world::{ScriptedImpulse, Shake, World2};
 use crate::common::scene_json::SceneError;
 use crate::common::values::{Count, NonNegative, Positive};
 use crate::solve::ContactOrder;
@@ -32,6 +33,7 @@ struct SceneFile2 {
 
 #[derive(Deserialize, Default)]
 struct ParametersFile2 {
+    preset: Option<Preset>,
     step: Option<Positive>,
     substeps: Option<Count>,
     gravity: Option<NonNegative>,
@@ -90,6 +92,8 @@ pub fn is_scene2(text: &str) -> bool {
 /// keeps [`Params2::default`]'s value. One check, [`Parameters2::resolve`], serves both sources.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Parameters2 {
+    /// The preset the others override (default: [`Preset::Default`]).
+    pub preset: Option<Preset>,
     /// Step size.
     pub step: Option<f64>,
     /// Substeps per step.
@@ -135,6 +139,7 @@ impl Parameters2 {
     /// The keys that are set.
     pub fn given(&self) -> Vec<&'static str> {
         [
+            ("preset", self.preset.is_some()),
             ("step", self.step.is_some()),
             ("substeps", self.substeps.is_some()),
             ("gravity", self.gravity.is_some()),
@@ -156,10 +161,11 @@ impl Parameters2 {
         .collect()
     }
 
-    /// The parameters and image settings, with the defaults filled in, after checking every
-    /// value's range (the one check of 2D parameters, for files and the command line alike).
+    /// The parameters and image settings, with the preset's values filled in where none is
+    /// given, after checking every value's range (the one check of 2D parameters, for files and
+    /// the command line alike).
     pub fn resolve(&self) -> Result<(Params2, ImageSettings), ParamError> {
-        let d = Params2::default();
+        let d = self.preset.unwrap_or_default().params();
         let p = Params2 {
             dt: self.step.unwrap_or(d.dt),
             substeps: self.substeps.unwrap_or(d.substeps),
@@ -234,6 +240,7 @@ impl ParametersFile2 {
     fn plain(self) -> Parameters2 {
         let p = self;
         Parameters2 {
+            preset: p.preset,
             step: p.step.map(|x| x.0),
             substeps: p.substeps.map(|x| x.0),
             gravity: p.gravity.map(|x| x.0),

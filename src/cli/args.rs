@@ -94,10 +94,15 @@ const HEADING_2D: &str = "2D scenes (an image, run with these; a 2D scene file s
 #[derive(Args, Clone, Debug, Default)]
 #[command(next_help_heading = HEADING_2D)]
 pub struct Blocks2dOptions {
+    /// 2D: the parameters to start from: `default` (the demonstration settings: 4 substeps, 200
+    /// sweeps, random order) or `starter` (the Java starter's: 1 substep, 10 sweeps in order);
+    /// the options below override it [default: default].
+    #[arg(long, value_enum)]
+    pub preset: Option<rigidref::blocks2d::params::Preset>,
     /// 2D: step size [default: 0.05, the starter's].
     #[arg(long, allow_negative_numbers = true)]
     pub step: Option<f64>,
-    /// 2D: substeps per step [default: 1].
+    /// 2D: substeps per step [default: 4; starter: 1].
     #[arg(long)]
     pub substeps: Option<u32>,
     /// 2D: gravity magnitude, blocks per time² [default: 1].
@@ -113,15 +118,14 @@ pub struct Blocks2dOptions {
     /// 2D: coefficient of restitution in [0, 1] [default: 0].
     #[arg(long, allow_negative_numbers = true)]
     pub restitution: Option<f64>,
-    /// 2D: PGS iterations per solve [default: 10, the starter's; the demonstration images
-    /// come to rest with 200, 4 substeps and random order: docs/blocks2d.md §"Demonstration
-    /// settings"].
+    /// 2D: PGS iterations per solve [default: 200; starter: 10, with which the demonstration
+    /// images do not come to rest: docs/blocks2d.md §"Demonstration settings"].
     #[arg(long)]
     pub iterations: Option<u32>,
     /// 2D: stop PGS when its residual is below this.
     #[arg(long, allow_negative_numbers = true)]
     pub pgs_tolerance: Option<f64>,
-    /// 2D: contact order in PGS [default: sequential].
+    /// 2D: contact order in PGS [default: random; starter: sequential].
     #[arg(long, value_enum)]
     pub order: Option<rigidref::solve::ContactOrder>,
     /// 2D: seed of the random order [default: 0].
@@ -190,6 +194,7 @@ impl Blocks2dOptions {
     /// The physics options as 2D parameters.
     fn parameters(&self) -> Parameters2 {
         Parameters2 {
+            preset: self.preset,
             step: self.step,
             substeps: self.substeps,
             gravity: self.gravity,

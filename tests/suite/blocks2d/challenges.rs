@@ -68,7 +68,7 @@ fn penalty_contact_option_holds_the_stack_up() {
     let params = Params2 {
         contact_model: rigidref::blocks2d::world::ContactModel::Penalty,
         substeps: 10,
-        ..Params2::default()
+        ..Params2::starter()
     };
     let mut world = World2::new(&groups, params);
     common::run(&mut world, 400, |_, _| {});

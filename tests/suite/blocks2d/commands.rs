@@ -59,6 +59,10 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
         &[
             "run",
             "scenes/blocks/stack.png",
+            // The starter's settings (1 substep, 10 sweeps in order), which the re-solve below
+            // repeats.
+            "--preset",
+            "starter",
             "--time",
             "8",
             "--dump-problems",
@@ -672,4 +676,39 @@ fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("step 1 has no contacts"), "{stderr}");
+}
+
+/// A 2D scene file's `"preset": "starter"` starts from the Java starter's values, which its
+/// other keys override; without a preset the defaults are the demonstration settings.
+#[test]
+fn a_scene_file_preset_starts_from_the_starter_and_its_keys_override_it() {
+    use rigidref::blocks2d::params::Params2;
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::copy(
+        common::project_root().join("scenes/blocks/stack.png"),
+        tmp.path().join("stack.png"),
+    )
+    .unwrap();
+    let load = |parameters: &str| {
+        let path = tmp.path().join("scene.json");
+        std::fs::write(
+            &path,
+            format!(r#"{{"image": "stack.png", "parameters": {parameters}}}"#),
+        )
+        .unwrap();
+        rigidref::blocks2d::scene::load_scene2(&path)
+            .unwrap()
+            .world
+            .params
+    };
+    assert_eq!(load("{}"), Params2::demonstration());
+    assert_eq!(load(r#"{"preset": "starter"}"#), Params2::starter());
+    assert_eq!(
+        load(r#"{"preset": "starter", "iterations": 30}"#),
+        Params2 {
+            iterations: 30,
+            ..Params2::starter()
+        }
+    );
+    assert_ne!(Params2::starter(), Params2::demonstration());
 }

@@ -210,3 +210,90 @@ fn readme_renders_the_demonstration_images_with_the_documented_settings() {
         assert!(line.contains(&flags), "{line} does not use {flags}");
     }
 }
+
+/// Runs `rigidref run IMAGE --time 20` with `extra` options and returns, over the non-pinned
+/// bodies, the largest sideways displacement of a centre of mass from t = 0 to t = 20 (blocks =
+/// pixels) and the largest kinetic energy of a body at t = 20 (from the summary's rest count).
+fn run_twenty(dir: &std::path::Path, image: &str, extra: &[&str]) -> (f64, usize, usize) {
+    let tmp = tempfile::tempdir().unwrap();
+    let path = dir.join(image);
+    let mut args = vec![
+        "run",
+        path.to_str().unwrap(),
+        "--time",
+        "20",
+        "--every",
+        "400",
+    ];
+    args.extend(extra);
+    let out = common::rigidref(&args, tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{image}: {stderr}");
+    let text = std::fs::read_to_string(tmp.path().join("trace.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let (header, first, last) = (&lines[0], &lines[1], lines.last().unwrap());
+    assert_eq!(last["t"].as_f64().unwrap(), 20.0);
+    let mut sideways: f64 = 0.0;
+    for (i, info) in header["bodies"].as_array().unwrap().iter().enumerate() {
+        if info["pinned"].as_bool().unwrap() {
+            continue;
+        }
+        let x = |r: &serde_json::Value| r["bodies"][i]["x"][0].as_f64().unwrap();
+        sideways = sideways.max((x(last) - x(first)).abs());
+    }
+    // "at rest        R of M bodies below kinetic energy 0.001"
+    let rest = stderr
+        .lines()
+        .find(|l| l.starts_with("at rest"))
+        .unwrap_or_else(|| panic!("{image}: no rest line: {stderr}"));
+    let words: Vec<&str> = rest.split_whitespace().collect();
+    let (resting, moving) = (words[2].parse().unwrap(), words[4].parse().unwrap());
+    println!("{image} {extra:?}: sideways {sideways:.4} blocks, {resting} of {moving} at rest");
+    (sideways, resting, moving)
+}
+
+/// `rigidref run IMAGE.png` with no physics options keeps each demonstration image standing for
+/// 20 time units: no body moves sideways by more than 2 px (measured: at most 0.009), and every
+/// body is at rest at the end. Bodies do move down: the assignment's block discs (radius √2/2)
+/// rest with block centres √2 apart, so every gap between stacked bodies closes by about 0.6 px
+/// and the top of tower100 settles 59 px (docs/blocks2d.md §"Demonstration settings").
+#[test]
+fn default_settings_keep_the_demonstration_images_standing() {
+    let Some(dir) = common::blocks2d_assignment() else {
+        return;
+    };
+    for image in [
+        "tower100.png",
+        "delicate.png",
+        "wallWideSparseHigh.png",
+        "wallWideDenseHigh.png",
+    ] {
+        let (sideways, resting, moving) = run_twenty(&dir, image, &[]);
+        assert!(
+            sideways <= 2.0,
+            "{image}: a body moved {sideways} px sideways"
+        );
+        assert_eq!(
+            resting, moving,
+            "{image}: not every body is at rest at t = 20"
+        );
+    }
+}
+
+/// `--preset starter` restores the Java starter's settings (1 substep, 10 sweeps in order), under
+/// which tower100 collapses (measured: 26.6 px sideways, kinetic energy 3e4 at t = 20): the
+/// defaults are what keeps it standing.
+#[test]
+fn the_starter_preset_lets_tower100_collapse() {
+    let Some(dir) = common::blocks2d_assignment() else {
+        return;
+    };
+    let (sideways, resting, moving) = run_twenty(&dir, "tower100.png", &["--preset", "starter"]);
+    assert!(
+        sideways > 2.0 && resting < moving,
+        "{sideways} {resting}/{moving}"
+    );
+}

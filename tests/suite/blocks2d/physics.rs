@@ -25,7 +25,7 @@ fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
         mu in 0.0..1.0f64,
         restitution in 0.0..1.0f64,
     )| {
-        let mut world = World2::new(&[], Params2 { gravity: 0.0, mu, restitution, iterations: 20, post_stabilization: false, ..Params2::default() });
+        let mut world = World2::new(&[], Params2 { gravity: 0.0, mu, restitution, iterations: 20, post_stabilization: false, ..Params2::starter() });
         let middle = (shapes.len() - 1) as f64 / 2.0;
         for (k, (cells, vy, omega)) in shapes.iter().enumerate() {
             let mut b = body_of(cells, false);
@@ -68,7 +68,7 @@ fn restitution_scales_bounce_heights_by_e_squared_and_repeats_them_at_e_one() {
             &[],
             Params2 {
                 restitution: e,
-                ..Params2::default()
+                ..Params2::starter()
             },
         );
         let mut block = body_of(&[(0, 0)], false);
@@ -130,7 +130,7 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
                 gravity: 0.0,
                 iterations: 50,
                 post_stabilization,
-                ..Params2::default()
+                ..Params2::starter()
             },
         );
         for (k, x) in [0.0, 1.5].into_iter().enumerate() {
@@ -227,7 +227,7 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
         &groups,
         Params2 {
             warm_start: false,
-            ..Params2::default()
+            ..Params2::starter()
         },
     );
     common::run(&mut world, 1, |_, _| {});
@@ -260,7 +260,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
             substeps: 4,
             iterations: 50,
             order: ContactOrder::Random,
-            ..Params2::default()
+            ..Params2::starter()
         },
     );
     let tmp = tempfile::tempdir().unwrap();
