@@ -13,7 +13,7 @@
 use super::image::{ImageSettings, load_image};
 use super::params::{ContactModel, Params2, Preset};
 use super::world::{ScriptedImpulse, Shake, World2};
-use crate::common::scene_json::SceneError;
+use crate::common::scene_json::{Overrides, SceneError};
 use crate::common::values::{Count, NonNegative, Positive};
 use crate::solve::ContactOrder;
 use nalgebra::Vector2;
@@ -76,6 +76,8 @@ pub struct Scene2 {
     pub world: World2,
     /// Warnings (unknown keys).
     pub warnings: Vec<String>,
+    /// The parameters set on the command line (`--set KEY=VALUE`), as `KEY=VALUE`.
+    pub overrides: Vec<String>,
 }
 
 /// Whether a JSON text is a 2D scene (has a top-level `image` key).
@@ -235,6 +237,30 @@ impl Parameters2 {
     }
 }
 
+impl Parameters2 {
+    /// These values, with `other`'s where these are not set.
+    pub fn or(&self, other: &Parameters2) -> Parameters2 {
+        Parameters2 {
+            preset: self.preset.or(other.preset),
+            step: self.step.or(other.step),
+            substeps: self.substeps.or(other.substeps),
+            gravity: self.gravity.or(other.gravity),
+            gravity_angle: self.gravity_angle.or(other.gravity_angle),
+            mu: self.mu.or(other.mu),
+            restitution: self.restitution.or(other.restitution),
+            iterations: self.iterations.or(other.iterations),
+            pgs_tolerance: self.pgs_tolerance.or(other.pgs_tolerance),
+            order: self.order.or(other.order),
+            seed: self.seed.or(other.seed),
+            warm_start: self.warm_start.or(other.warm_start),
+            post_stabilization: self.post_stabilization.or(other.post_stabilization),
+            slop: self.slop.or(other.slop),
+            contact_model: self.contact_model.or(other.contact_model),
+            white_threshold: self.white_threshold.or(other.white_threshold),
+        }
+    }
+}
+
 impl ParametersFile2 {
     /// The values read, as plain parameters.
     fn plain(self) -> Parameters2 {
@@ -282,6 +308,8 @@ pub struct CommandLine2 {
     /// The option names given (`--step`, `--impulse`, …), for the message that refuses them on a
     /// scene file.
     pub given: Vec<String>,
+    /// `--set KEY=VALUE`: keys of a 2D scene file's `parameters`, for images and scene files.
+    pub overrides: Overrides,
 }
 
 /// A 2D scene ready to run: an image with the command line's parameters, or a scene file with
@@ -299,10 +327,10 @@ pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
                 cli.given.join(", ")
             )));
         }
-        return load_scene2(path);
+        return load_scene2_with(path, &cli.overrides);
     }
-    let (params, settings) = cli
-        .parameters
+    let parameters = with_overrides(&cli.parameters, &cli.overrides)?;
+    let (params, settings) = parameters
         .resolve()
         .map_err(|e| SceneError(format!("--{} {}", e.key.replace('_', "-"), e.message)))?;
     let groups = load_image(path, &settings).map_err(SceneError)?;
@@ -330,16 +358,64 @@ pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
         image: path.to_path_buf(),
         world,
         warnings: Vec::new(),
+        overrides: cli.overrides.describe(),
     })
+}
+
+/// The command line's parameters with `--set` overrides added, each checked as a scene file's
+/// value of that key; a key given both ways is an error.
+fn with_overrides(flags: &Parameters2, overrides: &Overrides) -> Result<Parameters2, SceneError> {
+    if overrides.is_empty() {
+        return Ok(flags.clone());
+    }
+    overrides.check::<ParametersFile2>("a 2D scene's parameters")?;
+    let mut map = serde_json::Map::new();
+    overrides.apply(&mut map);
+    let set: ParametersFile2 = serde_json::from_value(serde_json::Value::Object(map))
+        .map_err(|e| SceneError(format!("--set: {e}")))?;
+    let set = set.plain();
+    let both: Vec<&str> = set
+        .given()
+        .into_iter()
+        .filter(|k| flags.given().contains(k))
+        .collect();
+    if let Some(key) = both.first() {
+        return Err(SceneError(format!(
+            "--set {key} and --{} both set {key}; give it once",
+            key.replace('_', "-")
+        )));
+    }
+    Ok(set.or(flags))
 }
 
 /// Loads a 2D scene file.
 pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
+    load_scene2_with(path, &Overrides::default())
+}
+
+/// Loads a 2D scene file with `overrides` of its `parameters` (`--set KEY=VALUE`), each checked
+/// as the file's value of that key would be.
+pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, SceneError> {
     let source = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError(format!("{source}: cannot read scene: {e}")))?;
     let mut warnings = Vec::new();
-    let file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;
+    let mut file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;
+    if !overrides.is_empty() {
+        overrides.check::<ParametersFile2>("a 2D scene's parameters")?;
+        // The file is valid and so is each override: set them in its parameters and read again.
+        let mut value: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| SceneError(format!("{source}: {e}")))?;
+        if let Some(object) = value.as_object_mut() {
+            let parameters = object
+                .entry("parameters")
+                .or_insert_with(|| serde_json::Value::Object(Default::default()));
+            if let Some(map) = parameters.as_object_mut() {
+                overrides.apply(map);
+            }
+        }
+        file = serde_json::from_value(value).map_err(|e| SceneError(format!("{source}: {e}")))?;
+    }
     let (params, settings) = file
         .parameters
         .plain()
@@ -399,6 +475,7 @@ pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
         image,
         world,
         warnings,
+        overrides: overrides.describe(),
     })
 }
 

@@ -18,6 +18,10 @@ pub struct TraceHeader2 {
     pub scene: String,
     /// Where it came from.
     pub source: String,
+    /// Parameters set on the command line (`--set KEY=VALUE`), as `KEY=VALUE`; the key is
+    /// present only when some were given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overrides: Vec<String>,
     /// Step size.
     pub dt: f64,
     /// Substeps per step.
@@ -96,6 +100,7 @@ impl TraceHeader2 {
             dimension: 2,
             scene: scene.into(),
             source: source.into(),
+            overrides: Vec::new(),
             dt: world.params.dt,
             substeps: world.params.substeps,
             gravity: [g.x, g.y],

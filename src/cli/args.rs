@@ -4,6 +4,7 @@
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::blocks2d::scene::{CommandLine2, Parameters2, parse_impulse, parse_shake};
+use rigidref::common::scene_json::Overrides;
 use rigidref::rigid3d::trace::TraceFormat;
 use std::path::PathBuf;
 
@@ -159,7 +160,7 @@ pub struct Blocks2dOptions {
 impl Blocks2dOptions {
     /// The options as the 2D loader takes them (impulses and shakes parsed), with the names of
     /// the flags given.
-    pub fn command_line(&self) -> anyhow::Result<CommandLine2> {
+    pub fn command_line(&self, sets: &SceneSets) -> anyhow::Result<CommandLine2> {
         let impulses = self.impulse.iter().map(|t| parse_impulse(t));
         let shakes = self.shake.iter().map(|t| parse_shake(t));
         Ok(CommandLine2 {
@@ -171,6 +172,7 @@ impl Blocks2dOptions {
                 .collect::<Result<_, _>>()
                 .map_err(anyhow::Error::msg)?,
             given: self.given(),
+            overrides: sets.overrides()?,
         })
     }
 
@@ -235,5 +237,23 @@ impl RestThreshold {
             bail!("--rest-threshold must be a number ≥ 0, got {t}");
         }
         Ok(t)
+    }
+}
+
+/// Scene parameters from the command line: `--set KEY=VALUE`, for 3D and 2D scenes alike.
+#[derive(Args, Clone, Debug, Default)]
+pub struct SceneSets {
+    /// Set a scene parameter, as if the scene file said so: KEY=VALUE with a key of the 3D
+    /// scene's sim_parameters (e.g. pgs_iterations=50, mu=0.3, integrator=body,
+    /// gravity=[0,-9.8,0]) or of a 2D scene's parameters (e.g. iterations=50, preset=starter);
+    /// checked exactly as the file's value; repeatable. Shown in the summary and the trace header.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+}
+
+impl SceneSets {
+    /// The overrides, parsed.
+    pub fn overrides(&self) -> anyhow::Result<Overrides> {
+        Overrides::parse(&self.set).map_err(anyhow::Error::msg)
     }
 }

@@ -1,9 +1,12 @@
 //! What several commands need: loading a 3D scene, opening outputs, writing problem files.
 
-/// Loads the scene at `path`, or the embedded default, and prints its warnings to stderr.
+/// Loads the scene at `path`, or the embedded default, with the `--set` overrides, and prints its
+/// warnings to stderr.
 pub(crate) fn load_scene_or_default(
     path: Option<&std::path::Path>,
+    sets: &super::args::SceneSets,
 ) -> anyhow::Result<rigidref::rigid3d::scene::Scene> {
+    let overrides = sets.overrides()?;
     let scene = match path {
         Some(p) => {
             // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say
@@ -18,9 +21,9 @@ pub(crate) fn load_scene_or_default(
                     p.display()
                 );
             }
-            rigidref::rigid3d::scene::load_scene(p)?
+            rigidref::rigid3d::scene::load_scene_with(p, &overrides)?
         }
-        None => rigidref::rigid3d::scene::embedded::default_scene()?,
+        None => rigidref::rigid3d::scene::embedded::default_scene_with(&overrides)?,
     };
     for w in &scene.warnings {
         eprintln!("warning: {w}");

@@ -38,6 +38,8 @@ pub struct ContactsArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub sets: super::args::SceneSets,
 }
 
 pub(crate) fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>> {

@@ -36,7 +36,7 @@ struct ContactJson {
 
 /// Runs the scene to the chosen step and prints its contacts.
 pub fn contacts(args: &ContactsArgs) -> anyhow::Result<()> {
-    let mut scene = super::common::load_scene_or_default(args.scene.as_deref())?;
+    let mut scene = super::common::load_scene_or_default(args.scene.as_deref(), &args.sets)?;
     if !scene.params.check_collisions {
         eprintln!(
             "note: {}: check_collisions is false in the scene; contacts are computed here anyway",

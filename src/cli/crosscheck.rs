@@ -54,12 +54,14 @@ pub struct CrosscheckArgs {
     /// Compare the scene against a rapier3d mirror instead (docs/verification.md §"rapier3d").
     #[arg(long)]
     pub rapier: bool,
+    #[command(flatten)]
+    pub sets: super::args::SceneSets,
 }
 
 /// Runs the cross-check.
 pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     if args.rapier {
-        return super::rapier::rapier(args.input.as_deref(), args.time, args.json);
+        return super::rapier::rapier(args.input.as_deref(), &args.sets, args.time, args.json);
     }
     if !(args.tolerance > 0.0 && args.objective_tolerance > 0.0) {
         bail!("--tolerance and --objective-tolerance must be positive");
@@ -111,13 +113,13 @@ fn rows_of(
         ),
         Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
             // An image with the default parameters, or a 2D scene file with its own.
-            let mut world = super::run2d::load_world(path, &Default::default())?;
+            let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
             let source = path.display().to_string();
             let rows = check_run(&mut world, args.time, &source, settings)?;
             (source, rows)
         }
         other => {
-            let scene = super::common::load_scene_or_default(other.as_deref())?;
+            let scene = super::common::load_scene_or_default(other.as_deref(), &args.sets)?;
             if !scene.params.check_collisions {
                 eprintln!(
                     "note: {}: check_collisions is false: no contact problems to check",

@@ -6,8 +6,13 @@ use rigidref::verify::references::compare::{compare, record_rapier, record_rigid
 
 /// Runs the scene at `input` (or the built-in default) for `time` seconds in both and prints the
 /// observables side by side (as JSON with `json`).
-pub fn rapier(input: Option<&std::path::Path>, time: f64, json: bool) -> anyhow::Result<()> {
-    let scene = super::common::load_scene_or_default(input)?;
+pub fn rapier(
+    input: Option<&std::path::Path>,
+    sets: &super::args::SceneSets,
+    time: f64,
+    json: bool,
+) -> anyhow::Result<()> {
+    let scene = super::common::load_scene_or_default(input, sets)?;
     let steps = rigidref::sim::steps_in(time, scene.params.dt, " of seconds")
         .map_err(anyhow::Error::msg)
         .with_context(|| scene.source.clone())?;

@@ -1,6 +1,6 @@
 //! `rigidref render IMAGE.png`: run the 2D system and write PNG frames and an animated GIF.
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength};
+use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets};
 use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
@@ -47,6 +47,8 @@ pub struct RenderArgs {
     #[arg(long)]
     pub show_discs: bool,
     #[command(flatten)]
+    pub sets: SceneSets,
+    #[command(flatten)]
     pub blocks: Blocks2dOptions,
     #[command(flatten)]
     pub rest: RestThreshold,
@@ -69,7 +71,7 @@ pub fn render_command(args: RenderArgs) -> anyhow::Result<()> {
     }
     check_render_args(&args)?;
     let rest_threshold = args.rest.value()?;
-    let mut world = super::run2d::load_world(&image_path, &args.blocks)?;
+    let mut world = super::run2d::load_scene(&image_path, &args.blocks, &args.sets)?.world;
     let steps = args.length.steps(world.params.dt, "")?;
     let mut settings = RenderSettings::fit(&world, args.scale);
     // A frame is width × height RGBA pixels, all held at once: refuse what cannot be held

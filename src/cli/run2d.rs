@@ -4,7 +4,7 @@
 use super::progress::{Progress, Stopped};
 use super::run_args::RunArgs;
 use anyhow::bail;
-use rigidref::blocks2d::scene::load_2d;
+use rigidref::blocks2d::scene::{Scene2, load_2d};
 use rigidref::blocks2d::trace::{Record2, TraceHeader2};
 use rigidref::blocks2d::world::World2;
 use rigidref::rigid3d::trace::TraceFormat;
@@ -13,13 +13,17 @@ use rigidref::tools::nuts::nut_statistics;
 use std::io::Write;
 use std::path::Path;
 
-/// The world of a 2D scene with the command line's 2D options, its warnings printed.
-pub fn load_world(path: &Path, options: &super::args::Blocks2dOptions) -> anyhow::Result<World2> {
-    let scene = load_2d(path, &options.command_line()?)?;
+/// A 2D scene with the command line's 2D options and `--set` overrides, its warnings printed.
+pub fn load_scene(
+    path: &Path,
+    options: &super::args::Blocks2dOptions,
+    sets: &super::args::SceneSets,
+) -> anyhow::Result<Scene2> {
+    let scene = load_2d(path, &options.command_line(sets)?)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    Ok(scene.world)
+    Ok(scene)
 }
 
 /// Runs a 2D scene and writes its trace (and the reports asked for).
@@ -38,7 +42,8 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         );
     }
     let rest_threshold = args.rest.value()?;
-    let mut world = load_world(image, &args.blocks)?;
+    let scene = load_scene(image, &args.blocks, &args.sets)?;
+    let mut world = scene.world;
     world
         .check_finite()
         .map_err(|e| anyhow::anyhow!("{}: {e}", image.display()))?;
@@ -52,7 +57,8 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         .unwrap_or_default();
     let write_err =
         |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
-    let header = TraceHeader2::for_world(&world, &name, &image.display().to_string());
+    let mut header = TraceHeader2::for_world(&world, &name, &image.display().to_string());
+    header.overrides = scene.overrides.clone();
     write_json_line(&mut out, &header).map_err(write_err)?;
     write_json_line(&mut out, &Record2::of_world(&world)).map_err(write_err)?;
     let mut reports = Reports2::open(&args.reports)?;
@@ -92,6 +98,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             wall: progress.elapsed(),
             rest_threshold,
             totals: run_totals,
+            overrides: &scene.overrides,
         };
         summary.print(&world);
         eprintln!("trace          {}", out_path.display());
@@ -180,6 +187,7 @@ struct Summary2<'a> {
     wall: f64,
     rest_threshold: f64,
     totals: RunTotals,
+    overrides: &'a [String],
 }
 
 impl Summary2<'_> {
@@ -206,9 +214,19 @@ impl Summary2<'_> {
             world.time()
         );
         eprintln!(
-            "solver         {:?}, {} iterations, order {:?}, μ {}, restitution {}, post-stabilisation {}",
-            p.contact_model, p.iterations, p.order, p.mu, p.restitution, p.post_stabilization
+            "solver         {:?}, {} iterations, order {:?}, μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {})",
+            p.contact_model,
+            p.iterations,
+            p.order,
+            p.mu,
+            p.restitution,
+            p.warm_start,
+            p.post_stabilization,
+            p.slop
         );
+        if !self.overrides.is_empty() {
+            eprintln!("overrides      {}", self.overrides.join(", "));
+        }
         eprintln!("wall time      {:.3} s", self.wall);
         eprintln!(
             "energy         kinetic {:.6e}, potential {:.6e}",

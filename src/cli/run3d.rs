@@ -11,7 +11,7 @@ use rigidref::sim::{Flow, RunTotals, drive, is_recorded};
 
 /// Runs a 3D scene. A run that fails midway keeps the trace written so far, flushed and valid.
 pub fn run(args: &RunArgs) -> anyhow::Result<()> {
-    let mut scene = super::common::load_scene_or_default(args.scene.as_deref())?;
+    let mut scene = super::common::load_scene_or_default(args.scene.as_deref(), &args.sets)?;
     if args.no_collisions {
         scene.params.check_collisions = false;
     }
@@ -26,7 +26,8 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     };
 
     let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
-    let header = TraceHeader::for_world(&world, &source);
+    let mut header = TraceHeader::for_world(&world, &source);
+    header.overrides = scene.overrides.clone();
     let mut writer = TraceWriter::new(out, format, &header)
         .with_context(|| format!("{}: cannot write", out_path.display()))?;
     let write_err =
@@ -72,6 +73,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let wall = progress.elapsed();
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);
+        if !scene.overrides.is_empty() {
+            eprintln!("overrides      {}", scene.overrides.join(", "));
+        }
         print_summary(&world, ran, wall, start, &stats);
         eprintln!(
             "trace          {} ({records} records, {format:?})",

@@ -1,6 +1,6 @@
 //! The arguments of `rigidref run` (and of `rigidref` with no subcommand).
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, TraceOutput};
+use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets, TraceOutput};
 use clap::Args;
 use std::path::PathBuf;
 
@@ -52,6 +52,8 @@ pub struct RunArgs {
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub length: RunLength,
+    #[command(flatten)]
+    pub sets: SceneSets,
     #[command(flatten)]
     pub output: TraceOutput,
     /// Print no progress bar and no summary.

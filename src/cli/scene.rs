@@ -8,11 +8,13 @@ use std::path::PathBuf;
 pub struct SceneArgs {
     /// Scene file; without one, the built-in default scene.
     pub scene: Option<PathBuf>,
+    #[command(flatten)]
+    pub sets: super::args::SceneSets,
 }
 
 /// Prints the resolved parameters and each body's mass properties and initial state.
 pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
-    let scene = super::common::load_scene_or_default(args.scene.as_deref())?;
+    let scene = super::common::load_scene_or_default(args.scene.as_deref(), &args.sets)?;
     let p = &scene.params;
     println!("scene            {} ({})", p.name, scene.source);
     println!(

@@ -58,3 +58,79 @@ pub fn from_str<T: for<'de> Deserialize<'de>>(
     }
     Ok(value)
 }
+
+/// Scene parameters given on the command line, `--set KEY=VALUE`, in order. A value is read as
+/// JSON (`50`, `0.3`, `true`, `[0, -9.8, 0]`), else as a string (`integrator=body`), and is
+/// checked by the same reader as a file's value of that key.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides(pub Vec<(String, serde_json::Value)>);
+
+impl Overrides {
+    /// Parses `KEY=VALUE` texts; a malformed one is an error naming it.
+    pub fn parse(texts: &[String]) -> Result<Overrides, String> {
+        let mut out = Vec::new();
+        for text in texts {
+            let Some((key, value)) = text.split_once('=') else {
+                return Err(format!("--set {text:?}: expected KEY=VALUE"));
+            };
+            let key = key.trim();
+            if key.is_empty() {
+                return Err(format!("--set {text:?}: the key is empty"));
+            }
+            if out.iter().any(|(k, _): &(String, _)| k == key) {
+                return Err(format!("--set {key}: given twice"));
+            }
+            let value = serde_json::from_str(value.trim())
+                .unwrap_or_else(|_| serde_json::Value::String(value.trim().to_string()));
+            out.push((key.to_string(), value));
+        }
+        Ok(Overrides(out))
+    }
+
+    /// Whether none is given.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// `KEY=VALUE` for each, as given (for the summary and the trace header).
+    pub fn describe(&self) -> Vec<String> {
+        self.0
+            .iter()
+            .map(|(k, v)| match v {
+                serde_json::Value::String(s) => format!("{k}={s}"),
+                v => format!("{k}={v}"),
+            })
+            .collect()
+    }
+
+    /// Checks each override alone as a value of `T` (the JSON shape of the parameters it
+    /// overrides, named `what` in messages): an unknown key or a bad value is an error naming the
+    /// key, with the reader's message.
+    pub fn check<T: for<'de> Deserialize<'de>>(&self, what: &str) -> Result<(), SceneError> {
+        for (key, value) in &self.0 {
+            let one =
+                serde_json::Value::Object([(key.clone(), value.clone())].into_iter().collect());
+            let mut unknown = false;
+            let mut record_unknown = |_: serde_ignored::Path<'_>| unknown = true;
+            let ignored = serde_ignored::Deserializer::new(one, &mut record_unknown);
+            let checked: Result<T, _> = serde_path_to_error::deserialize(ignored);
+            if let Err(e) = checked {
+                return Err(SceneError(format!(
+                    "--set {key}={value}: {}",
+                    e.into_inner()
+                )));
+            }
+            if unknown {
+                return Err(SceneError(format!("--set {key}: not a key of {what}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes every override into `target` (a JSON object), replacing what is there.
+    pub fn apply(&self, target: &mut serde_json::Map<String, serde_json::Value>) {
+        for (key, value) in &self.0 {
+            target.insert(key.clone(), value.clone());
+        }
+    }
+}

@@ -26,6 +26,10 @@ pub struct TraceHeader {
     pub scene: String,
     /// Where the scene came from.
     pub source: String,
+    /// Parameters set on the command line (`--set KEY=VALUE`), as `KEY=VALUE`; the key is
+    /// present only when some were given.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overrides: Vec<String>,
     /// Frame step, s.
     pub dt: f64,
     /// Substeps per frame.
@@ -113,6 +117,7 @@ impl TraceHeader {
             dimension: 3,
             scene: world.params.name.clone(),
             source: source.into(),
+            overrides: Vec::new(),
             dt: world.params.dt,
             substeps: world.params.substeps,
             gravity: world.params.gravity.into(),

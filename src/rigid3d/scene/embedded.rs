@@ -1,7 +1,7 @@
 //! The scene `rigidref run` uses when given none: the project's own Dzhanibekov scene, compiled
 //! into the binary from scenes/ so that a fresh clone runs without any files.
 
-use super::{BodyFileTexts, BodyFiles, Scene, parse_scene};
+use super::{BodyFileTexts, BodyFiles, Overrides, Scene, parse_scene};
 use crate::common::scene_json::SceneError;
 
 /// The project file the embedded scene is a copy of.
@@ -37,10 +37,16 @@ impl BodyFiles for Embedded {
 /// The embedded default scene.
 /// (It cannot fail in a released binary: tests/suite/cli/commands.rs runs it.)
 pub fn default_scene() -> Result<Scene, SceneError> {
+    default_scene_with(&Overrides::default())
+}
+
+/// The embedded default scene with `overrides` of its parameters (`--set KEY=VALUE`).
+pub fn default_scene_with(overrides: &Overrides) -> Result<Scene, SceneError> {
     parse_scene(
         SCENE,
         &format!("<embedded>/{DEFAULT_SCENE_NAME}"),
         "dzhanibekov",
         &Embedded,
+        overrides,
     )
 }

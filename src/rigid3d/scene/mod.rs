@@ -47,9 +47,11 @@ pub struct Scene {
     pub bodies: Vec<BodyDescription>,
     /// Things the user should know that do not stop the run (unknown keys, mesh oddities).
     pub warnings: Vec<String>,
+    /// The parameters set on the command line (`--set KEY=VALUE`), as `KEY=VALUE`.
+    pub overrides: Vec<String>,
 }
 
-pub use crate::common::scene_json::SceneError;
+pub use crate::common::scene_json::{Overrides, SceneError};
 
 /// The text of a body's two files, found by [`BodyFiles`] from its `file_root`.
 pub struct BodyFileTexts {
@@ -134,6 +136,12 @@ impl BodyFiles for DiskBodyFiles {
 /// Loads a scene file from disk. Errors are one line and name the file (and for JSON syntax or
 /// value errors the line and column).
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
+    load_scene_with(path, &Overrides::default())
+}
+
+/// Loads the scene at `path` with `overrides` of its `sim_parameters[0]` (`--set KEY=VALUE`),
+/// each checked as the file's value of that key would be.
+pub fn load_scene_with(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| SceneError(format!("{}: cannot read scene: {e}", path.display())))?;
     let stem = path
@@ -145,6 +153,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
         &path.display().to_string(),
         &stem,
         &DiskBodyFiles::for_scene(path),
+        overrides,
     )
 }
 
@@ -155,9 +164,26 @@ pub fn parse_scene(
     source: &str,
     default_name: &str,
     files: &dyn BodyFiles,
+    overrides: &Overrides,
 ) -> Result<Scene, SceneError> {
     let mut warnings = Vec::new();
-    let file: json::SceneJson = crate::common::scene_json::from_str(text, source, &mut warnings)?;
+    let mut file: json::SceneJson =
+        crate::common::scene_json::from_str(text, source, &mut warnings)?;
+    if !overrides.is_empty() {
+        overrides.check::<json::SimParametersJson>("sim_parameters")?;
+        // The file is valid and so is each override: set them in its first sim_parameters entry
+        // and read it again.
+        let mut value: serde_json::Value =
+            serde_json::from_str(text).map_err(|e| SceneError(format!("{source}: {e}")))?;
+        if let Some(first) = value
+            .get_mut("sim_parameters")
+            .and_then(|p| p.get_mut(0))
+            .and_then(|p| p.as_object_mut())
+        {
+            overrides.apply(first);
+        }
+        file = serde_json::from_value(value).map_err(|e| SceneError(format!("{source}: {e}")))?;
+    }
     let params = file.sim_parameters.first().ok_or_else(|| {
         SceneError(format!(
             "{source}: sim_parameters is empty; it needs one entry"
@@ -217,6 +243,7 @@ pub fn parse_scene(
         params,
         bodies,
         warnings,
+        overrides: overrides.describe(),
     })
 }
 

@@ -453,3 +453,133 @@ fn summaries_report_the_same_solver_figures_in_both_systems() {
         }
     }
 }
+
+/// `--set KEY=VALUE` overrides a scene parameter in both systems, is checked exactly as the
+/// file's value (a bad key or value is a one-line error naming the key, exit 1), and shows in
+/// the summary and the trace header.
+#[test]
+fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = common::project_root();
+    let scene3 = root.join("scenes/sliding_box.json");
+    let scene2 = root.join("scenes/blocks/stack.json");
+    let image = root.join("scenes/blocks/stack.png");
+    let header = |path: &std::path::Path| -> serde_json::Value {
+        let text = std::fs::read_to_string(path).unwrap();
+        serde_json::from_str(text.lines().next().unwrap()).unwrap()
+    };
+    for (scene, sets, key, expect) in [
+        (
+            &scene3,
+            ["pgs_iterations=7", "integrator=body"],
+            "integrator",
+            "body",
+        ),
+        (
+            &scene2,
+            ["iterations=7", "preset=starter"],
+            "iterations",
+            "7",
+        ),
+        (&image, ["iterations=7", "mu=0.5"], "mu", "0.5"),
+    ] {
+        let out = rigidref(
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--steps",
+                "3",
+                "--out",
+                "t.jsonl",
+                "--set",
+                sets[0],
+                "--set",
+                sets[1],
+            ],
+            tmp.path(),
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{sets:?}: {stderr}");
+        assert!(
+            stderr.contains(&format!("overrides      {}, {}", sets[0], sets[1])),
+            "{stderr}"
+        );
+        let h = header(&tmp.path().join("t.jsonl"));
+        assert_eq!(h["overrides"], serde_json::json!(sets), "{h}");
+        assert!(sets.contains(&format!("{key}={expect}").as_str()));
+    }
+    // The override takes effect: the summary of a 3D run shows the integrator and the sweeps.
+    let out = rigidref(
+        &[
+            "run",
+            scene3.to_str().unwrap(),
+            "--steps",
+            "20",
+            "--out",
+            "t.jsonl",
+            "--set",
+            "pgs_iterations=7",
+        ],
+        tmp.path(),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("PGS 7.0 sweeps on average"), "{stderr}");
+    // Without overrides the header has no such key (traces are unchanged).
+    rigidref(
+        &[
+            "run",
+            scene3.to_str().unwrap(),
+            "--steps",
+            "1",
+            "--out",
+            "u.jsonl",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        header(&tmp.path().join("u.jsonl"))
+            .get("overrides")
+            .is_none()
+    );
+    for (scene, set, says) in [
+        (
+            &scene3,
+            "pgs_iterations=0",
+            "--set pgs_iterations=0: must be a whole number ≥ 1",
+        ),
+        (&scene3, "pgs_iterations=many", "--set pgs_iterations="),
+        (
+            &scene3,
+            "bogus=1",
+            "--set bogus: not a key of sim_parameters",
+        ),
+        (&scene3, "mu", "--set \"mu\": expected KEY=VALUE"),
+        (&scene2, "iterations=-3", "--set iterations=-3"),
+        (&image, "restitution=2", "restitution must be in [0, 1]"),
+        (
+            &image,
+            "nonsense=2",
+            "--set nonsense: not a key of a 2D scene's parameters",
+        ),
+    ] {
+        let out = rigidref(
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--steps",
+                "1",
+                "-q",
+                "--out",
+                "t.jsonl",
+                "--set",
+                set,
+            ],
+            tmp.path(),
+        );
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{set}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{set}: {stderr}");
+        assert!(stderr.contains(says), "{set}: {stderr}");
+    }
+}
