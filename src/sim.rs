@@ -5,8 +5,8 @@
 //! [`drive`]. docs/architecture.md §"One interface, one loop".
 
 use crate::problem::ContactProblem;
+use crate::problem::SolveReport;
 use crate::problem::json::{GeometryJson, ProblemFile, RunOrigin};
-use crate::solve::SolveReport;
 use nalgebra::SVector;
 
 /// A simulation whose contact problems have `D` degrees of freedom per body and `R` rows per
@@ -197,7 +197,8 @@ pub struct NonFinite {
     pub step: u64,
     /// The substep within that step, where the system checks per substep (3D).
     pub substep: Option<u32>,
-    /// Time at the start of that step.
+    /// The time of the state found non-finite: the start of the substep in 3D (checked per
+    /// substep), the end of the step in 2D (checked per step).
     pub time: f64,
 }
 

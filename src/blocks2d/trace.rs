@@ -95,8 +95,8 @@ impl TraceHeader2 {
     pub fn for_world(world: &World2, scene: &str, source: &str) -> TraceHeader2 {
         let g = world.params.gravity_vector();
         TraceHeader2 {
-            format: crate::rigid3d::trace::FORMAT_NAME.into(),
-            version: crate::rigid3d::trace::FORMAT_VERSION,
+            format: crate::common::trace::FORMAT_NAME.into(),
+            version: crate::common::trace::FORMAT_VERSION,
             dimension: 2,
             scene: scene.into(),
             source: source.into(),
@@ -123,11 +123,10 @@ impl Record2 {
     /// The world's current state.
     pub fn of_world(world: &World2) -> Record2 {
         // λ of the last substep, where it solved a contact problem (zeros otherwise).
-        let last_substep = world.params.substeps - 1;
         let lambda = world
             .solves
             .last()
-            .filter(|s| s.substep == last_substep)
+            .filter(|s| s.substep + 1 == world.params.substeps)
             .map_or(&[][..], |s| &s.lambda[..]);
         Record2 {
             step: world.step,

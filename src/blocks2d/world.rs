@@ -1,23 +1,27 @@
 //! One step of the 2D system, in the order it runs. docs/blocks2d.md §"The step".
 //!
-//! Per step of length `step`, `substeps` substeps of h = step / substeps, each:
+//! Per step of length `dt`, after the scripted impulses due, `substeps` substeps of
+//! h = dt / substeps, each:
 //!
-//! 1. zero forces, add gravity m g (and nothing for pinned bodies);
-//! 2. velocities: v += h f/m, ω += h τ/I;
-//! 3. contacts: detect ([`super::collide`]) → assemble the shared contact problem with 3 degrees
-//!    of freedom per body ([`assemble_problem2`]) → solve with the same PGS as 3D
-//!    ([`crate::solve::solve_pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ; or, with the penalty model, spring
-//!    forces before step 2;
-//! 4. post-stabilisation (Cline and Pai): a second solve of the same problem shape for a
+//! 1. prescribed motions (shakes) set their bodies' velocities;
+//! 2. detect contacts ([`super::collide`]), at the positions the substep starts from;
+//! 3. forces: gravity m g (nothing on pinned bodies), and with the penalty model its springs;
+//! 4. velocities: v += h f/m, ω += h τ/I;
+//! 5. contacts: assemble the shared contact problem with 3 degrees of freedom per body
+//!    ([`assemble_problem2`]) → solve with the same PGS as 3D ([`crate::solve::solve_pgs`]) →
+//!    apply u⁺ = u + M⁻¹Jᵀλ (not with the penalty model);
+//! 6. post-stabilisation (Cline and Pai): a second solve of the same problem shape for a
 //!    position-only velocity that removes the penetration beyond the slop;
-//! 5. positions: x += h (v + δv), θ += h (ω + δω).
+//! 7. positions: x += h (v + δv), θ += h (ω + δω);
+//!
+//! and at the end of the step, a check that the state and energy are finite.
 
 use super::assemble::{ContactProblem2, WarmStart2, assemble_problem2, empty_problem2, tangent};
 use super::body::{Body2, cross};
 use super::collide::{Contact2, detect_contacts};
 use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
-pub use super::params::{ContactModel, Params2};
+use super::params::{ContactModel, Params2};
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve, readable};
 use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use nalgebra::{SVector, Vector2, Vector3};
@@ -67,6 +71,11 @@ pub struct World2 {
     pub contacts: Vec<Contact2>,
     /// The last step's contact solves, one per substep that solved a contact problem.
     pub solves: Vec<Solve2>,
+    /// Contacts detected in the last step, summed over its substeps (with the penalty model
+    /// too, which solves no problem).
+    pub contacts_in_step: usize,
+    /// The most contacts detected in one substep of the last step.
+    pub most_contacts_in_step: usize,
     /// Scripted impulses not yet applied.
     pub impulses: Vec<ScriptedImpulse>,
     /// Prescribed motions.
@@ -91,6 +100,8 @@ impl World2 {
             step: 0,
             contacts: Vec::new(),
             solves: Vec::new(),
+            contacts_in_step: 0,
+            most_contacts_in_step: 0,
             impulses: Vec::new(),
             shakes: Vec::new(),
             spare_solves: Vec::new(),
@@ -131,6 +142,8 @@ impl World2 {
         let now = self.time();
         // Last step's records go back to the pool: their buffers are reused below.
         self.spare_solves.append(&mut self.solves);
+        self.contacts_in_step = 0;
+        self.most_contacts_in_step = 0;
         let due: Vec<ScriptedImpulse> = self
             .impulses
             .iter()
@@ -155,6 +168,8 @@ impl World2 {
             }
             let mut contacts = std::mem::take(&mut self.contacts);
             detect_contacts(&self.bodies, &mut contacts);
+            self.contacts_in_step += contacts.len();
+            self.most_contacts_in_step = self.most_contacts_in_step.max(contacts.len());
             for b in &mut self.bodies {
                 b.force = if b.pinned {
                     Vector2::zeros()

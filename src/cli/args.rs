@@ -143,7 +143,7 @@ pub struct Blocks2dOptions {
     pub slop: Option<f64>,
     /// 2D: contact model [default: pgs].
     #[arg(long, value_enum)]
-    pub contact_model: Option<rigidref::blocks2d::world::ContactModel>,
+    pub contact_model: Option<rigidref::blocks2d::params::ContactModel>,
     /// 2D: near-white threshold: a pixel is empty when every channel is ≥ 1 − this [default: 0.05].
     #[arg(long, allow_negative_numbers = true)]
     pub white_threshold: Option<f64>,

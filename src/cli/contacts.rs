@@ -56,6 +56,9 @@ pub(crate) fn step_to_contacts<S: Simulation<D, R>, const D: usize, const R: usi
     source: &str,
     unit: &str,
 ) -> anyhow::Result<()> {
+    // --time is checked whether or not --step makes it unused, so that a bad value is never
+    // silently accepted.
+    steps_in(args.time, sim.dt(), "").map_err(anyhow::Error::msg)?;
     if args.step == Some(0) {
         bail!(
             "--step counts frames from 1 (step 0 is the initial state, before any contact solve)"

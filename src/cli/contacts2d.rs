@@ -27,7 +27,7 @@ struct Contact2Json {
 /// 2 × 2 Delassus block.
 pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> {
     let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
-    if world.params.contact_model == rigidref::blocks2d::world::ContactModel::Penalty {
+    if world.params.contact_model == rigidref::blocks2d::params::ContactModel::Penalty {
         bail!(
             "{}: the scene uses penalty contacts, which solve no contact problem; contacts shows PGS solves",
             path.display()

@@ -37,16 +37,16 @@ pub struct CrosscheckArgs {
     #[arg(long, default_value_t = 5.0)]
     pub time: f64,
     /// Largest relative λ difference accepted where λ is unique.
-    #[arg(long, default_value_t = 1e-5)]
+    #[arg(long, default_value_t = 1e-5, conflicts_with = "rapier")]
     pub tolerance: f64,
     /// Largest relative objective gap accepted where λ is not unique.
-    #[arg(long, default_value_t = 1e-8)]
+    #[arg(long, default_value_t = 1e-8, conflicts_with = "rapier")]
     pub objective_tolerance: f64,
     /// Print one line per problem.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "rapier")]
     pub table: bool,
     /// Also fail when PGS cannot converge on some problem (instead of reporting it unverified).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "rapier")]
     pub strict: bool,
     /// Print the summary (and with --table every problem) as JSON.
     #[arg(long)]

@@ -92,6 +92,10 @@ pub fn massprops(args: MasspropsArgs) -> anyhow::Result<()> {
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         let body = serde_json::json!({ "mesh_file": mesh_file, "mass": props.mass, "J": rows(&j) });
+        if let Some(dir) = json_path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+        }
         std::fs::write(&json_path, serde_json::to_string_pretty(&body)? + "\n")
             .with_context(|| format!("{}: cannot write", json_path.display()))?;
         std::fs::write(&obj_path, mesh.translated(&-c).to_obj())

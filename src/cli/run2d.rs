@@ -63,11 +63,12 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     write_json_line(&mut out, &Record2::of_world(&world)).map_err(write_err)?;
     let mut reports = Reports2::open(&args.reports)?;
     let mut progress = Progress::steps(steps, args.quiet);
-    let (mut run_totals, mut last_done) = (RunTotals::default(), 0);
+    let (mut run_totals, mut last_done, mut most_contacts) = (RunTotals::default(), 0, 0);
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         last_done = k;
         let totals = SolveTotals::of(&w.solves);
         run_totals.add(&w.solves);
+        most_contacts = most_contacts.max(w.most_contacts_in_step);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
                 super::common::dump_problem(dir, &name, k, w.params.h(), solve)?;
@@ -98,6 +99,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             wall: progress.elapsed(),
             rest_threshold,
             totals: run_totals,
+            most_contacts,
             overrides: &scene.overrides,
         };
         summary.print(&world);
@@ -136,14 +138,15 @@ impl Reports2 {
         Ok(reports)
     }
 
-    /// Step `k`'s line of the scaling CSV: contacts and seconds summed over its substeps.
+    /// Step `k`'s line of the scaling CSV: contacts detected and PGS seconds, summed over its
+    /// substeps.
     fn scaling(&mut self, w: &World2, k: u64, totals: &SolveTotals) -> std::io::Result<()> {
         match &mut self.scaling {
             Some(f) => writeln!(
                 f,
                 "{k},{},{},{:.9}",
                 w.bodies.len(),
-                totals.contacts,
+                w.contacts_in_step,
                 totals.solve_seconds
             ),
             None => Ok(()),
@@ -187,6 +190,7 @@ struct Summary2<'a> {
     wall: f64,
     rest_threshold: f64,
     totals: RunTotals,
+    most_contacts: usize,
     overrides: &'a [String],
 }
 
@@ -237,8 +241,9 @@ impl Summary2<'_> {
             self.rest_threshold
         );
         eprintln!(
-            "contacts       {} now; {}",
+            "contacts       {} now, at most {}; solves: {}",
             world.contacts.len(),
+            self.most_contacts,
             self.totals
                 .describe("blocks per time unit", "blocks (disc overlap)")
         );

@@ -1,12 +1,16 @@
 //! Pieces both systems use that belong to neither: the broad phase, the validated scene values
 //! and the one scene-file reader, and the stopwatch.
 //!
+//! - [`faults`]: the switch of the teeth tests' deliberate bugs (always off outside them);
 //! - [`broad`]: sweep-and-prune on axis-aligned boxes (3D bodies; 2D bodies as flat boxes);
 //! - [`values`]: scene values that check themselves while they are read (positive, fraction, …);
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
-//! - [`timing`]: wall and thread CPU time of a piece of work.
+//! - [`timing`]: wall and thread CPU time of a piece of work;
+//! - [`trace`]: the trace format's name and version, for both systems' traces.
 
 pub mod broad;
+pub mod faults;
 pub mod scene_json;
 pub mod timing;
+pub mod trace;
 pub mod values;

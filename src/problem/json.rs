@@ -188,7 +188,7 @@ impl ProblemFile {
         origin: RunOrigin<'_>,
         geometry: impl IntoIterator<Item = GeometryJson>,
         lambda: &[SVector<f64, R>],
-        report: &crate::solve::SolveReport,
+        report: &crate::problem::SolveReport,
     ) -> ProblemFile {
         let mut file = ProblemFile::new(problem);
         file.scene = Some(origin.scene.to_string());

@@ -232,3 +232,14 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
 }
 
 pub mod json;
+
+/// What a solve did (any solver's answer to the problem: PGS's, or a reference's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct SolveReport {
+    /// Sweeps run.
+    pub iterations: u32,
+    /// Residual of the returned λ (docs/contact.md §"Residual"), m/s.
+    pub residual: f64,
+    /// The tolerance was given and reached.
+    pub converged: bool,
+}

@@ -47,7 +47,7 @@ pub fn assemble_problem(
         .map(|c| {
             let body1 = &bodies[c.body1];
             let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
-            if crate::verify::fault!(jacobian_sign_flip) {
+            if crate::common::faults::fault!(jacobian_sign_flip) {
                 j1.column_mut(3).neg_mut();
             }
             let j2 = match c.body2 {

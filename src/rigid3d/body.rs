@@ -116,7 +116,7 @@ impl RigidBody {
         self.omega = match integrator {
             AngularIntegrator::Spatial => {
                 let mut gyroscopic = self.omega.cross(&(self.inertia_world * self.omega));
-                if crate::verify::fault!(no_gyroscopic_term) {
+                if crate::common::faults::fault!(no_gyroscopic_term) {
                     gyroscopic = Vector3::zeros();
                 }
                 self.omega + self.inertia_world_inv * (self.torque - gyroscopic) * h
@@ -148,7 +148,7 @@ impl RigidBody {
 
     /// J = R J₀ Rᵀ and J⁻¹ = R J₀⁻¹ Rᵀ. docs/dynamics.md §"World inertia".
     pub fn update_world_inertia(&mut self) {
-        let r = if crate::verify::fault!(transposed_world_inertia) {
+        let r = if crate::common::faults::fault!(transposed_world_inertia) {
             self.rotation.transpose()
         } else {
             self.rotation

@@ -1,7 +1,7 @@
 //! Polyhedral mass properties of a closed triangle mesh of uniform density.
 //!
 //! docs/massprops.md §"Mass properties of a polyhedron". Checked by
-//! `tests/massprops.rs::massprops_reproduces_the_assignment_body_files` and the unit tests below.
+//! `tests/suite/rigid3d/massprops.rs::massprops_reproduces_the_assignment_body_files` and the unit tests below.
 
 use crate::rigid3d::mesh::TriMesh;
 use nalgebra::{Matrix3, Vector3};

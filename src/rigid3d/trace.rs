@@ -8,10 +8,7 @@ use crate::rigid3d::world::World;
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufWriter, Write};
 
-/// Value of the header's `format` key.
-pub const FORMAT_NAME: &str = "rigidref-trace";
-/// Value of the header's `version` key; raised on any incompatible change.
-pub const FORMAT_VERSION: u32 = 1;
+pub use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION};
 
 /// The first line of a JSON Lines trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -11,5 +11,6 @@ pub mod projection;
 pub mod qp;
 pub mod residual;
 
-pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+pub use crate::problem::SolveReport;
+pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
 pub use residual::residual;

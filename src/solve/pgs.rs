@@ -8,7 +8,7 @@
 
 use super::projection::{project_disk, project_feasible};
 use super::residual::{RowScales, contact_residual, row_scales};
-use crate::problem::{ContactProblem, FrictionModel};
+use crate::problem::{ContactProblem, FrictionModel, SolveReport};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -44,17 +44,6 @@ pub struct PgsSettings {
     pub tolerance: Option<f64>,
     /// Contact order.
     pub order: ContactOrder,
-}
-
-/// What a solve did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct SolveReport {
-    /// Sweeps run.
-    pub iterations: u32,
-    /// Residual of the returned λ (docs/contact.md §"Residual"), m/s.
-    pub residual: f64,
-    /// The tolerance was given and reached.
-    pub converged: bool,
 }
 
 /// Buffers PGS reuses from solve to solve, so that a solve does not allocate once they have
@@ -221,7 +210,7 @@ fn solve_contact<const D: usize, const R: usize>(
     }
 
     // Friction rows, bounded by μ times the normal impulse just computed.
-    let bound = if crate::verify::fault!(stale_friction_bound) {
+    let bound = if crate::common::faults::fault!(stale_friction_bound) {
         // The deliberate bug: the bound from the starting λn instead of the one just computed.
         contact.mu * project_feasible(&contact.lambda0, contact.mu, problem.friction)[0]
     } else {

@@ -5,7 +5,8 @@
 //! - [`snapshots`]: the rounded run summaries the insta snapshot tests keep;
 //! - [`references`]: independent references (a rapier3d mirror, RK4 on Euler's equations);
 //! - `faults`: deliberate bugs for the teeth tests, compiled only with the `fault-injection`
-//!   feature (the tests turn it on; docs/verification.md §"Teeth").
+//!   feature (the tests turn it on; docs/verification.md §"Teeth"); the switch the simulation
+//!   reads is the leaf module [`crate::common::faults`].
 
 pub mod crosscheck;
 #[cfg(feature = "fault-injection")]
@@ -13,21 +14,3 @@ pub mod faults;
 pub mod golden;
 pub mod references;
 pub mod snapshots;
-
-/// Whether the deliberate bug `FIELD` of [`faults::Faults`] is switched on for this thread:
-/// `fault!(no_gyroscopic_term)`. Always `false`, and compiled to nothing, without the
-/// `fault-injection` feature.
-#[cfg(feature = "fault-injection")]
-macro_rules! fault {
-    ($field:ident) => {
-        $crate::verify::faults::active().$field
-    };
-}
-/// Without the `fault-injection` feature no bug can be switched on.
-#[cfg(not(feature = "fault-injection"))]
-macro_rules! fault {
-    ($field:ident) => {
-        false
-    };
-}
-pub(crate) use fault;

@@ -2,10 +2,9 @@
 //! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
 
 use super::params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
+use super::values::{Inertia, Orientation, Vec3, ZeroDamping};
 use crate::common::scene_json::SceneError;
-use crate::common::values::{
-    Count, Fraction, Inertia, NonNegative, Orientation, Positive, Vec3, ZeroDamping,
-};
+use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::solve::ContactOrder;

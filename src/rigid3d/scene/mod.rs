@@ -5,6 +5,7 @@
 pub mod embedded;
 pub(crate) mod json;
 pub mod params;
+pub mod values;
 
 pub use params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
 

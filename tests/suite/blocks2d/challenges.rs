@@ -6,7 +6,8 @@ use common::rigidref;
 
 use rigidref::blocks2d::disc_tree::BLOCK_RADIUS;
 use rigidref::blocks2d::image::{ImageSettings, load_image};
-use rigidref::blocks2d::world::{Params2, World2};
+use rigidref::blocks2d::params::Params2;
+use rigidref::blocks2d::world::World2;
 
 /// The scaling demonstration (docs/blocks2d.md §"Scaling"): `rigidref factory --pieces bricks
 /// --bodies 3000` reaches at least 2 000 bodies and 10 000 contacts in a sound pile, and writes the
@@ -66,7 +67,7 @@ fn penalty_contact_option_holds_the_stack_up() {
     let dir = common::project_root().join("scenes/blocks");
     let groups = load_image(&dir.join("stack.png"), &ImageSettings::default()).unwrap();
     let params = Params2 {
-        contact_model: rigidref::blocks2d::world::ContactModel::Penalty,
+        contact_model: rigidref::blocks2d::params::ContactModel::Penalty,
         substeps: 10,
         ..Params2::starter()
     };

@@ -6,7 +6,8 @@ use crate::common;
 use nalgebra::Vector2;
 use rigidref::blocks2d::disc_tree::BLOCK_RADIUS;
 use rigidref::blocks2d::image::{ImageSettings, load_image};
-use rigidref::blocks2d::world::{Params2, ScriptedImpulse, World2};
+use rigidref::blocks2d::params::Params2;
+use rigidref::blocks2d::world::{ScriptedImpulse, World2};
 
 /// Kinetic energy below which a body counts as at rest (docs/blocks2d.md §"Demonstration
 /// settings"; also the render's solid circles and `run`'s summary): a black 8 × 2 bar (mass 16)

@@ -8,7 +8,8 @@ use common::rigidref;
 use nalgebra::Vector2;
 use proptest::prelude::*;
 use rigidref::blocks2d::image::{Block, BlockGroup, ImageSettings, block_mass, load_image};
-use rigidref::blocks2d::world::{Params2, World2};
+use rigidref::blocks2d::params::Params2;
+use rigidref::blocks2d::world::World2;
 use rigidref::solve::ContactOrder;
 
 #[test]

@@ -31,11 +31,9 @@ fn run_without_a_scene_uses_the_embedded_default() {
     .unwrap();
     assert_eq!(trace.header.format, FORMAT_NAME);
     // The run names the compiled-in copy it ran, not a file that may not be there.
-    assert!(
-        trace.header.source.starts_with("built-in")
-            && trace.header.source.contains("scenes/dzhanibekov.json"),
-        "{}",
-        trace.header.source
+    assert_eq!(
+        trace.header.source,
+        "built-in (compiled-in copy of scenes/dzhanibekov.json)"
     );
     assert!(stderr.contains("built-in"), "{stderr}");
     assert_eq!(trace.records.len(), 51);
@@ -582,4 +580,204 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
         assert_eq!(stderr.lines().count(), 1, "{set}: {stderr}");
         assert!(stderr.contains(says), "{set}: {stderr}");
     }
+}
+
+/// The options a subcommand's `--help` lists, by long name (`--help` and `--version` left out).
+fn help_options(command: &str, dir: &std::path::Path) -> Vec<String> {
+    let out = rigidref(&[command, "--help"], dir);
+    assert!(out.status.success());
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim_start();
+            let l = l
+                .strip_prefix("-q, ")
+                .or(l.strip_prefix("-o, "))
+                .unwrap_or(l);
+            let name: String = l
+                .strip_prefix("--")?
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                .collect();
+            (!name.is_empty() && name != "help" && name != "version").then(|| format!("--{name}"))
+        })
+        .collect()
+}
+
+/// Every option a subcommand's `--help` lists is accepted by that subcommand: for each, a run
+/// with the option (and a value that fits it) on one of the subcommand's inputs succeeds. An
+/// option listed in `--help` and then refused, whatever the input, fails this; so does an option
+/// added without a value here.
+#[test]
+fn every_option_a_subcommand_lists_is_accepted_by_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let root = common::project_root();
+    let path = |p: &str| root.join(p).to_str().unwrap().to_string();
+    // A copy of scenes/ and golden/, so that `golden --update` rewrites the copy.
+    for sub in ["scenes", "golden"] {
+        let _ = std::process::Command::new("cp")
+            .args(["-r", &path(sub), dir.to_str().unwrap()])
+            .status();
+    }
+    let (box3, stack2, ball3) = (
+        path("scenes/sliding_box.json"),
+        path("scenes/blocks/stack.png"),
+        path("scenes/sphere_drop.json"),
+    );
+    let tube = common::blocks2d_assignment().map(|d| d.join("tetrisTube.png"));
+    let value = |command: &str, option: &str| -> Vec<String> {
+        let v: &[&str] = match (command, option) {
+            (_, "--time") if command == "crosscheck" => &["0.05"],
+            ("contacts", "--time") => &["1"],
+            (_, "--time") => &["0.1"],
+            ("contacts", "--step") => &["46"],
+            (_, "--steps") => &["2"],
+            (_, "--set") => &["mu=0.1"],
+            ("factory", "--out") | ("massprops", "--out") => &["outdir/x"],
+            (_, "--out") => &["t.jsonl"],
+            (_, "--every") | (_, "--frame-every") => &["2"],
+            (_, "--format") => &["jsonl"],
+            (_, "--dump-problems") => &["problems"],
+            (_, "--preset") => &["starter"],
+            (_, "--step") => &["0.05"],
+            (_, "--substeps") => &["2"],
+            (_, "--gravity") => &["1"],
+            (_, "--gravity-angle") => &["90"],
+            (_, "--mu") => &["0.3"],
+            (_, "--restitution") => &["0.1"],
+            (_, "--iterations") => &["5"],
+            (_, "--pgs-tolerance") => &["1e-6"],
+            (_, "--order") => &["random"],
+            (_, "--seed") => &["3"],
+            (_, "--slop") => &["0.01"],
+            (_, "--contact-model") => &["penalty"],
+            (_, "--white-threshold") => &["0.05"],
+            (_, "--impulse") => &["0:0:1,0"],
+            (_, "--shake") => &["0:1,0:0:1"],
+            (_, "--rest-threshold") => &["0.001"],
+            (_, "--nut-report") => &["nuts.csv"],
+            (_, "--scaling-csv") => &["scaling.csv"],
+            (_, "--frames") => &["frames"],
+            (_, "--gif") => &["a.gif"],
+            (_, "--scale") => &["2"],
+            (_, "--opacity") => &["0.5"],
+            (_, "--substep") => &["0"],
+            (_, "--tolerance") => &["1e-5"],
+            (_, "--objective-tolerance") => &["1e-8"],
+            (_, "--root") => &["."],
+            (_, "--density") => &["1000"],
+            (_, "--bodies") => &["5"],
+            (_, "--batch") => &["5"],
+            (_, "--interval") => &["1"],
+            (_, "--drop-speed") => &["5"],
+            (_, "--settle") => &["0"],
+            (_, "--width") => &["20"],
+            (_, "--depth") => &["12"],
+            (_, "--pieces") => &["tetris"],
+            (_, "--piece-scale") => &["2"],
+            // Flags.
+            (
+                _,
+                "--quiet"
+                | "--no-collisions"
+                | "--no-warm-start"
+                | "--no-post-stabilization"
+                | "--show-contacts"
+                | "--show-discs"
+                | "--json"
+                | "--table"
+                | "--strict"
+                | "--rapier"
+                | "--update",
+            ) => &[],
+            ("factory", "--container") => {
+                return tube.iter().map(|p| p.display().to_string()).collect();
+            }
+            _ => panic!("{command} {option}: no value in this test; add one"),
+        };
+        v.iter().map(|s| s.to_string()).collect()
+    };
+    // Each subcommand's inputs (the option may fit only one of them), and how long to run.
+    // (subcommand, its inputs, the run length added unless the option replaces it)
+    type Command<'a> = (&'a str, Vec<Vec<String>>, Vec<&'a str>);
+    let commands: [Command; 8] = [
+        (
+            "run",
+            vec![vec![box3.clone()], vec![stack2.clone()]],
+            vec!["--steps", "2"],
+        ),
+        (
+            "render",
+            vec![vec![stack2.clone(), "--gif".into(), "g.gif".into()]],
+            vec!["--steps", "2"],
+        ),
+        (
+            "contacts",
+            vec![vec![ball3.clone()], vec![stack2.clone()]],
+            vec![],
+        ),
+        (
+            "crosscheck",
+            vec![vec![box3.clone()]],
+            vec!["--time", "0.05"],
+        ),
+        ("golden", vec![vec![]], vec![]),
+        ("scene", vec![vec![box3.clone()]], vec![]),
+        (
+            "massprops",
+            vec![vec![path("scenes/src/block.obj")]],
+            vec![],
+        ),
+        (
+            "factory",
+            vec![vec!["--out".into(), "f".into()]],
+            vec!["--bodies", "5", "--settle", "0"],
+        ),
+    ];
+    let mut tried = 0;
+    for (command, inputs, length) in &commands {
+        for option in help_options(command, dir) {
+            if option == "--container" && tube.is_none() {
+                continue; // needs ../shared's tetrisTube.png
+            }
+            let v = value(command, &option);
+            let mut failures = Vec::new();
+            let accepted = inputs.iter().any(|input| {
+                let mut args: Vec<String> = vec![command.to_string()];
+                args.extend(input.iter().cloned());
+                // The run's length, unless the option is the length or replaces an input's.
+                let replaces = |o: &str| option == o || input.contains(&o.to_string());
+                if !["--time", "--steps"].iter().any(|o| replaces(o)) {
+                    let mut l = length.iter().map(|s| s.to_string()).peekable();
+                    while let Some(flag) = l.next() {
+                        let val = l.next().unwrap();
+                        if !replaces(&flag) {
+                            args.extend([flag, val]);
+                        }
+                    }
+                }
+                if !input.contains(&option) {
+                    args.push(option.clone());
+                    args.extend(v.iter().cloned());
+                }
+                let args: Vec<&str> = args.iter().map(String::as_str).collect();
+                let out = rigidref(&args, dir);
+                if !out.status.success() {
+                    failures.push(format!(
+                        "{args:?}: {}",
+                        String::from_utf8_lossy(&out.stderr)
+                    ));
+                }
+                out.status.success()
+            });
+            tried += 1;
+            assert!(
+                accepted,
+                "{command} lists {option} but refuses it:\n{}",
+                failures.join("\n")
+            );
+        }
+    }
+    assert!(tried > 70, "only {tried} options tried");
 }

@@ -1,6 +1,6 @@
 //! rigidref against a rapier3d mirror of the same scene, through observables
 //! (docs/verification.md §"rapier3d"; tolerances and expected differences in
-//! src/reference/compare.rs, printed with each result).
+//! src/verify/references/compare.rs, printed with each result).
 
 use crate::common;
 
