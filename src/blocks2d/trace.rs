@@ -58,8 +58,14 @@ pub struct Record2 {
     pub energy: Energy2,
     /// Momenta of the non-pinned bodies.
     pub momentum: Momentum2,
-    /// The last substep's contacts.
-    pub contacts: Vec<Contact2Record>,
+    /// How many contacts the last substep had.
+    pub contact_count: usize,
+    /// The deepest disc overlap among them, blocks (0 without contacts).
+    pub deepest_overlap: f64,
+    /// The last substep's contacts, each with its impulse; present only when asked for
+    /// (`run --all-contacts`), since they make up most of a trace's size.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contacts: Option<Vec<Contact2Record>>,
 }
 
 /// A body's state.
@@ -120,8 +126,9 @@ impl TraceHeader2 {
 }
 
 impl Record2 {
-    /// The world's current state.
-    pub fn of_world(world: &World2) -> Record2 {
+    /// The world's current state, with every contact of the last substep when `all_contacts`
+    /// (else their count and deepest overlap only).
+    pub fn of_world(world: &World2, all_contacts: bool) -> Record2 {
         // λ of the last substep, where it solved a contact problem (zeros otherwise).
         let lambda = world
             .solves
@@ -143,21 +150,25 @@ impl Record2 {
                 .collect(),
             energy: world.energy(),
             momentum: world.momentum(),
-            contacts: world
-                .contacts
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    let l = lambda.get(k).map_or([0.0, 0.0], |l| [l[0], l[1]]);
-                    Contact2Record {
-                        bodies: [c.body1 as i64, c.body2 as i64],
-                        p: [c.point.x, c.point.y],
-                        n: [c.normal.x, c.normal.y],
-                        depth: c.depth,
-                        lambda: l,
-                    }
-                })
-                .collect(),
+            contact_count: world.contacts.len(),
+            deepest_overlap: world.deepest_overlap(),
+            contacts: all_contacts.then(|| {
+                world
+                    .contacts
+                    .iter()
+                    .enumerate()
+                    .map(|(k, c)| {
+                        let l = lambda.get(k).map_or([0.0, 0.0], |l| [l[0], l[1]]);
+                        Contact2Record {
+                            bodies: [c.body1 as i64, c.body2 as i64],
+                            p: [c.point.x, c.point.y],
+                            n: [c.normal.x, c.normal.y],
+                            depth: c.depth,
+                            lambda: l,
+                        }
+                    })
+                    .collect()
+            }),
         }
     }
 }

@@ -42,6 +42,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         );
     }
     let rest_threshold = args.rest.value()?;
+    let all_contacts = args.reports.all_contacts;
     let scene = load_scene(image, &args.blocks, &args.sets)?;
     let mut world = scene.world;
     world
@@ -60,7 +61,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let mut header = TraceHeader2::for_world(&world, &name, &image.display().to_string());
     header.overrides = scene.overrides.clone();
     write_json_line(&mut out, &header).map_err(write_err)?;
-    write_json_line(&mut out, &Record2::of_world(&world)).map_err(write_err)?;
+    write_json_line(&mut out, &Record2::of_world(&world, all_contacts)).map_err(write_err)?;
     let mut reports = Reports2::open(&args.reports)?;
     let mut progress = Progress::steps(steps, args.quiet);
     let (mut run_totals, mut last_done, mut most_contacts) = (RunTotals::default(), 0, 0);
@@ -76,7 +77,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         }
         reports.scaling(w, k, &totals)?;
         if is_recorded(k, steps, args.output.every) {
-            write_json_line(&mut out, &Record2::of_world(w))?;
+            write_json_line(&mut out, &Record2::of_world(w, all_contacts))?;
             reports.nuts(w)?;
         }
         progress.tick(k);

@@ -60,9 +60,10 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
             "run",
             "scenes/blocks/stack.png",
             // The starter's settings (1 substep, 10 sweeps in order), which the re-solve below
-            // repeats.
+            // repeats; every contact with its impulse in the trace.
             "--preset",
             "starter",
+            "--all-contacts",
             "--time",
             "8",
             "--dump-problems",
@@ -165,9 +166,19 @@ fn run_and_render_commands_write_2d_traces_frames_and_gifs() {
     assert_eq!(lines.len(), 1 + 1 + 4);
     let keys: Vec<&String> = lines[1]["bodies"][0].as_object().unwrap().keys().collect();
     assert_eq!(keys, ["x", "theta", "v", "omega"]);
-    for k in ["step", "t", "bodies", "energy", "momentum", "contacts"] {
+    for k in [
+        "step",
+        "t",
+        "bodies",
+        "energy",
+        "momentum",
+        "contact_count",
+        "deepest_overlap",
+    ] {
         assert!(lines[5].get(k).is_some(), "record lacks {k}");
     }
+    // Each contact is recorded only when asked for (--all-contacts): they are most of a trace.
+    assert!(lines[5].get("contacts").is_none(), "{}", lines[5]);
     // The same image with the same options from the command line gives the same trace.
     let trace2 = tmp.path().join("t2.jsonl");
     let out = rigidref(
