@@ -130,6 +130,22 @@ pub fn factory(args: FactoryArgs) -> anyhow::Result<FactoryReport> {
     if !args.quiet {
         print_report(&report, &args.out);
     }
+    let problems = report.problems();
+    for p in &problems {
+        eprintln!("warning: {p}");
+    }
+    if !problems.is_empty() {
+        anyhow::bail!(
+            "{}: the factory run is not sound ({}); its report is in {}",
+            args.container
+                .as_ref()
+                .map_or("the generated container".to_string(), |p| p
+                    .display()
+                    .to_string()),
+            problems.len(),
+            args.out.display()
+        );
+    }
     Ok(report)
 }
 

@@ -80,6 +80,23 @@ pub struct Factory {
 }
 
 impl Factory {
+    /// The largest distance from a piece's centre of mass to the edge of its bounding disc,
+    /// blocks: a bound for every piece this factory makes.
+    pub fn largest_reach(&self) -> f64 {
+        let cells = match self.pieces {
+            Pieces::Tetris => 4.0,
+            Pieces::Bricks => 8.0,
+            Pieces::Random => 9.0,
+        };
+        (cells * self.scale.max(1) as f64) + 1.0
+    }
+
+    /// The same factory making pieces of `scale` blocks per cell.
+    pub fn with_scale(mut self, scale: usize) -> Factory {
+        self.scale = scale;
+        self
+    }
+
     /// A factory with a seed.
     pub fn new(seed: u64, pieces: Pieces) -> Factory {
         Factory {
@@ -173,15 +190,34 @@ impl Factory {
         n: usize,
         speed: f64,
     ) -> usize {
-        let slot = (zone.x.1 - zone.x.0) / n.max(1) as f64;
         let pile_top = zone.pile_top(world);
+        // Inside the container's walls at the height bodies are placed at: a container whose
+        // walls are not vertical (the Tetris tube's funnel) is narrower below its rim than its
+        // pinned bodies' whole extent, and a body placed beside the tube falls outside it.
+        let band = (pile_top - 4.0 - 2.0 * self.largest_reach(), pile_top);
+        let (lo, hi, walled) = match zone.interior(world, band) {
+            Some((l, r)) if l > zone.x.0 || r < zone.x.1 => {
+                (l.max(zone.x.0), r.min(zone.x.1), true)
+            }
+            _ => (zone.x.0, zone.x.1, false),
+        };
+        let slot = (hi - lo) / n.max(1) as f64;
         let mut placed = 0;
         for s in 0..n {
-            let x = zone.x.0 + slot * (s as f64 + 0.5) + self.uniform(-0.25, 0.25) * slot;
+            let x = lo + slot * (s as f64 + 0.5) + self.uniform(-0.25, 0.25) * slot;
             let mut body = self.make(Vector2::new(x, pile_top));
             // Lift it so that its bounding disc ends four blocks above the pile.
             let reach = body.tree.root().map_or(0.0, |r| r.centre.norm() + r.radius);
             body.x.y -= reach + 4.0;
+            if walled {
+                // Keep its bounding disc off the walls where there is room for it.
+                let (a, b) = (lo + reach, hi - reach);
+                body.x.x = if a < b {
+                    body.x.x.clamp(a, b)
+                } else {
+                    0.5 * (lo + hi)
+                };
+            }
             body.v = Vector2::new(0.0, speed);
             world.add_body(body);
             if overlaps_any_other(&world.bodies, world.bodies.len() - 1) {
@@ -249,6 +285,38 @@ impl DropZone {
             }
         }
         top
+    }
+
+    /// The free interior of the container at the heights `band` (y from, y to; y grows
+    /// downward), blocks: in each row of pinned blocks in the band that is open around the
+    /// container's middle, from just right of the nearest pinned block left of the middle to just
+    /// left of the nearest one right of it; the narrowest over those rows. Rows closed across the
+    /// middle (the floor) are passed over. `None` where no row in the band has walls on both sides
+    /// (above the rim).
+    pub fn interior(&self, world: &World2, band: (f64, f64)) -> Option<(f64, f64)> {
+        let middle = 0.5 * (self.sides.0 + self.sides.1);
+        // Per row: the nearest wall left and right of the middle.
+        let mut rows: std::collections::BTreeMap<i64, (f64, f64)> = Default::default();
+        for b in world.bodies.iter().filter(|b| b.pinned) {
+            for block in &b.blocks {
+                let p = b.to_world(&block.local);
+                if p.y < band.0 - 1.0 || p.y > band.1 + 1.0 {
+                    continue;
+                }
+                let row = rows
+                    .entry(p.y.round() as i64)
+                    .or_insert((f64::NEG_INFINITY, f64::INFINITY));
+                if p.x < middle {
+                    row.0 = row.0.max(p.x);
+                } else {
+                    row.1 = row.1.min(p.x);
+                }
+            }
+        }
+        rows.values()
+            .filter(|(l, r)| l.is_finite() && r.is_finite() && r - l > 2.0)
+            .map(|&(l, r)| (l + 1.0, r - 1.0))
+            .reduce(|a, b| (a.0.max(b.0), a.1.min(b.1)))
     }
 
     /// Whether a body's centre has left the container: below its floor or beside its walls
@@ -410,9 +478,16 @@ pub struct FactoryReport {
     pub deepest_overlap_at_end: f64,
     /// Total kinetic energy at the end.
     pub kinetic_energy_at_end: f64,
+    /// The most kinetic energy the bodies can have without energy being created: each body's
+    /// mass times (g times the height from the highest place a body starts or is dropped from
+    /// to the container's floor, plus half the drop speed squared). A run whose final kinetic
+    /// energy exceeds it has blown up.
+    pub kinetic_energy_bound: f64,
     /// Moving bodies outside the container at the end (escaped through its floor or walls, or
     /// spilled over): 0 in a sound run.
     pub outside_container_at_end: usize,
+    /// Which: index, centre of mass (blocks) and whether it came from the container's image.
+    pub outside: Vec<(usize, [f64; 2], bool)>,
     /// Steps run.
     pub steps: u64,
     /// The scaling figure: PGS solve CPU seconds against contacts, re-timed side by side on the
@@ -432,6 +507,41 @@ pub struct FactoryReport {
     pub pgs_cpu_seconds: f64,
     /// Wall seconds of the whole run.
     pub wall_seconds: f64,
+}
+
+impl FactoryReport {
+    /// What makes the run unsound, one line each: bodies outside the container, or a kinetic
+    /// energy beyond what falling could give (the run blew up). Empty for a sound run.
+    pub fn problems(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.outside_container_at_end > 0 {
+            let first: Vec<String> = self
+                .outside
+                .iter()
+                .take(5)
+                .map(|(i, x, from_image)| {
+                    format!(
+                        "body {i}{} at ({:.1}, {:.1})",
+                        if *from_image { " (from the image)" } else { "" },
+                        x[0],
+                        x[1]
+                    )
+                })
+                .collect();
+            out.push(format!(
+                "{} bodies ended outside the container (escaped or spilled), e.g. {}",
+                self.outside_container_at_end,
+                first.join(", ")
+            ));
+        }
+        if self.kinetic_energy_at_end > self.kinetic_energy_bound {
+            out.push(format!(
+                "the kinetic energy at the end, {:.3e}, exceeds {:.3e}, the most that falling into the container could give: the run blew up",
+                self.kinetic_energy_at_end, self.kinetic_energy_bound
+            ));
+        }
+        out
+    }
 }
 
 /// Where a factory run is, for a progress display.
@@ -671,6 +781,24 @@ pub fn run_factory(
     std::fs::create_dir_all(out).map_err(|e| format!("{}: cannot create: {e}", out.display()))?;
     let started = std::time::Instant::now();
     let (mut world, zone, size) = factory_world(s)?;
+    let image_bodies = world.bodies.len();
+    // The highest a body starts (the image's own moving bodies) or is dropped from (four blocks
+    // and a piece above the rim at most).
+    let highest = world
+        .bodies
+        .iter()
+        .filter(|b| !b.pinned)
+        .map(|b| b.x.y - b.tree.root().map_or(0.0, |r| r.radius + r.centre.norm()))
+        .fold(
+            zone.rim
+                - 4.0
+                - 2.0
+                    * Factory::new(s.seed, s.pieces)
+                        .with_scale(s.piece_scale)
+                        .largest_reach(),
+            f64::min,
+        );
+    let fall = zone.floor - highest;
     let dt = world.params.dt;
     let steps_per_drop = (s.interval / dt).round().max(1.0) as u64;
     let settle = (s.settle / dt).round();
@@ -723,6 +851,13 @@ pub fn run_factory(
         )
     });
     let (fit, retimed_problems) = log.write_fit(out, &world.pgs_settings(), s.seed)?;
+    let outside: Vec<(usize, [f64; 2], bool)> = world
+        .bodies
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| !b.pinned && zone.is_outside(b))
+        .map(|(i, b)| (i, [b.x.x, b.x.y], i < image_bodies))
+        .collect();
     let report = FactoryReport {
         bodies: world.bodies.len(),
         dropped,
@@ -731,11 +866,14 @@ pub fn run_factory(
         max_contacts: log.max_contacts,
         deepest_overlap_at_end: world.deepest_overlap(),
         kinetic_energy_at_end: world.energy().kinetic,
-        outside_container_at_end: world
+        kinetic_energy_bound: world
             .bodies
             .iter()
-            .filter(|b| !b.pinned && zone.is_outside(b))
-            .count(),
+            .filter(|b| !b.pinned)
+            .map(|b| b.mass * (world.params.gravity * fall + 0.5 * s.drop_speed * s.drop_speed))
+            .sum(),
+        outside_container_at_end: outside.len(),
+        outside,
         steps: world.step,
         fit,
         retimed_problems,

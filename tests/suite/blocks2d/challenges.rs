@@ -165,3 +165,93 @@ fn tetris_tube_and_nut_bag_challenges_run() {
     let last: serde_json::Value = serde_json::from_str(trace.lines().last().unwrap()).unwrap();
     assert!(last["bodies"][0]["v"][0].as_f64().unwrap().abs() > 0.1);
 }
+
+/// The Tetris command exactly as docs/blocks2d.md gives it (shortened by `--bodies` and
+/// `--settle`, not by `--batch`) keeps every piece in the tube and ends at rest: kinetic energy
+/// below the rest threshold 1e-3 per body (measured: 8e-22 in all).
+#[test]
+fn the_documented_tetris_command_keeps_every_piece_in_the_tube() {
+    let Some(dir) = common::blocks2d_assignment() else {
+        return;
+    };
+    let doc = std::fs::read_to_string(common::project_root().join("docs/blocks2d.md")).unwrap();
+    let start = doc
+        .find("`rigidref factory --container tetrisTube.png")
+        .unwrap()
+        + 1;
+    let command = &doc[start..start + doc[start..].find('`').unwrap()];
+    let tube = dir.join("tetrisTube.png");
+    let tmp = tempfile::tempdir().unwrap();
+    let mut args: Vec<String> = command
+        .split_whitespace()
+        .skip(1)
+        .map(|w| match w {
+            "tetrisTube.png" => tube.display().to_string(),
+            w => w.to_string(),
+        })
+        .collect();
+    for extra in ["--bodies", "200", "--settle", "40", "--quiet", "--out"] {
+        args.push(extra.into());
+    }
+    args.push(tmp.path().display().to_string());
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = rigidref(&args, tmp.path());
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["dropped"], 200, "{report}");
+    assert_eq!(report["outside_container_at_end"], 0, "{report}");
+    let bodies = report["bodies"].as_f64().unwrap();
+    let kinetic = report["kinetic_energy_at_end"].as_f64().unwrap();
+    assert!(kinetic < 1e-3 * bodies, "kinetic energy {kinetic}");
+}
+
+/// A container with a hole in its floor loses bodies: the factory says which, and exits with
+/// status 1 after writing its report, instead of a quiet success.
+#[test]
+fn a_factory_run_that_loses_bodies_warns_and_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A U of blue blocks 40 wide inside and 20 deep, 3 thick, with a 16-block gap in the floor.
+    let (w, h) = (46u32, 24u32);
+    let mut img = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
+    for y in 0..h {
+        for x in 0..w {
+            let wall = x < 3 || x >= w - 3;
+            let floor = y >= h - 3 && !(15..31).contains(&x);
+            if wall || floor {
+                img.put_pixel(x, y, image::Rgb([0, 0, 163]));
+            }
+        }
+    }
+    let container = tmp.path().join("holed.png");
+    img.save(&container).unwrap();
+    let out = rigidref(
+        &[
+            "factory",
+            "--container",
+            container.to_str().unwrap(),
+            "--pieces",
+            "bricks",
+            "--bodies",
+            "20",
+            "--settle",
+            "5",
+            "--out",
+            tmp.path().join("f").to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("warning:") && stderr.contains("outside the container"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("not sound"), "{stderr}");
+    assert!(tmp.path().join("f/report.json").is_file());
+}
