@@ -9,7 +9,7 @@ use rigidref::blocks2d::trace::{Record2, TraceHeader2};
 use rigidref::blocks2d::world::World2;
 use rigidref::rigid3d::trace::TraceFormat;
 use rigidref::sim::{Flow, RunTotals, SolveTotals, drive, is_recorded};
-use rigidref::tools::nuts::nut_statistics;
+use rigidref::tools::nuts::{RISEN, nut_statistics, outside_bag, plot, time_to_rise};
 use std::io::Write;
 use std::path::Path;
 
@@ -114,6 +114,9 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
 struct Reports2 {
     scaling: Option<std::io::BufWriter<std::fs::File>>,
     nuts: Option<std::io::BufWriter<std::fs::File>>,
+    /// The nut report's path and its (t, fraction of the heaviest fifth in the upper half)
+    /// points, for the plot beside it.
+    nut_points: Option<(std::path::PathBuf, Vec<(f64, f64)>)>,
 }
 
 impl Reports2 {
@@ -122,6 +125,7 @@ impl Reports2 {
         let mut reports = Reports2 {
             scaling: None,
             nuts: None,
+            nut_points: None,
         };
         if let Some(p) = &asked.scaling_csv {
             let mut f = super::common::create_file(p)?;
@@ -132,9 +136,10 @@ impl Reports2 {
             let mut f = super::common::create_file(p)?;
             writeln!(
                 f,
-                "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half"
+                "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half,outside_bag"
             )?;
             reports.nuts = Some(f);
+            reports.nut_points = Some((p.with_extension("svg"), Vec::new()));
         }
         Ok(reports)
     }
@@ -160,19 +165,33 @@ impl Reports2 {
             return Ok(());
         };
         let s = nut_statistics(w);
+        if let Some((_, points)) = &mut self.nut_points {
+            points.push((w.time(), s.heaviest_fraction_in_upper_half));
+        }
         writeln!(
             f,
-            "{},{},{},{}",
+            "{},{},{},{},{}",
             w.time(),
             s.heaviest_mean_height,
             s.others_mean_height,
-            s.heaviest_fraction_in_upper_half
+            s.heaviest_fraction_in_upper_half,
+            outside_bag(w)
         )
     }
 
-    fn flush(&mut self) -> std::io::Result<()> {
+    /// Flushes the files and draws the nut report's plot (NAME.svg beside NAME.csv), with the
+    /// time the largest nuts took to rise, if they did.
+    fn flush(&mut self) -> anyhow::Result<()> {
         for f in [&mut self.nuts, &mut self.scaling].into_iter().flatten() {
             f.flush()?;
+        }
+        if let Some((path, points)) = &self.nut_points {
+            let risen = match time_to_rise(points) {
+                Some(t) => format!("reached {RISEN} at t = {t}"),
+                None => format!("did not reach {RISEN}"),
+            };
+            let title = format!("heaviest fifth of the nuts in the upper half ({risen})");
+            plot(points, path, &title).map_err(anyhow::Error::msg)?;
         }
         Ok(())
     }

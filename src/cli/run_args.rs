@@ -48,7 +48,9 @@ with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the sa
 pub struct RunArgs {
     /// Scene file: the 3D assignment's JSON, a 2D image (.png), or a 2D scene file (JSON naming
     /// an image; docs/blocks2d.md). Without one, the built-in default 3D scene (the project's
-    /// Dzhanibekov-effect scene) runs.
+    /// Dzhanibekov-effect scene) runs. The options under the 2D heading apply to images (a 2D
+    /// scene file sets its own: use --set); --no-collisions and CSV traces apply to 3D scenes;
+    /// --set applies to both.
     pub scene: Option<PathBuf>,
     #[command(flatten)]
     pub length: RunLength,

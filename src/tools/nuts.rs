@@ -39,3 +39,74 @@ pub fn nut_statistics(world: &World2) -> NutStatistics {
         heaviest_fraction_in_upper_half: upper,
     }
 }
+
+/// The fraction of the heaviest fifth at or above the median height from which the largest nuts
+/// count as risen: well above the 0.5 of a mixture and the 0.39 of nuts3.png as drawn.
+pub const RISEN: f64 = 0.8;
+
+/// The moving bodies whose centre of mass has left the pinned bodies' bounding box (the bag):
+/// 0 while the bag holds every nut.
+pub fn outside_bag(world: &World2) -> usize {
+    let (mut lo, mut hi) = (
+        nalgebra::Vector2::repeat(f64::INFINITY),
+        nalgebra::Vector2::repeat(f64::NEG_INFINITY),
+    );
+    for b in world.bodies.iter().filter(|b| b.pinned) {
+        for block in &b.blocks {
+            let p = b.to_world(&block.local);
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        }
+    }
+    world
+        .bodies
+        .iter()
+        .filter(|b| !b.pinned)
+        .filter(|b| b.x.x < lo.x || b.x.x > hi.x || b.x.y < lo.y || b.x.y > hi.y)
+        .count()
+}
+
+/// The first time at which the fraction of the heaviest fifth in the upper half reached
+/// [`RISEN`], from `(t, fraction)` points in time order; `None` if it never did.
+pub fn time_to_rise(points: &[(f64, f64)]) -> Option<f64> {
+    points.iter().find(|p| p.1 >= RISEN).map(|p| p.0)
+}
+
+/// Plots the fraction of the heaviest fifth in the upper half against time as an SVG, with the
+/// 0.5 of a mixture and the [`RISEN`] line; `title` heads it.
+pub fn plot(points: &[(f64, f64)], path: &std::path::Path, title: &str) -> Result<(), String> {
+    use plotters::prelude::*;
+    let root = SVGBackend::new(path, (900, 500)).into_drawing_area();
+    let err = |e: &dyn std::fmt::Display| format!("{}: cannot draw: {e}", path.display());
+    root.fill(&WHITE).map_err(|e| err(&e))?;
+    let t_max = points.iter().map(|p| p.0).fold(1.0, f64::max);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 16))
+        .margin(20)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(0.0..t_max, 0.0..1.0)
+        .map_err(|e| err(&e))?;
+    chart
+        .configure_mesh()
+        .x_desc("time")
+        .y_desc("heaviest fifth in the upper half")
+        .draw()
+        .map_err(|e| err(&e))?;
+    for (level, colour) in [(0.5, RGBColor(180, 180, 180)), (RISEN, RED)] {
+        chart
+            .draw_series(LineSeries::new(
+                [(0.0, level), (t_max, level)],
+                colour.stroke_width(1),
+            ))
+            .map_err(|e| err(&e))?;
+    }
+    chart
+        .draw_series(LineSeries::new(
+            points.iter().copied(),
+            BLUE.stroke_width(2),
+        ))
+        .map_err(|e| err(&e))?;
+    root.present().map_err(|e| err(&e))?;
+    Ok(())
+}

@@ -157,9 +157,16 @@ fn tetris_tube_and_nut_bag_challenges_run() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half"
+        "t,mean_height_heaviest_fifth,mean_height_others,heaviest_fraction_in_upper_half,outside_bag"
     );
     assert_eq!(lines.len(), 1 + 4);
+    // Every nut is still in the bag, and the plot of the fraction over time is beside the CSV.
+    assert!(lines[1..].iter().all(|l| l.ends_with(",0")), "{text}");
+    let svg = std::fs::read_to_string(tmp.path().join("nuts.svg")).unwrap();
+    assert!(
+        svg.contains("<svg") && svg.contains("heaviest fifth"),
+        "no plot"
+    );
     // The container was shaken: its recorded velocity is not zero.
     let trace = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
     let last: serde_json::Value = serde_json::from_str(trace.lines().last().unwrap()).unwrap();

@@ -689,7 +689,8 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 | "--table"
                 | "--strict"
                 | "--rapier"
-                | "--update",
+                | "--update"
+                | "--all-contacts",
             ) => &[],
             ("factory", "--container") => {
                 return tube.iter().map(|p| p.display().to_string()).collect();
