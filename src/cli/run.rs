@@ -20,7 +20,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
                 p.display().to_string()
             });
         anyhow::bail!(
-            "{scene_name}: {} {} to 2D scenes (images and 2D scene files) only; a 3D scene sets its parameters in the file",
+            "{scene_name}: {} {} to 2D scenes (images and 2D scene files) only; set a 3D scene's parameters with --set KEY=VALUE (e.g. --set pgs_iterations=50, docs/scene-format.md)",
             only_2d.join(", "),
             if only_2d.len() == 1 {
                 "applies"
