@@ -330,9 +330,13 @@ pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
         return load_scene2_with(path, &cli.overrides);
     }
     let parameters = with_overrides(&cli.parameters, &cli.overrides)?;
-    let (params, settings) = parameters
-        .resolve()
-        .map_err(|e| SceneError(format!("--{} {}", e.key.replace('_', "-"), e.message)))?;
+    let (params, settings) = parameters.resolve().map_err(|e| {
+        // Name the option the value came from: `--set KEY=VALUE` or `--KEY VALUE`.
+        match cli.overrides.0.iter().find(|(k, _)| k == e.key) {
+            Some((k, v)) => SceneError(format!("--set {k}={v}: {k} {}", e.message)),
+            None => SceneError(format!("--{} {}", e.key.replace('_', "-"), e.message)),
+        }
+    })?;
     let groups = load_image(path, &settings).map_err(SceneError)?;
     let mut world = World2::new(&groups, params);
     let n = world.bodies.len();

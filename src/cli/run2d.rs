@@ -63,6 +63,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     write_json_line(&mut out, &header).map_err(write_err)?;
     write_json_line(&mut out, &Record2::of_world(&world, all_contacts)).map_err(write_err)?;
     let mut reports = Reports2::open(&args.reports)?;
+    reports.nuts(&world)?;
     let mut progress = Progress::steps(steps, args.quiet);
     let (mut run_totals, mut last_done, mut most_contacts) = (RunTotals::default(), 0, 0);
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
@@ -84,7 +85,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         Ok(Flow::Continue)
     });
     out.flush().map_err(write_err)?;
-    reports.flush()?;
+    let nut_finding = reports.flush()?;
     progress.finish();
     Stopped::outcome(ran, |e| {
         format!(
@@ -104,6 +105,9 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             overrides: &scene.overrides,
         };
         summary.print(&world);
+        if let Some(finding) = nut_finding {
+            eprintln!("nuts           {finding}");
+        }
         eprintln!("trace          {}", out_path.display());
     }
     Ok(())
@@ -180,8 +184,8 @@ impl Reports2 {
     }
 
     /// Flushes the files and draws the nut report's plot (NAME.svg beside NAME.csv), with the
-    /// time the largest nuts took to rise, if they did.
-    fn flush(&mut self) -> anyhow::Result<()> {
+    /// time the largest nuts took to rise, if they did; returns that finding for the summary.
+    fn flush(&mut self) -> anyhow::Result<Option<String>> {
         for f in [&mut self.nuts, &mut self.scaling].into_iter().flatten() {
             f.flush()?;
         }
@@ -192,8 +196,14 @@ impl Reports2 {
             };
             let title = format!("heaviest fifth of the nuts in the upper half ({risen})");
             plot(points, path, &title).map_err(anyhow::Error::msg)?;
+            let last = points.last().map_or(f64::NAN, |p| p.1);
+            return Ok(Some(format!(
+                "heaviest fifth in the upper half: {:.2} at the start, {last:.2} at the end; {risen}; plot {}",
+                points.first().map_or(f64::NAN, |p| p.1),
+                path.display()
+            )));
         }
-        Ok(())
+        Ok(None)
     }
 }
 
@@ -231,17 +241,22 @@ impl Summary2<'_> {
             world.bodies.len() - moving
         );
         eprintln!(
-            "steps          {} × {} substeps, h = {}, t = {}",
+            "steps          {} × {} substeps, h = {}, t = {}; gravity {} at {}°",
             self.steps,
             p.substeps,
             p.h(),
-            world.time()
+            world.time(),
+            p.gravity,
+            p.gravity_angle
         );
         eprintln!(
-            "solver         {:?}, {} iterations, order {:?}, μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {})",
+            "solver         {:?}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {})",
             p.contact_model,
             p.iterations,
+            p.tolerance
+                .map_or(String::new(), |t| format!(" (tolerance {t})")),
             p.order,
+            p.seed,
             p.mu,
             p.restitution,
             p.warm_start,

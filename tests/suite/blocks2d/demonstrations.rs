@@ -242,13 +242,24 @@ fn run_twenty(dir: &std::path::Path, image: &str, extra: &[&str]) -> (f64, usize
         .collect();
     let (header, first, last) = (&lines[0], &lines[1], lines.last().unwrap());
     assert_eq!(last["t"].as_f64().unwrap(), 20.0);
-    let mut sideways: f64 = 0.0;
+    let (mut sideways, mut turned): (f64, f64) = (0.0, 0.0);
     for (i, info) in header["bodies"].as_array().unwrap().iter().enumerate() {
         if info["pinned"].as_bool().unwrap() {
             continue;
         }
         let x = |r: &serde_json::Value| r["bodies"][i]["x"][0].as_f64().unwrap();
+        let theta = |r: &serde_json::Value| r["bodies"][i]["theta"].as_f64().unwrap();
         sideways = sideways.max((x(last) - x(first)).abs());
+        turned = turned.max((theta(last) - theta(first)).abs());
+    }
+    let overlap = last["deepest_overlap"].as_f64().unwrap();
+    println!("{image} {extra:?}: turned {turned:.4} rad, deepest overlap {overlap:.4} at t = 20");
+    if extra.is_empty() {
+        // Standing, not toppling or sinking into one another: no body turned (a falling bar
+        // turns by radians) and no two block discs overlap by more than five times the
+        // post-stabilisation slop (0.01; measured 0.010).
+        assert!(turned <= 0.05, "{image}: a body turned by {turned} rad");
+        assert!(overlap <= 0.05, "{image}: discs overlap by {overlap}");
     }
     // "at rest        R of M bodies below kinetic energy 0.001"
     let rest = stderr
@@ -263,7 +274,11 @@ fn run_twenty(dir: &std::path::Path, image: &str, extra: &[&str]) -> (f64, usize
 
 /// `rigidref run IMAGE.png` with no physics options keeps each demonstration image standing for
 /// 20 time units: no body moves sideways by more than 2 px (measured: at most 0.009), and every
-/// body is at rest at the end. Its default trace stays under 20 MB per 30 time units (measured:
+/// body is at rest at the end, no body has turned by more than 0.05 rad and no two block discs
+/// overlap by more than 0.05 (measured: 0.0004 rad, 0.010): standing, not toppling or sinking.
+/// Bodies do settle downwards, by the disc model's 2 − √2 per one-pixel gap (tower100's top: 59
+/// px; docs/blocks2d.md §"Demonstration settings"). Its default trace stays under 20 MB per 30
+/// time units (measured:
 /// 12.4 MB for wallWideSparseHigh, which wrote 127 MB with every contact listed). Bodies do move down: the assignment's block discs (radius √2/2)
 /// rest with block centres √2 apart, so every gap between stacked bodies closes by about 0.6 px
 /// and the top of tower100 settles 59 px (docs/blocks2d.md §"Demonstration settings").

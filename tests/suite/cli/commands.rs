@@ -554,7 +554,11 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
         ),
         (&scene3, "mu", "--set \"mu\": expected KEY=VALUE"),
         (&scene2, "iterations=-3", "--set iterations=-3"),
-        (&image, "restitution=2", "restitution must be in [0, 1]"),
+        (
+            &image,
+            "restitution=2",
+            "--set restitution=2: restitution must be in [0, 1]",
+        ),
         (
             &image,
             "nonsense=2",
