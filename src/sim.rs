@@ -140,6 +140,9 @@ pub struct RunTotals {
     pub worst_residual: f64,
     /// The deepest penetration of a contact found (m in 3D, blocks in 2D).
     pub deepest: f64,
+    /// The deepest interpenetration the system measured between bodies, whatever contacts were
+    /// found (3D's penetration measure, m); `None` where the system has no such measure (2D).
+    pub measured: Option<f64>,
 }
 
 impl RunTotals {
@@ -164,19 +167,29 @@ impl RunTotals {
     }
 
     /// The summary line: solves, the most contacts, PGS's mean sweeps and worst residual, the
-    /// deepest penetration; `velocity` and `length` name the units.
+    /// deepest penetration (the measured one where the system measures it, with the deepest
+    /// contact beside it); `velocity` and `length` name the units.
     pub fn describe(&self, velocity: &str, length: &str) -> String {
+        let penetration = match self.measured {
+            Some(m) => format!(
+                "deepest penetration {m:.3e} {length} (measured between the bodies; deepest contact found {:.3e} {length})",
+                self.deepest
+            ),
+            None => format!("deepest penetration {:.3e} {length}", self.deepest),
+        };
         if self.solves == 0 {
-            return "none".to_string();
+            return match self.measured {
+                Some(m) if m > 0.0 => format!("none found; {penetration}"),
+                _ => "none".to_string(),
+            };
         }
         format!(
-            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}, deepest penetration {:.3e} {length}",
+            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}, {penetration}",
             self.solves,
             self.steps_with_contacts,
             self.most_contacts,
             self.sweeps as f64 / self.solves as f64,
             self.worst_residual,
-            self.deepest
         )
     }
 }

@@ -11,8 +11,8 @@ use std::path::PathBuf;
 /// Arguments of `rigidref contacts`.
 #[derive(Args)]
 #[command(after_long_help = "\
-For each contact of the chosen step: the bodies (body 1 owns the penetrating vertex; body 2 is
-the body it penetrates, −1 the ground), the point p and frame (n, t1, t2) in world coordinates,
+For each contact of the chosen step: the bodies (body 1 owns the penetrating vertex, or with `collision: complete`
+the manifold point on its surface; body 2 is the body it penetrates, −1 the ground), the point p and frame (n, t1, t2) in world coordinates,
 the depth, the 3×12 Jacobian [J₁ | J₂] (columns v₁, ω₁, v₂, ω₂), the 3×3 Delassus block
 A = J M⁻¹ Jᵀ, b = J u − stabilisation bias, the warm-start λ₀ and the solved impulse λ
 (N·s; force = λ / h). Sign convention: n points from body 2 into body 1 and λn ≥ 0 pushes body 1

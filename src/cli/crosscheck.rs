@@ -6,6 +6,7 @@ use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::problem::json::ProblemFile;
+use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
 use rigidref::verify::crosscheck::{CrosscheckSettings, check_problem};
@@ -67,13 +68,16 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         bail!("--tolerance and --objective-tolerance must be positive");
     }
     let settings = CrosscheckSettings::default();
-    let (input, rows) = rows_of(&args, &settings)?;
+    let mut penetration = None;
+    let (input, rows) = rows_of(&args, &settings, &mut penetration)?;
     let limits = Limits {
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
         strict: args.strict,
     };
-    let summary = summarise(&input, &rows, &limits);
+    let mut summary = summarise(&input, &rows, &limits);
+    summary.deepest_penetration = penetration.map(|(depth, _)| depth);
+    summary.deepest_penetration_step = penetration.map(|(_, step)| step);
     if args.json {
         let value = if args.table {
             serde_json::json!({"summary": summary, "problems": rows})
@@ -101,9 +105,12 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
 /// The input's name and one row per contact problem: a folder of problem files, one problem
 /// file, a 2D scene (an image with the default parameters, or a 2D scene file with its own) or a
 /// 3D scene, run for --time.
+/// For a 3D scene, `penetration` receives the run's deepest measured interpenetration (m) and
+/// the step after which it was measured (docs/contact.md §"Penetration measure").
 fn rows_of(
     args: &CrosscheckArgs,
     settings: &CrosscheckSettings,
+    penetration: &mut Option<(f64, u64)>,
 ) -> anyhow::Result<(String, Vec<Row>)> {
     Ok(match &args.input {
         Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, settings)?),
@@ -115,7 +122,7 @@ fn rows_of(
             // An image with the default parameters, or a 2D scene file with its own.
             let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
             let source = path.display().to_string();
-            let rows = check_run(&mut world, args.time, &source, settings)?;
+            let rows = check_run(&mut world, args.time, &source, settings, |_| {})?;
             (source, rows)
         }
         other => {
@@ -127,7 +134,15 @@ fn rows_of(
                 );
             }
             let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
-            let rows = check_run(&mut world, args.time, &scene.source, settings)?;
+            let mut watch = InterpenetrationWatch::default();
+            let mut warnings = watch.observe(&world);
+            let rows = check_run(&mut world, args.time, &scene.source, settings, |w| {
+                warnings.extend(watch.observe(w));
+            })?;
+            for w in &warnings {
+                eprintln!("{w}");
+            }
+            *penetration = Some((watch.deepest, watch.deepest_step));
             (scene.source.clone(), rows)
         }
     })
@@ -171,12 +186,14 @@ fn check_folder(dir: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Vec
     paths.iter().map(|p| check_file(p, settings)).collect()
 }
 
-/// Every contact problem of a run of `sim` for `time`, one row per substep with contacts.
+/// Every contact problem of a run of `sim` for `time`, one row per substep with contacts;
+/// `observe` sees the state after each step.
 fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
     sim: &mut S,
     time: f64,
     source: &str,
     settings: &CrosscheckSettings,
+    mut observe: impl FnMut(&S),
 ) -> anyhow::Result<Vec<Row>> {
     let steps = steps_in(time, sim.dt(), "").map_err(anyhow::Error::msg)?;
     let mut progress = Progress::steps(steps, false);
@@ -189,6 +206,7 @@ fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
                 check,
             });
         }
+        observe(w);
         progress.tick(k);
         Ok(Flow::Continue)
     });

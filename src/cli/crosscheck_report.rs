@@ -37,6 +37,13 @@ pub(crate) struct Summary {
     pub(crate) tolerance: f64,
     pub(crate) objective_tolerance: f64,
     pub(crate) passed: bool,
+    /// 3D scenes: the deepest interpenetration measured after any step of the run, m
+    /// (docs/contact.md §"Penetration measure"), whatever contacts were found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) deepest_penetration: Option<f64>,
+    /// The step after which it was measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) deepest_penetration_step: Option<u64>,
 }
 
 /// One line per problem.
@@ -144,6 +151,8 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
         passed: failures == 0,
+        deepest_penetration: None,
+        deepest_penetration_step: None,
     }
 }
 
@@ -162,6 +171,11 @@ pub(crate) fn print_summary(s: &Summary) {
         s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
     );
     println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
+    if let (Some(depth), Some(step)) = (s.deepest_penetration, s.deepest_penetration_step) {
+        println!(
+            "penetration      deepest {depth:.3e} m, after step {step} (measured between the bodies, whatever contacts were found)"
+        );
+    }
     println!(
         "result           {}",
         if s.passed && s.compared == 0 {

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 #[command(after_long_help = "\
 Each canonical scene (every scenes/*.json) is run for 5 s, recording every 5th frame, and
 compared quantity by quantity with golden/NAME.jsonl: |fresh − golden| ≤ tol · (1 + |golden|),
-tol = 1e-8 for states, energies and momenta and 1e-6 for contacts; the number of records and of
+tol = 1e-8 for states, energies and momenta and 1e-6 for contacts and the penetration measure; the number of records and of
 contacts must match exactly. Exit status 1 when any scene differs or has no golden trace.
 
 --update rewrites golden/ from the current code. That is legitimate only when a change of the

@@ -96,6 +96,11 @@ impl Progress {
         &self.bar
     }
 
+    /// Prints a line to stderr above the bar (shown or not).
+    pub(crate) fn println(&self, line: &str) {
+        self.bar.suspend(|| eprintln!("{line}"));
+    }
+
     /// Seconds since the bar was made.
     pub(crate) fn elapsed(&self) -> f64 {
         self.started.elapsed().as_secs_f64()

@@ -4,6 +4,7 @@ use super::progress::{Progress, Stopped};
 use super::run_args::RunArgs;
 use anyhow::Context;
 use rigidref::rigid3d::diagnostics::{Energy, Momentum};
+use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
 use rigidref::rigid3d::scene::embedded::BUILT_IN_SOURCE;
 use rigidref::rigid3d::trace::{TraceHeader, TraceRecord, TraceWriter};
 use rigidref::rigid3d::world::World;
@@ -39,10 +40,17 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let start = (world.energy(), world.momentum());
     let mut progress = Progress::steps(steps, args.quiet);
     let mut stats = RunTotals::default();
+    let mut watch = InterpenetrationWatch::default();
+    for warning in watch.observe(&world) {
+        eprintln!("{warning}");
+    }
     let mut stopped_at_contact = None;
 
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         stats.add(&w.solves);
+        for warning in watch.observe(w) {
+            progress.println(&warning);
+        }
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
                 super::common::dump_problem(dir, &w.params.name, k, w.params.h(), solve)?;
@@ -70,6 +78,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             out_path.display()
         )
     })?;
+    stats.measured = Some(watch.deepest);
     let wall = progress.elapsed();
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);

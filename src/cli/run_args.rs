@@ -33,6 +33,11 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
     pgs_order         \"sequential\" or \"random\" (seeded shuffle each sweep)  sequential
     pgs_seed          seed of the random order                        0
+    collision         \"vertices\" (the assignment's rule: vertices of one mesh
+                      inside the other; default) or \"complete\" (also edge-edge
+                      crossings and face contacts, from the contact manifolds of
+                      the meshes' convex pieces: equal boxes stack); either way the
+                      run measures interpenetration and warns when contacts were missed
   Any other key is reported as a warning and ignored.
   bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
     assignment root = parent of the scene's folder, then the scene's folder, then the

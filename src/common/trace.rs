@@ -3,5 +3,7 @@
 
 /// Value of the header's `format` key.
 pub const FORMAT_NAME: &str = "rigidref-trace";
-/// Value of the header's `version` key; raised on any incompatible change.
-pub const FORMAT_VERSION: u32 = 1;
+/// Value of the header's `version` key; raised on any incompatible change. Version 2 (issue 13):
+/// 3D headers name the `collision` method, 3D records carry `penetration`, and a 3D contact's
+/// point may be a manifold point rather than a vertex (`collision: complete`).
+pub const FORMAT_VERSION: u32 = 2;

@@ -35,6 +35,10 @@ pub struct TraceHeader {
     pub gravity: [f64; 3],
     /// The angular integrator's scene name.
     pub integrator: String,
+    /// The collision method's scene name (`vertices` or `complete`); absent from version 1
+    /// traces, which were all `vertices`.
+    #[serde(default = "vertices")]
+    pub collision: String,
     /// The bodies in index order.
     pub bodies: Vec<TraceBodyInfo>,
 }
@@ -63,6 +67,15 @@ pub struct TraceRecord {
     pub momentum: MomentumRecord,
     /// Contacts found in this step (filled from issue #3 on).
     pub contacts: Vec<ContactRecord>,
+    /// The penetration measure after this step, m: the deepest interpenetration of any two
+    /// bodies or of a body and the ground, whatever contacts were found
+    /// ([`crate::rigid3d::collide::penetration`]). `None` only when read from a version 1 trace.
+    #[serde(default)]
+    pub penetration: Option<f64>,
+}
+
+fn vertices() -> String {
+    "vertices".into()
 }
 
 /// A body's state: position (m), rotation rows, velocity (m/s), angular velocity (rad/s, world).
@@ -119,6 +132,7 @@ impl TraceHeader {
             substeps: world.params.substeps,
             gravity: world.params.gravity.into(),
             integrator: world.params.integrator.name().into(),
+            collision: world.params.collision.name().into(),
             bodies: world
                 .bodies
                 .iter()
@@ -158,6 +172,7 @@ impl TraceRecord {
                 angular_com: momentum.angular_com.into(),
             },
             contacts,
+            penetration: Some(world.deepest_penetration()),
         }
     }
 }
@@ -271,6 +286,7 @@ pub fn csv_columns(n: usize) -> Vec<String> {
         }
     }
     cols.push("contacts".into());
+    cols.push("penetration".into());
     cols
 }
 
@@ -290,6 +306,7 @@ fn csv_row(r: &TraceRecord) -> Vec<String> {
     push(&r.momentum.angular);
     push(&r.momentum.angular_com);
     row.push(r.contacts.len().to_string());
+    row.push(r.penetration.map_or(String::new(), |x| x.to_string()));
     row
 }
 
@@ -311,9 +328,9 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let first = first.map_err(|e| format!("{source}: {e}"))?;
     let header: TraceHeader =
         serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
-    if header.format != FORMAT_NAME || header.version != FORMAT_VERSION {
+    if header.format != FORMAT_NAME || !(1..=FORMAT_VERSION).contains(&header.version) {
         return Err(format!(
-            "{source}:1: not a {FORMAT_NAME} version {FORMAT_VERSION} trace"
+            "{source}:1: not a {FORMAT_NAME} trace of version 1 to {FORMAT_VERSION}"
         ));
     }
     let mut records = Vec::new();

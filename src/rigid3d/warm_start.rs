@@ -2,15 +2,16 @@
 //! previous substep. docs/contact.md §"Warm starting".
 //!
 //! A contact is "the same" when it has the same body 1, the same body 2 (or the ground) and the
-//! same vertex of body 1. Its frame may have turned since, so the impulse is kept as a world
+//! same features (the same vertex of body 1, or the same manifold features of the same convex
+//! pieces). Its frame may have turned since, so the impulse is kept as a world
 //! vector P = λn n + λt1 t1 + λt2 t2 and re-expressed in the new frame: λ₀ = (n·P, t1·P, t2·P).
 
-use crate::rigid3d::collide::Contact;
+use crate::rigid3d::collide::{Contact, Feature};
 use nalgebra::{SVector, Vector3};
 use std::collections::HashMap;
 
-/// Identifies a contact across substeps: (body 1, body 2 or ground, vertex of body 1).
-pub type ContactKey = (usize, Option<usize>, usize);
+/// Identifies a contact across substeps: (body 1, body 2 or ground, the features it comes from).
+pub type ContactKey = (usize, Option<usize>, Feature);
 
 /// The previous substep's impulses, by contact.
 #[derive(Clone, Debug, Default)]
@@ -63,5 +64,5 @@ impl WarmStart {
 }
 
 fn key(c: &Contact) -> ContactKey {
-    (c.body1, c.body2, c.vertex)
+    (c.body1, c.body2, c.feature)
 }

@@ -9,15 +9,21 @@
 //!    apply the velocity changes u⁺ = u + M⁻¹Jᵀλ;
 //! 4. step positions with the new velocities: [`RigidBody::step_position`];
 //! 5. check that every state component is finite.
+//!
+//! After the frame, the penetration measure ([`crate::rigid3d::collide::penetration`]) records
+//! how deep bodies interpenetrate, whatever contacts were found.
 
 use crate::rigid3d::assemble::{ProblemSettings, assemble_problem};
 use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::collide::penetration::{Penetration, penetrations};
+use crate::rigid3d::collide::pieces::ConvexPieces;
 use crate::rigid3d::collide::{Contact, MeshCollider, detect_contacts};
 use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve};
 use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
+use std::sync::Arc;
 
 /// The contact solve of one substep (the shared record, with 3D contacts and 6 × 3 problems).
 pub type Solve3 = SubstepSolve<Contact, 6, 3>;
@@ -33,6 +39,8 @@ pub struct World {
     pub step: u64,
     /// The contact solves of the last frame, one per substep that had contacts.
     pub solves: Vec<Solve3>,
+    /// The interpenetrating pairs after the last frame (the penetration measure).
+    pub penetrations: Vec<Penetration>,
     colliders: Vec<MeshCollider>,
     warm_start: WarmStart,
     workspace: PgsWorkspace<6, 3>,
@@ -56,24 +64,61 @@ impl World {
                 b
             })
             .collect();
-        let colliders = scene
-            .bodies
-            .iter()
-            .map(|d| {
-                MeshCollider::new(d.mesh.clone())
-                    .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))
-            })
-            .collect::<Result<Vec<_>, String>>()?;
-        Ok(World {
+        // Bodies that share a mesh share its convex pieces (decomposing one takes a while).
+        let mut pieces: Vec<(Arc<crate::rigid3d::mesh::TriMesh>, Arc<ConvexPieces>)> = Vec::new();
+        let mut colliders = Vec::with_capacity(scene.bodies.len());
+        for d in &scene.bodies {
+            let known = pieces
+                .iter()
+                .find(|(mesh, _)| Arc::ptr_eq(mesh, &d.mesh) || **mesh == *d.mesh)
+                .map(|(_, p)| p.clone());
+            let shared = match known {
+                Some(p) => p,
+                None => {
+                    let p = Arc::new(
+                        ConvexPieces::of_mesh(&d.mesh)
+                            .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))?,
+                    );
+                    pieces.push((d.mesh.clone(), p.clone()));
+                    p
+                }
+            };
+            colliders.push(
+                MeshCollider::with_pieces(d.mesh.clone(), shared)
+                    .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))?,
+            );
+        }
+        let mut world = World {
             params: scene.params.clone(),
             bodies,
             step: 0,
             solves: Vec::new(),
+            penetrations: Vec::new(),
             colliders,
             warm_start: WarmStart::new(scene.params.warm_start),
             workspace: PgsWorkspace::new(scene.params.pgs_seed),
             contact_buffer: Vec::new(),
-        })
+        };
+        world.measure_penetration();
+        Ok(world)
+    }
+
+    /// The body colliders (mesh queries and convex pieces), in body order.
+    pub fn colliders(&self) -> &[MeshCollider] {
+        &self.colliders
+    }
+
+    /// Re-measures [`World::penetrations`] for the current state.
+    pub fn measure_penetration(&mut self) {
+        penetrations(&self.bodies, &self.colliders, &mut self.penetrations);
+    }
+
+    /// The deepest interpenetration of any pair now, m (0 when none).
+    pub fn deepest_penetration(&self) -> f64 {
+        self.penetrations
+            .iter()
+            .map(|p| p.depth)
+            .fold(0.0, f64::max)
     }
 
     /// The settings the problem is assembled with, from the scene parameters.
@@ -102,7 +147,12 @@ impl World {
     /// only. Records the solve in `solves` when there were contacts.
     fn process_contacts(&mut self, substep: u32) {
         let mut contacts = std::mem::take(&mut self.contact_buffer);
-        detect_contacts(&self.bodies, &self.colliders, &mut contacts);
+        detect_contacts(
+            &self.bodies,
+            &self.colliders,
+            self.params.collision,
+            &mut contacts,
+        );
         if contacts.is_empty() {
             self.warm_start.clear();
             self.contact_buffer = contacts;
@@ -165,6 +215,7 @@ impl World {
             self.check_finite_at(Some(substep))?;
         }
         self.step += 1;
+        self.measure_penetration();
         Ok(())
     }
 

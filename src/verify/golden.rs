@@ -159,6 +159,9 @@ pub fn compare(golden: &Trace, fresh: &Trace, tol: &Tolerances) -> Vec<Mismatch>
     for (g, f) in golden.records.iter().zip(&fresh.records) {
         let step = g.step;
         check(step, "step".into(), g.step as f64, f.step as f64, 0.0);
+        if let (Some(gp), Some(fp)) = (g.penetration, f.penetration) {
+            check(step, "penetration".into(), gp, fp, tol.contacts);
+        }
         for (i, (gb, fb)) in g.bodies.iter().zip(&f.bodies).enumerate() {
             for k in 0..3 {
                 check(

@@ -198,7 +198,7 @@ pub mod problems {
                 Contact {
                     body1,
                     body2,
-                    vertex: 0,
+                    feature: rigidref::rigid3d::collide::Feature::Vertex(0),
                     point: p,
                     frame: ContactFrame::from_normal(&normal),
                     depth: 0.0,

@@ -2,15 +2,56 @@
 //! broad phase finds. docs/contact.md §"Collision detection".
 
 use super::ground::ground_contacts;
+use super::manifold::manifold_contacts;
 use super::mesh::{MeshCollider, vertex_contacts};
 use super::vertex_contact::Contact;
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
 
+/// How body pairs are tested (the scene's `collision`). docs/contact.md §"Complete collision
+/// detection".
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum CollisionMethod {
+    /// The assignment's rule: each vertex of one mesh inside the other (default).
+    #[default]
+    Vertices,
+    /// The vertex rule plus the contact manifolds of the bodies' convex pieces, which find
+    /// edge–edge crossings and face contacts the vertex rule misses.
+    Complete,
+}
+
+impl CollisionMethod {
+    /// The scene-file value.
+    pub fn name(self) -> &'static str {
+        match self {
+            CollisionMethod::Vertices => "vertices",
+            CollisionMethod::Complete => "complete",
+        }
+    }
+}
+
 /// Finds all contacts of `bodies` (with the ground and with each other), appending them to `out`
-/// in a fixed order: ground contacts body by body, then body pairs in the broad phase's order,
-/// each pair's two directions in turn, vertices in mesh order. `colliders[i]` belongs to body i.
-pub fn detect_contacts(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut Vec<Contact>) {
+/// in a fixed order: ground contacts body by body, then body pairs in the broad phase's order;
+/// per pair the vertex rule's contacts in both directions (vertices in mesh order) and, with
+/// [`CollisionMethod::Complete`], then the manifold contacts they do not already hold (pieces in
+/// order, points in parry's order). `colliders[i]` belongs to body i.
+pub fn detect_contacts(
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    method: CollisionMethod,
+    out: &mut Vec<Contact>,
+) {
     out.clear();
     for (i, body) in bodies.iter().enumerate() {
         ground_contacts(i, body, out);
@@ -21,7 +62,11 @@ pub fn detect_contacts(bodies: &[RigidBody], colliders: &[MeshCollider], out: &m
         .map(|(b, c)| c.world_aabb(b))
         .collect();
     for (i, j) in overlapping_pairs(&boxes) {
+        let pair_start = out.len();
         vertex_contacts(i, &bodies[i], j, &bodies[j], &colliders[j], out);
         vertex_contacts(j, &bodies[j], i, &bodies[i], &colliders[i], out);
+        if method == CollisionMethod::Complete {
+            manifold_contacts((i, j), bodies, colliders, pair_start, out);
+        }
     }
 }

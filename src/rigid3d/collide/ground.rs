@@ -1,6 +1,6 @@
 //! Contacts with the ground plane y = 0. docs/contact.md §"Ground contacts".
 
-use super::vertex_contact::Contact;
+use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::contact::ContactFrame;
 use nalgebra::Vector3;
@@ -15,7 +15,7 @@ pub fn ground_contacts(index: usize, body: &RigidBody, out: &mut Vec<Contact>) {
             out.push(Contact {
                 body1: index,
                 body2: None,
-                vertex,
+                feature: Feature::Vertex(vertex),
                 point,
                 frame,
                 depth: -point.y,

@@ -2,7 +2,8 @@
 //! parry3d's bounding-volume hierarchy. docs/contact.md §"Mesh contacts".
 
 use super::closest_point::SignedDistance;
-use super::vertex_contact::Contact;
+use super::pieces::ConvexPieces;
+use super::vertex_contact::{Contact, Feature};
 use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::contact::ContactFrame;
@@ -25,6 +26,8 @@ pub struct MeshCollider {
     local_box: Aabb,
     radius: f64,
     mesh: std::sync::Arc<TriMesh>,
+    /// The mesh's convex pieces (`collision: complete` and the penetration measure).
+    pub pieces: std::sync::Arc<ConvexPieces>,
 }
 
 impl std::fmt::Debug for MeshCollider {
@@ -48,6 +51,16 @@ impl MeshCollider {
     /// Prepares `mesh` (body frame, closed and outward-oriented, as scene loading checks).
     /// Fails only for a mesh parry cannot build (no triangles, or a topology it rejects).
     pub fn new(mesh: std::sync::Arc<TriMesh>) -> Result<MeshCollider, String> {
+        let pieces = std::sync::Arc::new(ConvexPieces::of_mesh(&mesh)?);
+        Self::with_pieces(mesh, pieces)
+    }
+
+    /// Prepares `mesh` with its convex pieces already computed (bodies sharing a mesh share
+    /// them; the decomposition of a non-convex mesh takes a while).
+    pub fn with_pieces(
+        mesh: std::sync::Arc<TriMesh>,
+        pieces: std::sync::Arc<ConvexPieces>,
+    ) -> Result<MeshCollider, String> {
         let vertices = mesh.vertices.iter().map(to_parry).collect();
         let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
         let shape = ParryTriMesh::with_flags(vertices, indices, TriMeshFlags::ORIENTED)
@@ -58,6 +71,7 @@ impl MeshCollider {
             local_box,
             radius: mesh.bounding_radius(),
             mesh,
+            pieces,
         })
     }
 
@@ -118,7 +132,7 @@ pub fn vertex_contacts(
             out.push(Contact {
                 body1: i,
                 body2: Some(j),
-                vertex,
+                feature: Feature::Vertex(vertex),
                 point,
                 frame: ContactFrame::from_normal(&normal),
                 depth: -sd.distance,

@@ -8,7 +8,12 @@
 //!   worth testing;
 //! - [`mesh`]: the vertices of each body of a pair against the other body's surface (signed
 //!   distance through parry3d's bounding-volume hierarchy), both directions;
-//! - [`closest_point`]: the brute-force oracle that tests hold [`mesh`] against.
+//! - [`closest_point`]: the brute-force oracle that tests hold [`mesh`] against;
+//! - [`pieces`]: each mesh as convex pieces (itself when convex, else a convex decomposition);
+//! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
+//!   vertex rule misses (edge–edge crossings, faces on faces);
+//! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, and
+//!   [`sat`], its brute-force oracle.
 //!
 //! A contact always has the vertex owner as body 1 and the body it penetrates (or the ground) as
 //! body 2, so the normal (out of body 2) is the direction body 1 must move to separate.
@@ -16,9 +21,13 @@
 pub mod closest_point;
 pub mod detect;
 pub mod ground;
+pub mod manifold;
 pub mod mesh;
+pub mod penetration;
+pub mod pieces;
+pub mod sat;
 pub mod vertex_contact;
 
-pub use detect::detect_contacts;
+pub use detect::{CollisionMethod, detect_contacts};
 pub use mesh::MeshCollider;
-pub use vertex_contact::Contact;
+pub use vertex_contact::{Contact, Feature};

@@ -7,6 +7,7 @@ use crate::common::scene_json::SceneError;
 use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
+use crate::rigid3d::collide::CollisionMethod;
 use crate::solve::ContactOrder;
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
@@ -43,6 +44,7 @@ pub(super) struct SimParametersJson {
     pgs_tolerance: Option<Positive>,
     pgs_order: Option<ContactOrder>,
     pgs_seed: Option<u64>,
+    collision: Option<CollisionMethod>,
 }
 
 impl SimParametersJson {
@@ -69,6 +71,7 @@ impl SimParametersJson {
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
             pgs_order: self.pgs_order.unwrap_or_default(),
             pgs_seed: self.pgs_seed.unwrap_or(0),
+            collision: self.collision.unwrap_or_default(),
         }
     }
 }

@@ -2,6 +2,7 @@
 
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
+use crate::rigid3d::collide::CollisionMethod;
 use crate::solve::ContactOrder;
 use nalgebra::Vector3;
 
@@ -46,6 +47,8 @@ pub struct SimParameters {
     pub pgs_order: ContactOrder,
     /// `pgs_seed`: seed of the random contact order (default 0).
     pub pgs_seed: u64,
+    /// `collision`: `vertices` (default, the assignment's) or `complete`.
+    pub collision: CollisionMethod,
 }
 
 /// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough

@@ -237,6 +237,32 @@ pub fn compare(scene: &Scene, ours: &Trajectory, theirs: &Trajectory) -> Vec<Obs
             });
             if ok { 1.0 } else { 0.0 }
         };
+        if all_rest(ours) && all_rest(theirs) {
+            let size = scene
+                .bodies
+                .iter()
+                .map(|d| {
+                    let b = crate::common::broad::Aabb::around(d.mesh.vertices.iter().copied());
+                    let side = b.max - b.min;
+                    side.x.min(side.y).min(side.z)
+                })
+                .fold(f64::INFINITY, f64::min);
+            let height = |t: &Trajectory, i: usize| t.states[last][i].x.y;
+            let worst = (0..scene.bodies.len())
+                .max_by(|&i, &j| {
+                    let d = |k| (height(ours, k) - height(theirs, k)).abs();
+                    d(i).total_cmp(&d(j))
+                })
+                .unwrap_or(0);
+            out.push(observable(
+                "rest height, the body differing most",
+                "m",
+                (height(ours, worst), height(theirs, worst)),
+                None,
+                Some(0.02 * size),
+                "within 2% of the smallest body's size: rigidref rests each contact up to the stabilisation slop (5 mm) deep, rapier on its contact skin, and a stack adds the differences up",
+            ));
+        }
         out.push(observable(
             "stack standing at the end (1 = yes)",
             "",

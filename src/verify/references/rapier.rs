@@ -1,12 +1,14 @@
 //! A rapier3d mirror of a scene: the behavioural reference. docs/verification.md §"rapier3d".
 //!
 //! The same bodies (mass and inertia from the body files, set explicitly; colliders from the same
-//! OBJ: its convex hull when the mesh is convex, else the triangle mesh itself), the ground as a
+//! OBJ as the same convex pieces `collision: complete` uses: the mesh's hull when it is convex,
+//! else a compound of the pieces of its convex decomposition), the ground as a
 //! half-space y ≥ 0... below, gravity, frame step dt, friction μ (combined as the minimum, so
 //! body–ground and body–body pairs both get μ), restitution 0 and no damping. rapier integrates
 //! with its own substepped soft (TGS) solver and its own contact generation, so trajectories are
 //! compared through observables with documented tolerances, never state by state.
 
+use crate::rigid3d::collide::pieces::ConvexPieces;
 use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
@@ -59,17 +61,23 @@ fn from_rotation(q: &Rotation) -> Matrix3<f64> {
     ])
 }
 
-/// A collider for `mesh`: its convex hull if the mesh is convex (within 1e-6 of its size), else
-/// the triangle mesh (rapier's trimesh is a surface, fine against the ground and convex bodies).
+/// A collider for `mesh`: its convex pieces (docs/contact.md §"Convex pieces"), as one convex
+/// polyhedron when the mesh is convex and as a compound of them otherwise.
 fn collider(mesh: &TriMesh) -> Result<ColliderBuilder, String> {
-    let points: Vec<Vector> = mesh.vertices.iter().map(vector).collect();
-    if mesh.is_convex(1e-6 * mesh.bounding_radius()) {
-        ColliderBuilder::convex_hull(&points)
-            .ok_or_else(|| "rapier could not build the convex hull".to_string())
+    let pieces = ConvexPieces::of_mesh(mesh)?;
+    let mut shapes: Vec<SharedShape> = pieces
+        .pieces
+        .iter()
+        .map(|p| SharedShape::new(p.shape.clone()))
+        .collect();
+    if shapes.len() == 1 {
+        Ok(ColliderBuilder::new(shapes.remove(0)))
     } else {
-        let indices = mesh.triangles.iter().map(|t| t.map(|i| i as u32)).collect();
-        ColliderBuilder::trimesh(points, indices)
-            .map_err(|e| format!("rapier could not build the triangle mesh: {e:?}"))
+        let parts = shapes
+            .into_iter()
+            .map(|s| (rapier3d_f64::math::Pose::IDENTITY, s))
+            .collect();
+        Ok(ColliderBuilder::compound(parts))
     }
 }
 

@@ -525,3 +525,39 @@ fn bad_command_line_values_are_errors() {
     assert_eq!(out.status.code(), Some(1));
     assert!(error_line(&out).contains("/no/such/scene.json"));
 }
+
+#[test]
+fn unknown_collision_method_is_rejected_naming_the_allowed_values() {
+    expect_error(
+        &scene_with("\"substeps\": 1", "\"collision\": \"exact\""),
+        "s.json:2:",
+        &[
+            "collision",
+            "unknown variant `exact`",
+            "vertices",
+            "complete",
+        ],
+    );
+    // The same value from the command line is refused the same way.
+    let case = Case::new(GOOD_SCENE);
+    let out = Command::new(common::rigidref_bin())
+        .args([
+            "run",
+            "--steps",
+            "1",
+            "--quiet",
+            "--set",
+            "collision=exact",
+            "--out",
+        ])
+        .arg(case.path("trace.jsonl"))
+        .arg(case.path("scenes/s.json"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out);
+    assert!(
+        line.contains("collision") && line.contains("vertices") && line.contains("complete"),
+        "{line}"
+    );
+}

@@ -67,13 +67,22 @@ fn trace_lines_have_the_documented_keys() {
             "substeps",
             "gravity",
             "integrator",
+            "collision",
             "bodies"
         ]
     );
     assert_eq!(keys(&lines[0]["bodies"][0]), ["name", "mass"]);
     assert_eq!(
         keys(&lines[1]),
-        ["step", "t", "bodies", "energy", "momentum", "contacts"]
+        [
+            "step",
+            "t",
+            "bodies",
+            "energy",
+            "momentum",
+            "contacts",
+            "penetration"
+        ]
     );
     assert_eq!(keys(&lines[1]["bodies"][0]), ["x", "R", "v", "omega"]);
     assert_eq!(
@@ -785,4 +794,62 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
         }
     }
     assert!(tried > 70, "only {tried} options tried");
+}
+
+/// A run that loses contacts says so: one warning per pair, naming the step, the bodies and the
+/// depth, and pointing to `collision: complete`; the summary's deepest penetration is the
+/// measured one (docs/contact.md §"Penetration measure"). With `complete`, no warning.
+#[test]
+fn vertex_rule_run_warns_about_interpenetration_naming_pair_and_step() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/cube_stack.json");
+    let scene = scene.to_str().unwrap();
+    let out = rigidref(
+        &[
+            "run",
+            scene,
+            "--time",
+            "1",
+            "--set",
+            "collision=vertices",
+            "--out",
+            "t.jsonl",
+        ],
+        tmp.path(),
+    );
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("warning:"))
+        .collect();
+    assert_eq!(warnings.len(), 6, "{stderr}");
+    assert!(
+        warnings[0].starts_with("warning: step 16 (t = 0.16 s): body 0 (\"box (level 1)\") and body 1 (\"box (level 2)\") interpenetrate by 0.13"),
+        "{}",
+        warnings[0]
+    );
+    assert!(
+        warnings
+            .iter()
+            .all(|w| w.contains("`collision: complete` (or --set collision=complete) finds them"))
+    );
+    let summary = stderr.lines().find(|l| l.starts_with("contacts")).unwrap();
+    assert!(summary.contains("deepest penetration 5.0"), "{summary}");
+    assert!(
+        summary.contains("measured between the bodies; deepest contact found"),
+        "{summary}"
+    );
+    // The trace records the measure after every step.
+    let trace = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
+    let last: serde_json::Value = serde_json::from_str(trace.lines().last().unwrap()).unwrap();
+    assert!(last["penetration"].as_f64().unwrap() > 0.4);
+
+    let out = rigidref(
+        &["run", scene, "--time", "1", "--out", "t.jsonl"],
+        tmp.path(),
+    );
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("warning:"), "{stderr}");
 }

@@ -92,7 +92,7 @@ fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
         let below: Vec<usize> = (0..mesh.vertices.len())
             .filter(|&i| (body.x + body.rotation * mesh.vertices[i]).y < 0.0)
             .collect();
-        prop_assert_eq!(contacts.iter().map(|c| c.vertex).collect::<Vec<_>>(), below);
+        prop_assert_eq!(contacts.iter().map(|c| c.vertex().unwrap()).collect::<Vec<_>>(), below);
         for c in &contacts {
             prop_assert_eq!(c.body1, 4);
             prop_assert_eq!(c.body2, None);
@@ -152,7 +152,12 @@ fn mesh_contacts_come_from_both_bodies_with_normals_out_of_body_2() {
         MeshCollider::new(mesh).unwrap(),
     ];
     let mut contacts = Vec::new();
-    detect_contacts(&[a, b], &colliders, &mut contacts);
+    detect_contacts(
+        &[a, b],
+        &colliders,
+        rigidref::rigid3d::collide::CollisionMethod::Vertices,
+        &mut contacts,
+    );
     assert!(
         !contacts.is_empty(),
         "the boxes overlap, so there are contacts"

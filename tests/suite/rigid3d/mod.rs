@@ -3,6 +3,7 @@
 
 mod assignment_scenes;
 mod collision;
+mod complete;
 mod contact_jacobian;
 mod contact_scenes;
 mod dzhanibekov;

@@ -382,3 +382,60 @@ fn crosscheck_command_reads_dumped_problem_files() {
         "{stderr}"
     );
 }
+
+/// clarabel on problems that `collision: complete` makes: its canonical scenes, whose problems
+/// hold manifold contacts (edge crossings, face corners) beside vertex contacts, some of them
+/// redundant; and the crosscheck command reports the run's measured interpenetration.
+#[test]
+fn clarabel_agrees_on_problems_from_complete_collision() {
+    use rigidref::rigid3d::collide::{CollisionMethod, Feature};
+    let root = common::project_root().join("scenes");
+    let mut with_manifold_contacts = 0;
+    for name in ["cube_stack.json", "edge_landing.json", "tee_on_box.json"] {
+        let scene = rigidref::rigid3d::scene::load_scene(&root.join(name)).unwrap();
+        assert_eq!(scene.params.collision, CollisionMethod::Complete, "{name}");
+        let mut world = rigidref::rigid3d::world::World::new(&scene).unwrap();
+        common::run(&mut world, 200, |w, k| {
+            for solve in &w.solves {
+                if !solve
+                    .contacts
+                    .iter()
+                    .any(|c| matches!(c.feature, Feature::Manifold { .. }))
+                {
+                    continue;
+                }
+                with_manifold_contacts += 1;
+                let check = check_problem(&solve.problem, &CrosscheckSettings::default()).unwrap();
+                assert!(
+                    check.residual_pgs <= 1e-10,
+                    "{name} step {k}: PGS did not converge: {check:?}"
+                );
+                let tolerance = match check.comparison {
+                    Comparison::Lambda => LAMBDA_TOLERANCE,
+                    Comparison::Objective => OBJECTIVE_TOLERANCE,
+                };
+                assert!(
+                    check.disagreement <= tolerance,
+                    "{name} step {k}: {check:?}"
+                );
+            }
+        });
+        let out = std::process::Command::new(common::rigidref_bin())
+            .args(["crosscheck", "--time", "1", "--json"])
+            .arg(root.join(name))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let depth = v["summary"]["deepest_penetration"].as_f64().unwrap();
+        assert!(depth > 0.0 && depth < 0.02, "{name}: {depth}");
+    }
+    assert!(
+        with_manifold_contacts > 300,
+        "{with_manifold_contacts} problems with manifold contacts"
+    );
+}

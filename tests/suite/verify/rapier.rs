@@ -66,6 +66,21 @@ fn five_box_stack_stands_after_five_seconds_in_both() {
 }
 
 #[test]
+fn equal_cube_stack_stands_in_both_and_rest_heights_agree() {
+    // scenes/cube_stack.json: four equal 0.5 m boxes, `collision: complete`; rapier's colliders
+    // are the same convex pieces.
+    let o = observables("cube_stack.json", 5.0);
+    let standing = find(&o, "stack standing");
+    assert_eq!((standing.rigidref, standing.rapier), (1.0, 1.0));
+    let rest = find(&o, "rest height, the body differing most");
+    // 2% of the cube's size.
+    assert!(
+        rest.passed && (rest.rigidref - rest.rapier).abs() <= 0.02 * 0.5,
+        "{rest:?}"
+    );
+}
+
+#[test]
 fn dzhanibekov_flip_period_agrees_with_rapier() {
     let o = observables("dzhanibekov.json", 25.0);
     let flip = find(&o, "Dzhanibekov flip period");
@@ -81,6 +96,7 @@ fn rapier_comparison_command_passes_on_the_documented_scenes() {
         ("sphere_drop.json", "5"),
         ("sliding_box.json", "5"),
         ("box_stack.json", "5"),
+        ("cube_stack.json", "5"),
         ("dzhanibekov.json", "25"),
     ] {
         let out = std::process::Command::new(common::rigidref_bin())

@@ -1,0 +1,102 @@
+//! `collision: complete`: the contacts the vertex rule misses, from contact manifolds between the
+//! two bodies' convex pieces (parry3d: the penetration direction by GJK/EPA, then the two
+//! pieces' supporting faces, edges or vertices clipped against each other). docs/contact.md
+//! §"Complete collision detection".
+
+use super::mesh::MeshCollider;
+use super::pieces::{pose, world_point, world_vector};
+use super::vertex_contact::{Contact, Feature};
+use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::contact::ContactFrame;
+use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+
+/// A manifold point whose witness lies within this fraction of the smaller body's bounding radius
+/// of a contact already found (a vertex contact, or an earlier manifold point) is that contact.
+pub const SAME_POINT_TOLERANCE: f64 = 1e-9;
+
+/// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
+/// contacts, and then these) does not already hold. Each is
+/// oriented as every contact is: body 1 = i, body 2 = j, point the witness on i's surface (inside
+/// j), n from j into i, depth −(signed distance) > 0. A manifold point is already held when its
+/// witness on i is the point of a contact of i with j, or its witness on j is the point of a
+/// contact of j with i (the vertex rule's contacts, same points within round-off).
+pub fn manifold_contacts(
+    (i, j): (usize, usize),
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    pair_start: usize,
+    out: &mut Vec<Contact>,
+) {
+    let (body_i, body_j) = (&bodies[i], &bodies[j]);
+    let (pieces_i, pieces_j) = (&colliders[i].pieces, &colliders[j].pieces);
+    let (pose_i, pose_j) = (pose(body_i), pose(body_j));
+    let pos12 = pose_i.inv_mul(&pose_j);
+    let tolerance = SAME_POINT_TOLERANCE
+        * body_i
+            .mesh
+            .bounding_radius()
+            .min(body_j.mesh.bounding_radius());
+    let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+    for (a, piece_a) in pieces_i.pieces.iter().enumerate() {
+        let box_a = piece_a.world_aabb(&pose_i);
+        for (b, piece_b) in pieces_j.pieces.iter().enumerate() {
+            if !box_a.overlaps(&piece_b.world_aabb(&pose_j)) {
+                continue;
+            }
+            manifolds.clear();
+            // A fresh manifold each time: parry's update from a previous manifold would make
+            // detection depend on history.
+            if DefaultQueryDispatcher
+                .contact_manifolds(
+                    &pos12,
+                    &piece_a.shape,
+                    &piece_b.shape,
+                    0.0,
+                    &mut manifolds,
+                    &mut None,
+                )
+                .is_err()
+            {
+                continue;
+            }
+            for manifold in &manifolds {
+                // parry's n1 points out of piece a toward piece b; ours points from j into i.
+                let n = -world_vector(&pose_i, manifold.local_n1);
+                if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
+                    continue;
+                }
+                let n = n.normalize();
+                for point in &manifold.points {
+                    // Touching or apart (or NaN): not a contact.
+                    if point.dist.is_nan() || point.dist >= -tolerance {
+                        continue;
+                    }
+                    let on_i = world_point(&pose_i, point.local_p1);
+                    let on_j = world_point(&pose_j, point.local_p2);
+                    let held = |c: &Contact| {
+                        (c.body1 == i && c.body2 == Some(j) && (c.point - on_i).norm() <= tolerance)
+                            || (c.body1 == j
+                                && c.body2 == Some(i)
+                                && (c.point - on_j).norm() <= tolerance)
+                    };
+                    if out[pair_start..].iter().any(held) {
+                        continue;
+                    }
+                    out.push(Contact {
+                        body1: i,
+                        body2: Some(j),
+                        feature: Feature::Manifold {
+                            piece1: a as u32,
+                            piece2: b as u32,
+                            feature1: point.fid1.0,
+                            feature2: point.fid2.0,
+                        },
+                        point: on_i,
+                        frame: ContactFrame::from_normal(&n),
+                        depth: -point.dist,
+                    });
+                }
+            }
+        }
+    }
+}

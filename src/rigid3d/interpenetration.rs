@@ -1,0 +1,55 @@
+//! Watching the penetration measure during a run: the deepest interpenetration seen, and one
+//! warning per pair of bodies (or body and ground) the first time it exceeds its bound.
+//! docs/contact.md §"Penetration measure".
+
+use crate::rigid3d::collide::CollisionMethod;
+use crate::rigid3d::world::World;
+use std::collections::HashSet;
+
+/// The run's interpenetration so far.
+#[derive(Clone, Debug, Default)]
+pub struct InterpenetrationWatch {
+    /// The deepest interpenetration measured after any step, m.
+    pub deepest: f64,
+    /// The step after which it was measured.
+    pub deepest_step: u64,
+    warned: HashSet<(usize, Option<usize>)>,
+}
+
+impl InterpenetrationWatch {
+    /// Looks at the world's penetration measure after a step; returns a warning for each pair
+    /// that exceeds its bound for the first time in this run.
+    pub fn observe(&mut self, world: &World) -> Vec<String> {
+        let mut warnings = Vec::new();
+        for p in &world.penetrations {
+            if p.depth > self.deepest {
+                self.deepest = p.depth;
+                self.deepest_step = world.step;
+            }
+            if !p.exceeds_bound() || !self.warned.insert((p.body1, p.body2)) {
+                continue;
+            }
+            let name = |i: usize| format!("body {i} ({:?})", world.bodies[i].name);
+            let pair = match p.body2 {
+                Some(j) => format!("{} and {}", name(p.body1), name(j)),
+                None => format!("{} and the ground", name(p.body1)),
+            };
+            let advice = match (world.params.collision, p.body2) {
+                (CollisionMethod::Vertices, Some(_)) => {
+                    "the vertex rule missed their contacts; `collision: complete` (or --set collision=complete) finds them"
+                }
+                _ => {
+                    "the contacts found did not keep them apart (too fast a body for the step, or too few PGS iterations)"
+                }
+            };
+            warnings.push(format!(
+                "warning: step {} (t = {} s): {pair} interpenetrate by {:.4} m, more than the bound {:.4} m (a quarter of the smaller body's size): {advice}",
+                world.step,
+                world.time(),
+                p.depth,
+                p.bound
+            ));
+        }
+        warnings
+    }
+}

@@ -1,0 +1,475 @@
+//! `collision: complete` and the penetration measure (docs/contact.md §"Convex pieces",
+//! §"Complete collision detection", §"Penetration measure"): equal boxes stack, edges landing on
+//! edges are caught, non-convex bodies rest, the vertex rule's contacts are all kept, and the
+//! penetration measure agrees with its separating-axis oracle.
+
+use crate::common;
+
+use nalgebra::{Matrix3, Rotation3, Vector3};
+use proptest::prelude::*;
+use rigidref::rigid3d::collide::penetration::{
+    PENETRATION_BOUND, body_size, brute_force_pair_depth, pair_depth,
+};
+use rigidref::rigid3d::collide::pieces::ConvexPieces;
+use rigidref::rigid3d::collide::{
+    CollisionMethod, Contact, Feature, MeshCollider, detect_contacts,
+};
+use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
+use rigidref::rigid3d::mesh::TriMesh;
+use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::world::World;
+use std::path::Path;
+use std::sync::Arc;
+
+/// Edge of the project's box mesh (scenes/data/box), m.
+const BOX: f64 = 0.5;
+
+fn canonical(name: &str) -> Scene {
+    load_scene(&common::project_root().join("scenes").join(name)).expect("canonical scene loads")
+}
+
+fn turn_about_y(angle: f64) -> Matrix3<f64> {
+    *Rotation3::from_axis_angle(&Vector3::y_axis(), angle).matrix()
+}
+
+/// Two project boxes: the lower resting on the ground, the upper 1 cm above it, turned `turn`
+/// about y, with the given collision method.
+fn two_boxes(turn: f64, collision: CollisionMethod) -> Scene {
+    let mut scene = canonical("edge_landing.json");
+    scene.params.collision = collision;
+    scene.bodies[0].x0 = Vector3::new(0.0, 0.249, 0.0);
+    scene.bodies[0].r0 = Matrix3::identity();
+    scene.bodies[1].x0 = Vector3::new(0.0, 0.249 + BOX + 0.01, 0.0);
+    scene.bodies[1].r0 = turn_about_y(turn);
+    scene
+}
+
+fn world(scene: &Scene) -> World {
+    World::new(scene).expect("world builds")
+}
+
+#[test]
+fn equal_cubes_stand_on_each_other_whatever_their_turn() {
+    for (turn, what) in [
+        (0.0, "aligned"),
+        (0.1, "turned 5.7°"),
+        (std::f64::consts::FRAC_PI_4, "turned 45°"),
+    ] {
+        let mut w = world(&two_boxes(turn, CollisionMethod::Complete));
+        common::run(&mut w, 500, |_, _| {});
+        let (lower, upper) = (&w.bodies[0], &w.bodies[1]);
+        // 1% of the cube's size, as the issue asks; the rest depth is set by the 5 mm slop.
+        let gap = upper.x.y - lower.x.y;
+        assert!(
+            (gap - BOX).abs() <= 0.01 * BOX,
+            "{what}: upper centre {gap} m above the lower, not {BOX}"
+        );
+        let horizontal = (upper.x - lower.x).xz().norm();
+        assert!(horizontal < 0.01 * BOX, "{what}: upper slid {horizontal} m");
+        assert!(
+            w.deepest_penetration() < 0.01 * BOX,
+            "{what}: {:?}",
+            w.penetrations
+        );
+    }
+}
+
+#[test]
+fn the_vertex_rule_lets_equal_cubes_sink_and_the_watch_names_the_pair() {
+    for (turn, what) in [
+        (0.0, "aligned"),
+        (0.1, "turned 5.7°"),
+        (std::f64::consts::FRAC_PI_4, "turned 45°"),
+    ] {
+        let mut w = world(&two_boxes(turn, CollisionMethod::Vertices));
+        let mut watch = InterpenetrationWatch::default();
+        let mut warnings = Vec::new();
+        common::run(&mut w, 500, |w, _| warnings.extend(watch.observe(w)));
+        // Today's behaviour: the upper box ends inside the lower one.
+        let gap = w.bodies[1].x.y - w.bodies[0].x.y;
+        assert!(
+            gap < 0.1 * BOX,
+            "{what}: the upper box did not sink ({gap} m)"
+        );
+        assert!(
+            watch.deepest > PENETRATION_BOUND * BOX,
+            "{what}: {}",
+            watch.deepest
+        );
+        assert_eq!(
+            warnings.len(),
+            1,
+            "{what}: one warning per pair: {warnings:?}"
+        );
+        let warning = &warnings[0];
+        for fragment in [
+            "warning: step ",
+            "body 0 (\"lower box\") and body 1",
+            "collision: complete",
+        ] {
+            assert!(warning.contains(fragment), "{what}: {warning}");
+        }
+    }
+}
+
+#[test]
+fn the_vertex_rule_lets_the_stack_and_the_edge_landing_sink_and_warns() {
+    for (file, pairs) in [("cube_stack.json", 6), ("edge_landing.json", 1)] {
+        let mut scene = canonical(file);
+        scene.params.collision = CollisionMethod::Vertices;
+        let mut w = world(&scene);
+        let mut watch = InterpenetrationWatch::default();
+        let mut warnings = Vec::new();
+        common::run(&mut w, 500, |w, _| warnings.extend(watch.observe(w)));
+        assert!(
+            watch.deepest > PENETRATION_BOUND * BOX,
+            "{file}: {}",
+            watch.deepest
+        );
+        // One warning per pair that went too deep: every pair of the stack ends in a heap.
+        assert_eq!(warnings.len(), pairs, "{file}: {warnings:?}");
+        assert!(
+            warnings.iter().all(|w| w.contains("collision: complete")),
+            "{warnings:?}"
+        );
+    }
+}
+
+#[test]
+fn a_stack_of_four_equal_cubes_stands_for_ten_seconds() {
+    let scene = canonical("cube_stack.json");
+    assert_eq!(scene.params.collision, CollisionMethod::Complete);
+    assert_eq!(scene.bodies.len(), 4);
+    let start: Vec<Vector3<f64>> = scene.bodies.iter().map(|b| b.x0).collect();
+    let mut w = world(&scene);
+    let mut worst = 0.0_f64;
+    common::run(&mut w, 1000, |w, _| {
+        for (b, x0) in w.bodies.iter().zip(&start) {
+            worst = worst.max((b.x - x0).norm());
+        }
+    });
+    // 2% of the cube's size, as the issue asks.
+    assert!(worst <= 0.02 * BOX, "a centre moved {worst} m");
+}
+
+#[test]
+fn an_edge_landing_across_an_edge_ends_separated() {
+    let scene = canonical("edge_landing.json");
+    assert_eq!(scene.params.collision, CollisionMethod::Complete);
+    let mut w = world(&scene);
+    let mut first_pair_contacts: Option<Vec<Contact>> = None;
+    let mut deepest = 0.0_f64;
+    common::run(&mut w, 500, |w, k| {
+        for p in &w.penetrations {
+            assert!(!p.exceeds_bound(), "step {k}: {p:?}");
+            deepest = deepest.max(p.depth);
+        }
+        if first_pair_contacts.is_none() {
+            let between: Vec<Contact> = w
+                .solves
+                .iter()
+                .flat_map(|s| s.contacts.iter().copied())
+                .filter(|c| c.body2.is_some())
+                .collect();
+            if !between.is_empty() {
+                first_pair_contacts = Some(between);
+            }
+        }
+    });
+    // The upper box's lowest edge (along x, over x ∈ [0, 0.5]) lands across the lower box's top
+    // edge x = 0.25: the first contacts include the crossing of the two edges, at
+    // (0.25, 0.499, 0), which no vertex marks and only the manifold finds. (The vertex rule
+    // sees only the edge's end over the face, and the other end then falls into the box.)
+    let first = first_pair_contacts.expect("the boxes touched");
+    let crossing = Vector3::new(0.25, 0.499, 0.0);
+    assert!(
+        first
+            .iter()
+            .any(|c| matches!(c.feature, Feature::Manifold { .. })
+                && (c.point - crossing).norm() < 0.01),
+        "{first:?}"
+    );
+    // It tipped off the lower box and lies on the ground beside it.
+    let (lower, upper) = (&w.bodies[0], &w.bodies[1]);
+    assert!(
+        upper.x.y < 0.3 && (upper.x - lower.x).xz().norm() > BOX,
+        "{upper:?}"
+    );
+    let pair = w.penetrations.iter().find(|p| p.body2.is_some());
+    assert!(pair.is_none(), "still interpenetrating: {pair:?}");
+    println!("edge landing: deepest interpenetration {deepest:.4} m");
+}
+
+/// The assignment's `thing` (a bar with a post: non-convex) resting bar-down on the
+/// assignment's cube, 1 cm above it at the start.
+fn thing_on_cube(data: &Path) -> Scene {
+    // The scene is read whole (meshes included), so the folder may go when this returns.
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    std::fs::create_dir_all(dir.join("scenes")).unwrap();
+    std::os::unix::fs::symlink(data, dir.join("data")).unwrap();
+    let text = r#"{"sim_parameters": [{"name": "thing on cube", "dt": 0.01, "gravity": [0, -9.8, 0],
+        "mu": 0.5, "collision": "complete"}],
+      "bodies": [{"name": "cube", "file_root": "data/cube", "x0": [0, 1, 0]},
+                 {"name": "thing", "file_root": "data/thing", "x0": [0, 3, 0]}]}"#;
+    std::fs::write(dir.join("scenes/s.json"), text).unwrap();
+    let mut scene = load_scene(&dir.join("scenes/s.json")).unwrap();
+    let lowest = scene.bodies[1]
+        .mesh
+        .vertices
+        .iter()
+        .map(|v| v.y)
+        .fold(f64::INFINITY, f64::min);
+    scene.bodies[1].x0.y = 2.0 + 0.01 - lowest;
+    scene.bodies[1].r0 = turn_about_y(0.3);
+    scene
+}
+
+#[test]
+fn the_thing_rests_on_a_cube() {
+    let mut scenes = vec![("tee on box", canonical("tee_on_box.json"))];
+    if let Some(dir) = common::rigid3d_assignment() {
+        scenes.push(("thing on cube", thing_on_cube(&dir.join("data"))));
+    }
+    for (what, scene) in scenes {
+        let mut w = world(&scene);
+        assert!(
+            !w.colliders()[1].pieces.convex,
+            "{what}: the body is non-convex"
+        );
+        common::run(&mut w, 500, |_, _| {});
+        let start = scene.bodies[1].x0;
+        let moved = (w.bodies[1].x - start).norm();
+        // It starts at most 1 cm above its support and must end resting on it, not in it.
+        assert!(moved < 0.015, "{what}: moved {moved} m");
+        assert!(
+            w.bodies[1].v.norm() < 1e-2,
+            "{what}: still moving {:?}",
+            w.bodies[1].v
+        );
+        let size = body_size(&w.bodies[1]);
+        assert!(
+            w.deepest_penetration() < 0.05 * size,
+            "{what}: {:?}",
+            w.penetrations
+        );
+    }
+}
+
+#[test]
+fn convex_pieces_cover_each_mesh_within_the_documented_volume_error() {
+    let data = common::project_root().join("scenes/data");
+    let mut meshes: Vec<(String, TriMesh)> = ["ball", "block", "box", "brick", "slab", "tee"]
+        .iter()
+        .map(|m| {
+            (
+                m.to_string(),
+                TriMesh::load_obj(&data.join(format!("{m}.obj"))).unwrap(),
+            )
+        })
+        .collect();
+    if let Some(dir) = common::rigid3d_assignment() {
+        for m in ["brick", "cube", "sphere", "thing"] {
+            let path = dir.join(format!("data/{m}.obj"));
+            meshes.push((format!("assignment {m}"), TriMesh::load_obj(&path).unwrap()));
+        }
+    }
+    for (name, mesh) in meshes {
+        let pieces = ConvexPieces::of_mesh(&mesh).unwrap();
+        let non_convex = name.ends_with("tee") || name.ends_with("thing");
+        assert_eq!(pieces.convex, !non_convex, "{name}");
+        if pieces.convex {
+            assert_eq!(pieces.pieces.len(), 1, "{name}");
+            let volume = mesh.topology().signed_volume;
+            assert!(
+                (pieces.pieces[0].volume() - volume).abs() <= 1e-9 * volume,
+                "{name}"
+            );
+        } else {
+            // docs/contact.md §"Convex pieces": the bar and the post, within 2% in volume.
+            assert!(
+                pieces.pieces.len() >= 2,
+                "{name}: {} pieces",
+                pieces.pieces.len()
+            );
+            assert!(
+                pieces.volume_error.abs() <= 0.02,
+                "{name}: {}",
+                pieces.volume_error
+            );
+            println!(
+                "{name}: {} pieces, volume error {:+.4}",
+                pieces.pieces.len(),
+                pieces.volume_error
+            );
+        }
+        // Every vertex of the mesh lies in some piece (within round-off).
+        for v in &mesh.vertices {
+            let inside = pieces.pieces.iter().any(|p| {
+                p.normals.iter().all(|n| {
+                    let support = p
+                        .vertices
+                        .iter()
+                        .map(|q| n.dot(q))
+                        .fold(f64::NEG_INFINITY, f64::max);
+                    n.dot(v) <= support + 1e-9
+                })
+            });
+            assert!(inside, "{name}: vertex {v:?} is in no piece");
+        }
+    }
+}
+
+/// Every assignment scene (when ../shared is present) and every canonical scene.
+fn all_scenes() -> Vec<(String, Scene)> {
+    let mut out = Vec::new();
+    if let Some(dir) = common::rigid3d_assignment() {
+        for k in 1..=7 {
+            let path = dir.join(format!("scenes/scene{k}.json"));
+            out.push((format!("scene{k}"), load_scene(&path).unwrap()));
+        }
+    }
+    for path in
+        rigidref::verify::golden::canonical_scenes(&common::project_root().join("scenes")).unwrap()
+    {
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        out.push((name, load_scene(&path).unwrap()));
+    }
+    out
+}
+
+#[test]
+fn complete_holds_every_contact_the_vertex_rule_finds() {
+    for (name, mut scene) in all_scenes() {
+        scene.params.collision = CollisionMethod::Vertices;
+        scene.params.check_collisions = true;
+        let mut w = world(&scene);
+        let (mut vertex_contacts, mut complete_contacts) = (Vec::new(), Vec::new());
+        let (mut checked, mut added) = (0usize, 0usize);
+        common::run(&mut w, 200, |w, k| {
+            if k % 10 != 0 {
+                return;
+            }
+            detect_contacts(
+                &w.bodies,
+                w.colliders(),
+                CollisionMethod::Vertices,
+                &mut vertex_contacts,
+            );
+            detect_contacts(
+                &w.bodies,
+                w.colliders(),
+                CollisionMethod::Complete,
+                &mut complete_contacts,
+            );
+            // The same contact: same bodies, vertex, point, frame and depth, bit for bit.
+            for c in &vertex_contacts {
+                assert!(
+                    complete_contacts.contains(c),
+                    "{name}, step {k}: {c:?} missing"
+                );
+            }
+            checked += vertex_contacts.len();
+            added += complete_contacts.len() - vertex_contacts.len();
+            // What complete adds are manifold contacts between bodies, never ground contacts.
+            for c in &complete_contacts[..] {
+                if !vertex_contacts.contains(c) {
+                    assert!(c.body2.is_some() && matches!(c.feature, Feature::Manifold { .. }));
+                    assert!(c.depth > 0.0 && (c.frame.n.norm() - 1.0).abs() < 1e-12);
+                }
+            }
+        });
+        println!("{name}: {checked} vertex contacts all held by complete, which adds {added}");
+    }
+}
+
+fn collider(mesh: &Arc<TriMesh>) -> MeshCollider {
+    MeshCollider::new(mesh.clone()).unwrap()
+}
+
+fn project_mesh(name: &str) -> Arc<TriMesh> {
+    let path = common::project_root().join(format!("scenes/data/{name}.obj"));
+    Arc::new(TriMesh::load_obj(&path).unwrap())
+}
+
+fn posed(
+    mesh: &Arc<TriMesh>,
+    x: Vector3<f64>,
+    axis_angle: Vector3<f64>,
+) -> rigidref::rigid3d::body::RigidBody {
+    let mut b =
+        rigidref::rigid3d::body::RigidBody::new("b", 1.0, Matrix3::identity(), mesh.clone());
+    b.x = x;
+    b.rotation = *Rotation3::new(axis_angle).matrix();
+    b
+}
+
+#[test]
+fn penetration_measure_matches_the_separating_axis_oracle() {
+    let meshes = [
+        project_mesh("box"),
+        project_mesh("ball"),
+        project_mesh("tee"),
+    ];
+    let colliders: Vec<MeshCollider> = meshes.iter().map(collider).collect();
+    let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
+    let overlapping = std::cell::Cell::new(0usize);
+    proptest!(common::seeded(300), |(
+        a in 0usize..3,
+        b in 0usize..3,
+        offset in v3(0.7),
+        turn_a in v3(3.0),
+        turn_b in v3(3.0),
+    )| {
+        let body_a = posed(&meshes[a], Vector3::zeros(), turn_a);
+        let body_b = posed(&meshes[b], offset, turn_b);
+        let fast = pair_depth(&body_a, &colliders[a], &body_b, &colliders[b]);
+        let oracle = brute_force_pair_depth(&body_a, &colliders[a], &body_b, &colliders[b]);
+        // EPA stops within about 1e-10 m of the minimum translation distance on these
+        // half-metre bodies; 1e-6 m is far below anything a contact or a warning depends on.
+        prop_assert!((fast - oracle).abs() <= 1e-6, "fast {fast}, oracle {oracle}");
+        if oracle > 0.0 {
+            overlapping.set(overlapping.get() + 1);
+        }
+    });
+    // The cases must exercise overlap, not only separation.
+    assert!(
+        overlapping.get() > 50,
+        "{} overlapping cases",
+        overlapping.get()
+    );
+}
+
+#[test]
+fn penetration_measure_is_zero_for_separated_bodies() {
+    let meshes = [
+        project_mesh("box"),
+        project_mesh("ball"),
+        project_mesh("tee"),
+    ];
+    let colliders: Vec<MeshCollider> = meshes.iter().map(collider).collect();
+    for a in 0..3 {
+        for b in 0..3 {
+            // Side by side 1 mm apart along x (bounding boxes close, bodies apart), and far apart.
+            let reach = |m: &TriMesh, sign: f64| {
+                m.vertices
+                    .iter()
+                    .map(|v| sign * v.x)
+                    .fold(f64::NEG_INFINITY, f64::max)
+            };
+            for gap in [1e-3, 10.0] {
+                let dx = reach(&meshes[a], 1.0) + reach(&meshes[b], -1.0) + gap;
+                let body_a = posed(&meshes[a], Vector3::zeros(), Vector3::zeros());
+                let body_b = posed(&meshes[b], Vector3::new(dx, 0.0, 0.0), Vector3::zeros());
+                assert_eq!(
+                    pair_depth(&body_a, &colliders[a], &body_b, &colliders[b]),
+                    0.0
+                );
+                assert_eq!(
+                    brute_force_pair_depth(&body_a, &colliders[a], &body_b, &colliders[b]),
+                    0.0
+                );
+            }
+        }
+    }
+}
