@@ -18,7 +18,8 @@ pub struct InterpenetrationWatch {
 
 impl InterpenetrationWatch {
     /// Looks at the world's penetration measure after a step; returns a warning for each pair
-    /// that exceeds its bound for the first time in this run.
+    /// that exceeds its bound for the first time in this run. A run without collision checking
+    /// (`check_collisions: false`) asked for bodies to pass through each other: it gets none.
     pub fn observe(&mut self, world: &World) -> Vec<String> {
         let mut warnings = Vec::new();
         for p in &world.penetrations {
@@ -26,7 +27,10 @@ impl InterpenetrationWatch {
                 self.deepest = p.depth;
                 self.deepest_step = world.step;
             }
-            if !p.exceeds_bound() || !self.warned.insert((p.body1, p.body2)) {
+            if !world.params.check_collisions
+                || !p.exceeds_bound()
+                || !self.warned.insert((p.body1, p.body2))
+            {
                 continue;
             }
             let name = |i: usize| format!("body {i} ({:?})", world.bodies[i].name);

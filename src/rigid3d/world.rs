@@ -15,9 +15,10 @@
 
 use crate::rigid3d::assemble::{ProblemSettings, assemble_problem};
 use crate::rigid3d::body::RigidBody;
-use crate::rigid3d::collide::penetration::{Penetration, penetrations};
+use crate::rigid3d::collide::detect::Detector;
+use crate::rigid3d::collide::penetration::Penetration;
 use crate::rigid3d::collide::pieces::ConvexPieces;
-use crate::rigid3d::collide::{Contact, MeshCollider, detect_contacts};
+use crate::rigid3d::collide::{Contact, MeshCollider};
 use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
@@ -42,6 +43,7 @@ pub struct World {
     /// The interpenetrating pairs after the last frame (the penetration measure).
     pub penetrations: Vec<Penetration>,
     colliders: Vec<MeshCollider>,
+    detector: Detector,
     warm_start: WarmStart,
     workspace: PgsWorkspace<6, 3>,
     contact_buffer: Vec<Contact>,
@@ -95,6 +97,7 @@ impl World {
             solves: Vec::new(),
             penetrations: Vec::new(),
             colliders,
+            detector: Detector::default(),
             warm_start: WarmStart::new(scene.params.warm_start),
             workspace: PgsWorkspace::new(scene.params.pgs_seed),
             contact_buffer: Vec::new(),
@@ -110,7 +113,8 @@ impl World {
 
     /// Re-measures [`World::penetrations`] for the current state.
     pub fn measure_penetration(&mut self) {
-        penetrations(&self.bodies, &self.colliders, &mut self.penetrations);
+        self.detector
+            .penetrations(&self.bodies, &self.colliders, &mut self.penetrations);
     }
 
     /// The deepest interpenetration of any pair now, m (0 when none).
@@ -147,7 +151,7 @@ impl World {
     /// only. Records the solve in `solves` when there were contacts.
     fn process_contacts(&mut self, substep: u32) {
         let mut contacts = std::mem::take(&mut self.contact_buffer);
-        detect_contacts(
+        self.detector.detect(
             &self.bodies,
             &self.colliders,
             self.params.collision,

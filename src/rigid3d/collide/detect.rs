@@ -4,9 +4,11 @@
 use super::ground::ground_contacts;
 use super::manifold::manifold_contacts;
 use super::mesh::{MeshCollider, vertex_contacts};
+use super::penetration::Penetration;
 use super::vertex_contact::Contact;
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
+use parry3d_f64::query::ContactManifold;
 
 /// How body pairs are tested (the scene's `collision`). docs/contact.md §"Complete collision
 /// detection".
@@ -41,32 +43,68 @@ impl CollisionMethod {
     }
 }
 
-/// Finds all contacts of `bodies` (with the ground and with each other), appending them to `out`
-/// in a fixed order: ground contacts body by body, then body pairs in the broad phase's order;
-/// per pair the vertex rule's contacts in both directions (vertices in mesh order) and, with
-/// [`CollisionMethod::Complete`], then the manifold contacts they do not already hold (pieces in
-/// order, points in parry's order). `colliders[i]` belongs to body i.
+/// Collision detection's reusable buffers: the bodies' world boxes and parry's contact
+/// manifold, kept from call to call so that detection allocates nothing once warmed up.
+#[derive(Clone, Debug, Default)]
+pub struct Detector {
+    boxes: Vec<Aabb>,
+    manifold: ContactManifold<(), ()>,
+}
+
+impl Detector {
+    /// Finds all contacts of `bodies` (with the ground and with each other), replacing `out`, in
+    /// a fixed order: ground contacts body by body, then body pairs in the broad phase's order;
+    /// per pair the vertex rule's contacts in both directions (vertices in mesh order) and, with
+    /// [`CollisionMethod::Complete`], then the manifold contacts they do not already hold
+    /// (pieces in order, points in parry's order). `colliders[i]` belongs to body i.
+    pub fn detect(
+        &mut self,
+        bodies: &[RigidBody],
+        colliders: &[MeshCollider],
+        method: CollisionMethod,
+        out: &mut Vec<Contact>,
+    ) {
+        out.clear();
+        for (i, body) in bodies.iter().enumerate() {
+            ground_contacts(i, body, out);
+        }
+        MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
+        for (i, j) in overlapping_pairs(&self.boxes) {
+            let pair_start = out.len();
+            vertex_contacts(i, &bodies[i], j, &bodies[j], &colliders[j], out);
+            vertex_contacts(j, &bodies[j], i, &bodies[i], &colliders[i], out);
+            if method == CollisionMethod::Complete {
+                manifold_contacts(
+                    (i, j),
+                    bodies,
+                    colliders,
+                    pair_start,
+                    &mut self.manifold,
+                    out,
+                );
+            }
+        }
+    }
+
+    /// Every interpenetrating pair ([`super::penetration::penetrations`]), with this detector's
+    /// box buffer.
+    pub fn penetrations(
+        &mut self,
+        bodies: &[RigidBody],
+        colliders: &[MeshCollider],
+        out: &mut Vec<Penetration>,
+    ) {
+        MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
+        super::penetration::penetrations_in(bodies, colliders, &self.boxes, out);
+    }
+}
+
+/// [`Detector::detect`] with fresh buffers (for one-off queries and tests).
 pub fn detect_contacts(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     method: CollisionMethod,
     out: &mut Vec<Contact>,
 ) {
-    out.clear();
-    for (i, body) in bodies.iter().enumerate() {
-        ground_contacts(i, body, out);
-    }
-    let boxes: Vec<Aabb> = bodies
-        .iter()
-        .zip(colliders)
-        .map(|(b, c)| c.world_aabb(b))
-        .collect();
-    for (i, j) in overlapping_pairs(&boxes) {
-        let pair_start = out.len();
-        vertex_contacts(i, &bodies[i], j, &bodies[j], &colliders[j], out);
-        vertex_contacts(j, &bodies[j], i, &bodies[i], &colliders[i], out);
-        if method == CollisionMethod::Complete {
-            manifold_contacts((i, j), bodies, colliders, pair_start, out);
-        }
-    }
+    Detector::default().detect(bodies, colliders, method, out);
 }

@@ -8,7 +8,9 @@ use super::pieces::{pose, world_point, world_vector};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::contact::ContactFrame;
-use parry3d_f64::query::{ContactManifold, DefaultQueryDispatcher, PersistentQueryDispatcher};
+use parry3d_f64::math::Vector as PVector;
+use parry3d_f64::query::ContactManifold;
+use parry3d_f64::query::details::contact_manifold_pfm_pfm;
 
 /// A manifold point whose witness lies within this fraction of the smaller body's bounding radius
 /// of a contact already found (a vertex contact, or an earlier manifold point) is that contact.
@@ -17,85 +19,88 @@ pub const SAME_POINT_TOLERANCE: f64 = 1e-9;
 /// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
 /// contacts, and then these) does not already hold. Each is
 /// oriented as every contact is: body 1 = i, body 2 = j, point the witness on i's surface (inside
-/// j), n from j into i, depth −(signed distance) > 0. A manifold point is already held when its
-/// witness on i is the point of a contact of i with j, or its witness on j is the point of a
-/// contact of j with i (the vertex rule's contacts, same points within round-off).
+/// j), n from j into i, depth −(signed distance) > 0. A manifold point is already held when a
+/// contact of i with j has its witness on i as point, or a contact of j with i its witness on j,
+/// with the same depth and the same line of action (within round-off): the vertex rule's
+/// contact, or an earlier manifold point. A vertex whose nearest face is not the manifold's
+/// direction gives two contacts at one point, one per normal.
 pub fn manifold_contacts(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pair_start: usize,
+    manifold: &mut ContactManifold<(), ()>,
     out: &mut Vec<Contact>,
 ) {
     let (body_i, body_j) = (&bodies[i], &bodies[j]);
     let (pieces_i, pieces_j) = (&colliders[i].pieces, &colliders[j].pieces);
     let (pose_i, pose_j) = (pose(body_i), pose(body_j));
     let pos12 = pose_i.inv_mul(&pose_j);
-    let tolerance = SAME_POINT_TOLERANCE
-        * body_i
-            .mesh
-            .bounding_radius()
-            .min(body_j.mesh.bounding_radius());
-    let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
+    let tolerance = SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius());
     for (a, piece_a) in pieces_i.pieces.iter().enumerate() {
         let box_a = piece_a.world_aabb(&pose_i);
         for (b, piece_b) in pieces_j.pieces.iter().enumerate() {
             if !box_a.overlaps(&piece_b.world_aabb(&pose_j)) {
                 continue;
             }
-            manifolds.clear();
-            // A fresh manifold each time: parry's update from a previous manifold would make
-            // detection depend on history.
-            if DefaultQueryDispatcher
-                .contact_manifolds(
-                    &pos12,
-                    &piece_a.shape,
-                    &piece_b.shape,
-                    0.0,
-                    &mut manifolds,
-                    &mut None,
-                )
-                .is_err()
-            {
+            // A fresh manifold each time (its buffer reused): no points and no normal, so that
+            // parry neither updates the previous manifold nor starts GJK from its normal, which
+            // would make detection depend on history.
+            manifold.points.clear();
+            manifold.local_n1 = PVector::ZERO;
+            manifold.local_n2 = PVector::ZERO;
+            contact_manifold_pfm_pfm(
+                &pos12,
+                &piece_a.shape,
+                0.0,
+                None,
+                &piece_b.shape,
+                0.0,
+                None,
+                0.0,
+                manifold,
+            );
+            // parry's n1 points out of piece a toward piece b; ours points from j into i.
+            let n = -world_vector(&pose_i, manifold.local_n1);
+            if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
                 continue;
             }
-            for manifold in &manifolds {
-                // parry's n1 points out of piece a toward piece b; ours points from j into i.
-                let n = -world_vector(&pose_i, manifold.local_n1);
-                if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
+            let n = n.normalize();
+            for point in &manifold.points {
+                // Touching or apart (or NaN): not a contact.
+                if point.dist.is_nan() || point.dist >= -tolerance {
                     continue;
                 }
-                let n = n.normalize();
-                for point in &manifold.points {
-                    // Touching or apart (or NaN): not a contact.
-                    if point.dist.is_nan() || point.dist >= -tolerance {
-                        continue;
-                    }
-                    let on_i = world_point(&pose_i, point.local_p1);
-                    let on_j = world_point(&pose_j, point.local_p2);
-                    let held = |c: &Contact| {
-                        (c.body1 == i && c.body2 == Some(j) && (c.point - on_i).norm() <= tolerance)
-                            || (c.body1 == j
-                                && c.body2 == Some(i)
-                                && (c.point - on_j).norm() <= tolerance)
-                    };
-                    if out[pair_start..].iter().any(held) {
-                        continue;
-                    }
-                    out.push(Contact {
-                        body1: i,
-                        body2: Some(j),
-                        feature: Feature::Manifold {
-                            piece1: a as u32,
-                            piece2: b as u32,
-                            feature1: point.fid1.0,
-                            feature2: point.fid2.0,
-                        },
-                        point: on_i,
-                        frame: ContactFrame::from_normal(&n),
-                        depth: -point.dist,
-                    });
+                let on_i = world_point(&pose_i, point.local_p1);
+                let on_j = world_point(&pose_j, point.local_p2);
+                let depth = -point.dist;
+                // The same contact: the same point, depth and line of action (a vertex of
+                // j seen from i has the opposite normal).
+                let same = |c: &Contact, at: &nalgebra::Vector3<f64>, normal: f64| {
+                    (c.point - at).norm() <= tolerance
+                        && (c.depth - depth).abs() <= tolerance
+                        && c.frame.n.dot(&n) * normal >= 1.0 - 1e-9
+                };
+                let held = |c: &Contact| {
+                    (c.body1 == i && c.body2 == Some(j) && same(c, &on_i, 1.0))
+                        || (c.body1 == j && c.body2 == Some(i) && same(c, &on_j, -1.0))
+                };
+                if out[pair_start..].iter().any(held) {
+                    continue;
                 }
+                out.push(Contact {
+                    body1: i,
+                    body2: Some(j),
+                    feature: Feature::Manifold {
+                        piece1: a as u32,
+                        piece2: b as u32,
+                        feature1: point.fid1.0,
+                        feature2: point.fid2.0,
+                    },
+                    point: on_i,
+                    frame: ContactFrame::from_normal(&n),
+                    depth,
+                });
             }
         }
     }

@@ -85,6 +85,13 @@ impl MeshCollider {
         )
     }
 
+    /// The world bounding boxes of `bodies` into `out` (replaced), `colliders[i]` belonging to
+    /// body i (the broad phase's input).
+    pub fn world_boxes(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut Vec<Aabb>) {
+        out.clear();
+        out.extend(bodies.iter().zip(colliders).map(|(b, c)| c.world_aabb(b)));
+    }
+
     /// Signed distance from `p` (body frame) to the surface, through the BVH. Same meaning as
     /// [`super::closest_point::brute_force_signed_distance`].
     pub fn signed_distance(&self, p: &Vector3<f64>) -> SignedDistance {
@@ -98,6 +105,17 @@ impl MeshCollider {
             projection.is_inside,
             triangle as usize,
         )
+    }
+
+    /// The mesh's bounding radius (largest vertex distance from the body origin), m.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// The body's size: the smallest side of the mesh's bounding box in its own frame, m.
+    pub fn size(&self) -> f64 {
+        let side = self.local_box.max - self.local_box.min;
+        side.x.min(side.y).min(side.z)
     }
 
     /// Whether a body-frame point is inside this mesh's bounding box (a cheap first test).

@@ -11,6 +11,7 @@ use super::mesh::MeshCollider;
 use super::pieces::pose;
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::mesh::TriMesh;
 
 /// Interpenetration deeper than this fraction of the smaller body's size (the smallest side of
 /// its bounding box in its own frame) means contacts were missed: a quarter.
@@ -36,9 +37,14 @@ impl Penetration {
     }
 }
 
-/// The smallest side of the mesh's bounding box in its own frame, m.
+/// A body's size: the smallest side of its mesh's bounding box in its own frame, m.
 pub fn body_size(body: &RigidBody) -> f64 {
-    let b = Aabb::around(body.mesh.vertices.iter().copied());
+    mesh_size(&body.mesh)
+}
+
+/// The smallest side of a mesh's bounding box in its own frame, m.
+pub fn mesh_size(mesh: &TriMesh) -> f64 {
+    let b = Aabb::around(mesh.vertices.iter().copied());
     let side = b.max - b.min;
     side.x.min(side.y).min(side.z)
 }
@@ -99,6 +105,18 @@ pub fn brute_force_pair_depth(
 /// Every interpenetrating pair of the world, replacing `out`: bodies with the ground (body
 /// order), then body pairs whose boxes overlap (broad-phase order); only depths > 0.
 pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut Vec<Penetration>) {
+    let mut boxes = Vec::new();
+    MeshCollider::world_boxes(bodies, colliders, &mut boxes);
+    penetrations_in(bodies, colliders, &boxes, out);
+}
+
+/// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i).
+pub fn penetrations_in(
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    boxes: &[Aabb],
+    out: &mut Vec<Penetration>,
+) {
     out.clear();
     for (i, body) in bodies.iter().enumerate() {
         let depth = ground_depth(body);
@@ -107,23 +125,18 @@ pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut 
                 body1: i,
                 body2: None,
                 depth,
-                bound: PENETRATION_BOUND * body_size(body),
+                bound: PENETRATION_BOUND * colliders[i].size(),
             });
         }
     }
-    let boxes: Vec<Aabb> = bodies
-        .iter()
-        .zip(colliders)
-        .map(|(b, c)| c.world_aabb(b))
-        .collect();
-    for (i, j) in overlapping_pairs(&boxes) {
+    for (i, j) in overlapping_pairs(boxes) {
         let depth = pair_depth(&bodies[i], &colliders[i], &bodies[j], &colliders[j]);
         if depth > 0.0 {
             out.push(Penetration {
                 body1: i,
                 body2: Some(j),
                 depth,
-                bound: PENETRATION_BOUND * body_size(&bodies[i]).min(body_size(&bodies[j])),
+                bound: PENETRATION_BOUND * colliders[i].size().min(colliders[j].size()),
             });
         }
     }

@@ -60,7 +60,8 @@ pub fn pose(body: &RigidBody) -> Pose {
     Pose::from_parts(to_parry(&body.x), rotation(&body.rotation))
 }
 
-fn rotation(m: &Matrix3<f64>) -> Rotation {
+/// A rotation matrix as parry's (and rapier's) quaternion, normalised.
+pub fn rotation(m: &Matrix3<f64>) -> Rotation {
     // glam matrices are column-major.
     let cols = parry3d_f64::math::Matrix::from_cols(
         to_parry(&m.column(0).into()),

@@ -241,11 +241,7 @@ pub fn compare(scene: &Scene, ours: &Trajectory, theirs: &Trajectory) -> Vec<Obs
             let size = scene
                 .bodies
                 .iter()
-                .map(|d| {
-                    let b = crate::common::broad::Aabb::around(d.mesh.vertices.iter().copied());
-                    let side = b.max - b.min;
-                    side.x.min(side.y).min(side.z)
-                })
+                .map(|d| crate::rigid3d::collide::penetration::mesh_size(&d.mesh))
                 .fold(f64::INFINITY, f64::min);
             let height = |t: &Trajectory, i: usize| t.states[last][i].x.y;
             let worst = (0..scene.bodies.len())

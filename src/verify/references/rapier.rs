@@ -8,7 +8,7 @@
 //! with its own substepped soft (TGS) solver and its own contact generation, so trajectories are
 //! compared through observables with documented tolerances, never state by state.
 
-use crate::rigid3d::collide::pieces::ConvexPieces;
+use crate::rigid3d::collide::pieces::{ConvexPieces, rotation};
 use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
@@ -40,16 +40,6 @@ fn vector(v: &Vector3<f64>) -> Vector {
 
 fn from_vector(v: Vector) -> Vector3<f64> {
     Vector3::new(v.x, v.y, v.z)
-}
-
-fn rotation(m: &Matrix3<f64>) -> Rotation {
-    // glam matrices are column-major.
-    let cols = rapier3d_f64::math::Matrix::from_cols(
-        vector(&m.column(0).into()),
-        vector(&m.column(1).into()),
-        vector(&m.column(2).into()),
-    );
-    Rotation::from_mat3(&cols).normalize()
 }
 
 fn from_rotation(q: &Rotation) -> Matrix3<f64> {

@@ -853,3 +853,24 @@ fn vertex_rule_run_warns_about_interpenetration_naming_pair_and_step() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("warning:"), "{stderr}");
 }
+
+/// Version 2 readers accept version 1 traces (docs/trace-format.md §"Versions"): the header's
+/// `collision` is then "vertices" and the records' `penetration` absent; an unknown version is
+/// refused, naming the file and the versions read.
+#[test]
+fn version_1_traces_are_still_read() {
+    let v1 = r#"{"format":"rigidref-trace","version":1,"dimension":3,"scene":"s","source":"s.json","dt":0.01,"substeps":1,"gravity":[0.0,-9.8,0.0],"integrator":"spatial","bodies":[{"name":"b","mass":1.0}]}
+{"step":0,"t":0.0,"bodies":[{"x":[0.0,1.0,0.0],"R":[[1.0,0.0,0.0],[0.0,1.0,0.0],[0.0,0.0,1.0]],"v":[0.0,0.0,0.0],"omega":[0.0,0.0,0.0]}],"energy":{"kinetic_linear":0.0,"kinetic_angular":0.0,"potential":9.8,"total":9.8},"momentum":{"linear":[0.0,0.0,0.0],"angular":[0.0,0.0,0.0],"angular_com":[0.0,0.0,0.0]},"contacts":[]}
+"#;
+    let trace = read_trace(std::io::Cursor::new(v1), "old.jsonl").unwrap();
+    assert_eq!(trace.header.version, 1);
+    assert_eq!(trace.header.collision, "vertices");
+    assert_eq!(trace.records.len(), 1);
+    assert_eq!(trace.records[0].penetration, None);
+    let v3 = v1.replacen("\"version\":1", "\"version\":3", 1);
+    let err = read_trace(std::io::Cursor::new(v3), "new.jsonl").unwrap_err();
+    assert!(
+        err.starts_with("new.jsonl:1:") && err.contains("version 1 to 2"),
+        "{err}"
+    );
+}
