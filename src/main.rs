@@ -16,6 +16,8 @@ fn main() {
     if let Err(err) = cli::dispatch(args) {
         // One line, naming the file and what is wrong; the cause chain is joined with ": ".
         eprintln!("error: {err:#}");
-        std::process::exit(1);
+        // `compare` and `compare-problem`: 1 means the inputs differ, 2 that one is unreadable.
+        let unreadable = err.downcast_ref::<cli::Unreadable>().is_some();
+        std::process::exit(if unreadable { 2 } else { 1 });
     }
 }

@@ -3,6 +3,7 @@
 
 mod args;
 mod common;
+mod compare;
 mod contacts;
 mod contacts2d;
 mod contacts3d;
@@ -53,7 +54,15 @@ enum Command {
     Render(render::RenderArgs),
     /// Drop random bodies into a container (2D stress test), with the scaling report.
     Factory(factory::FactoryArgs),
+    /// Compare a 3D trace with the reference's, trajectory by trajectory or by outcome.
+    Compare(compare::CompareArgs),
+    /// Compare two 3D contact-problem files for the same state, up to the tangent basis.
+    CompareProblem(compare::CompareProblemArgs),
+    /// Grade a folder of submissions (traces and problem files per scene) against the reference.
+    Grade(compare::GradeArgs),
 }
+
+pub use compare::Unreadable;
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
 /// default scene).
@@ -72,6 +81,9 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Golden(args)) => golden::golden(args),
         Some(Command::Render(args)) => render::render_command(args),
         Some(Command::Factory(args)) => factory::factory(args).map(|_| ()),
+        Some(Command::Compare(args)) => compare::compare(args),
+        Some(Command::CompareProblem(args)) => compare::compare_problem(args),
+        Some(Command::Grade(args)) => compare::grade(args),
         None => run::run(cli.run),
     }
 }

@@ -3,9 +3,14 @@
 //! - [`factory`]: random bodies dropped into a 2D container (the stress test), and the Tetris tube;
 //! - [`scaling`]: PGS solve time against contacts, re-timed side by side, fitted and plotted;
 //! - [`nuts`]: where the heaviest nuts of the nut bag are (the shaking challenge);
-//! - [`render2d`]: PNG frames of a 2D world.
+//! - [`render2d`]: PNG frames of a 2D world;
+//! - [`compare`], [`compare_problem`], [`grade`]: another simulator's traces and contact
+//!   problems against the reference's, one submission or a batch (docs/grading.md).
 
+pub mod compare;
+pub mod compare_problem;
 pub mod factory;
+pub mod grade;
 pub mod nuts;
 pub mod render2d;
 pub mod scaling;

@@ -1,0 +1,703 @@
+//! Comparing a simulator's 3D trace with the reference's: trajectories (every quantity over time,
+//! aligned by time) or outcomes (what happened: first contact, rest, where and how bodies rest,
+//! energy at the end, Dzhanibekov flips). docs/grading.md.
+
+use crate::rigid3d::diagnostics::sign_changes;
+use crate::rigid3d::scene::Scene;
+use crate::rigid3d::trace::{BodyState, Trace, TraceRecord};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+
+/// Tolerances of trajectory mode, each an absolute bound on an error over time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrajectoryTolerances {
+    /// Position of a centre of mass, m.
+    pub position: f64,
+    /// Orientation: the angle of R_refᵀ R_other, rad.
+    pub angle: f64,
+    /// Velocity, m/s.
+    pub velocity: f64,
+    /// Angular velocity, rad/s.
+    pub omega: f64,
+    /// Energy terms, relative to the largest |total energy| or kinetic energy of the reference.
+    pub energy: f64,
+    /// Momenta, relative to the largest |momentum| of the reference, or to the total mass
+    /// × 1 m/s (× 1 m for angular momentum) when that is larger.
+    pub momentum: f64,
+}
+
+impl Default for TrajectoryTolerances {
+    /// 1 mm, 1 mrad, 1 mm/s, 1 mrad/s, 1e-3 relative: far above round-off and the interpolation
+    /// error of records a few frames apart, far below any modelling difference.
+    fn default() -> Self {
+        TrajectoryTolerances {
+            position: 1e-3,
+            angle: 1e-3,
+            velocity: 1e-3,
+            omega: 1e-3,
+            energy: 1e-3,
+            momentum: 1e-3,
+        }
+    }
+}
+
+/// One quantity's error over time.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct QuantityError {
+    /// What, e.g. `body 1 ("cube") position` or `energy.total`.
+    pub quantity: String,
+    /// Unit of the error.
+    pub unit: &'static str,
+    /// The largest error.
+    pub max_error: f64,
+    /// When it occurred, s.
+    pub at: f64,
+    /// The first time it exceeded the tolerance, s, if it did.
+    pub first_exceeded: Option<f64>,
+    /// The tolerance.
+    pub tolerance: f64,
+}
+
+/// The result of a comparison: every quantity's error (trajectory mode) or every observable
+/// (outcome mode), and the verdict.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Comparison {
+    /// `trajectory` or `outcome`.
+    pub mode: &'static str,
+    /// The times compared, s: from the later start to the earlier end of the two traces.
+    pub span: (f64, f64),
+    /// How the bodies were matched: `name` or `index`.
+    pub matched_by: &'static str,
+    /// Trajectory mode: the errors, in body order then system quantities.
+    pub errors: Vec<QuantityError>,
+    /// Outcome mode: the observables.
+    pub outcomes: Vec<Outcome>,
+    /// True when nothing exceeds its tolerance.
+    pub agree: bool,
+}
+
+impl Comparison {
+    /// The first failing quantity or observable, as a sentence.
+    pub fn first_failure(&self) -> Option<String> {
+        let by_time = self
+            .errors
+            .iter()
+            .filter_map(|e| e.first_exceeded.map(|t| (t, e)))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((t, e)) = by_time {
+            return Some(format!(
+                "{} exceeds {:e} {} first at t = {t} s (largest {:.3e} {} at t = {} s)",
+                e.quantity, e.tolerance, e.unit, e.max_error, e.unit, e.at
+            ));
+        }
+        self.outcomes.iter().find(|o| !o.passed).map(|o| {
+            format!(
+                "{}: reference {}, other {} (tolerance {})",
+                o.name, o.reference, o.other, o.tolerance
+            )
+        })
+    }
+}
+
+/// One observable of outcome mode.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Outcome {
+    /// What, e.g. `body 0 ("cube") rest position`.
+    pub name: String,
+    /// The reference's value, as text (a number, `never`, `yes`).
+    pub reference: String,
+    /// The other trace's value.
+    pub other: String,
+    /// The difference measured (NaN when not numeric).
+    pub difference: f64,
+    /// The tolerance, as text.
+    pub tolerance: String,
+    /// Whether the two agree.
+    pub passed: bool,
+}
+
+/// A body's state at a time, interpolated between records.
+#[derive(Clone, Copy, Debug)]
+struct State {
+    x: Vector3<f64>,
+    rotation: UnitQuaternion<f64>,
+    v: Vector3<f64>,
+    omega: Vector3<f64>,
+}
+
+fn v3(a: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+fn rotation_of(b: &BodyState) -> UnitQuaternion<f64> {
+    let m = Matrix3::from_fn(|i, j| b.rotation[i][j]);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&m))
+}
+
+fn state_of(b: &BodyState) -> State {
+    State {
+        x: v3(&b.x),
+        rotation: rotation_of(b),
+        v: v3(&b.v),
+        omega: v3(&b.omega),
+    }
+}
+
+/// The trace's records bracketing `t` and the fraction of the way from the first to the second.
+fn bracket(records: &[TraceRecord], t: f64) -> (usize, usize, f64) {
+    let k = records.partition_point(|r| r.t <= t);
+    if k == 0 {
+        return (0, 0, 0.0);
+    }
+    if k >= records.len() {
+        let last = records.len() - 1;
+        return (last, last, 0.0);
+    }
+    let (a, b) = (&records[k - 1], &records[k]);
+    if a.t == t {
+        // A record at exactly this time: itself, not an interpolation that could round.
+        return (k - 1, k - 1, 0.0);
+    }
+    let s = if b.t > a.t {
+        (t - a.t) / (b.t - a.t)
+    } else {
+        0.0
+    };
+    (k - 1, k, s)
+}
+
+/// The angle of the rotation from `a` to `b`, rad: 2 atan2(|d_xyz|, |d_w|) for d = a⁻¹ b
+/// (accurate for small angles, where acos of d_w is not); exactly 0 for equal orientations.
+fn angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
+    if a == b {
+        return 0.0;
+    }
+    let d = a.inverse() * b;
+    2.0 * d.imag().norm().atan2(d.w.abs())
+}
+
+fn lerp(a: f64, b: f64, s: f64) -> f64 {
+    a + (b - a) * s
+}
+
+/// Body `i`'s state at time `t`: linear interpolation of x, v, ω and slerp of the orientation.
+fn body_at(records: &[TraceRecord], i: usize, t: f64) -> State {
+    let (a, b, s) = bracket(records, t);
+    let (p, q) = (
+        state_of(&records[a].bodies[i]),
+        state_of(&records[b].bodies[i]),
+    );
+    if a == b {
+        return p;
+    }
+    State {
+        x: p.x.lerp(&q.x, s),
+        rotation: p.rotation.slerp(&q.rotation, s),
+        v: p.v.lerp(&q.v, s),
+        omega: p.omega.lerp(&q.omega, s),
+    }
+}
+
+/// System quantities at `t`: the energy terms and momenta, interpolated linearly.
+fn system_at(records: &[TraceRecord], t: f64) -> [f64; 13] {
+    let (a, b, s) = bracket(records, t);
+    let values = |r: &TraceRecord| {
+        let e = &r.energy;
+        let m = &r.momentum;
+        [
+            e.kinetic_linear,
+            e.kinetic_angular,
+            e.potential,
+            e.total,
+            m.linear[0],
+            m.linear[1],
+            m.linear[2],
+            m.angular[0],
+            m.angular[1],
+            m.angular[2],
+            m.angular_com[0],
+            m.angular_com[1],
+            m.angular_com[2],
+        ]
+    };
+    let (p, q) = (values(&records[a]), values(&records[b]));
+    std::array::from_fn(|k| lerp(p[k], q[k], s))
+}
+
+/// How bodies of `other` map onto the reference's: by name when both traces name the same set
+/// of bodies, else by index when they have as many. `map[i]` is the other's index of reference
+/// body i.
+pub fn match_bodies(
+    reference: &Trace,
+    other: &Trace,
+) -> Result<(Vec<usize>, &'static str), String> {
+    let (r, o) = (&reference.header.bodies, &other.header.bodies);
+    let by_name: Option<Vec<usize>> = r
+        .iter()
+        .map(|b| o.iter().position(|c| c.name == b.name))
+        .collect();
+    let names_unique = {
+        let mut names: Vec<&str> = r.iter().map(|b| b.name.as_str()).collect();
+        names.sort_unstable();
+        names.windows(2).all(|w| w[0] != w[1])
+    };
+    match by_name {
+        Some(map) if r.len() == o.len() && names_unique => Ok((map, "name")),
+        _ if r.len() == o.len() => Ok(((0..r.len()).collect(), "index")),
+        _ => Err(format!(
+            "the traces have {} and {} bodies, and their names do not match",
+            r.len(),
+            o.len()
+        )),
+    }
+}
+
+fn check_traces(reference: &Trace, other: &Trace) -> Result<(f64, f64), String> {
+    for (what, t) in [("reference", reference), ("other", other)] {
+        if t.header.dimension != 3 {
+            return Err(format!(
+                "the {what} trace is {}D: compare reads 3D traces",
+                t.header.dimension
+            ));
+        }
+        if t.records.is_empty() {
+            return Err(format!("the {what} trace has no records"));
+        }
+        if let Some(r) = t
+            .records
+            .iter()
+            .find(|r| r.bodies.len() != t.header.bodies.len())
+        {
+            return Err(format!(
+                "the {what} trace's record at step {} has {} bodies, its header {}",
+                r.step,
+                r.bodies.len(),
+                t.header.bodies.len()
+            ));
+        }
+        if t.records.windows(2).any(|w| w[1].t < w[0].t) {
+            return Err(format!("the {what} trace's times decrease"));
+        }
+    }
+    let start = reference.records[0].t.max(other.records[0].t);
+    let end = reference
+        .records
+        .last()
+        .unwrap()
+        .t
+        .min(other.records.last().unwrap().t);
+    if end < start {
+        return Err(format!(
+            "the traces do not overlap in time (reference {}–{} s, other {}–{} s)",
+            reference.records[0].t,
+            reference.records.last().unwrap().t,
+            other.records[0].t,
+            other.records.last().unwrap().t
+        ));
+    }
+    Ok((start, end))
+}
+
+fn body_label(trace: &Trace, i: usize) -> String {
+    format!("body {i} ({:?})", trace.header.bodies[i].name)
+}
+
+/// Trajectory mode: every quantity of `other` against `reference` at the reference's record
+/// times within the common span, `other` interpolated (x, v, ω linearly, R by slerp).
+pub fn compare_trajectories(
+    reference: &Trace,
+    other: &Trace,
+    tol: &TrajectoryTolerances,
+) -> Result<Comparison, String> {
+    let span = check_traces(reference, other)?;
+    let (map, matched_by) = match_bodies(reference, other)?;
+    let times: Vec<f64> = reference
+        .records
+        .iter()
+        .map(|r| r.t)
+        .filter(|&t| t >= span.0 && t <= span.1)
+        .collect();
+    let mut errors = Vec::new();
+    let mut track =
+        |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(f64) -> f64| {
+            let mut e = QuantityError {
+                quantity,
+                unit,
+                max_error: 0.0,
+                at: span.0,
+                first_exceeded: None,
+                tolerance,
+            };
+            for &t in &times {
+                let err = f(t);
+                if err > e.max_error || err.is_nan() {
+                    e.max_error = if err.is_nan() { f64::INFINITY } else { err };
+                    e.at = t;
+                }
+                // NaN counts as exceeding.
+                if e.first_exceeded.is_none() && (err.is_nan() || err > tolerance) {
+                    e.first_exceeded = Some(t);
+                }
+            }
+            errors.push(e);
+        };
+    for (i, &j) in map.iter().enumerate() {
+        let label = body_label(reference, i);
+        let pair = |t: f64| {
+            (
+                body_at(&reference.records, i, t),
+                body_at(&other.records, j, t),
+            )
+        };
+        track(format!("{label} position"), "m", tol.position, &|t| {
+            let (a, b) = pair(t);
+            (a.x - b.x).norm()
+        });
+        track(format!("{label} orientation"), "rad", tol.angle, &|t| {
+            let (a, b) = pair(t);
+            angle_between(&a.rotation, &b.rotation)
+        });
+        track(format!("{label} velocity"), "m/s", tol.velocity, &|t| {
+            let (a, b) = pair(t);
+            (a.v - b.v).norm()
+        });
+        track(
+            format!("{label} angular velocity"),
+            "rad/s",
+            tol.omega,
+            &|t| {
+                let (a, b) = pair(t);
+                (a.omega - b.omega).norm()
+            },
+        );
+    }
+    let names = [
+        "energy.kinetic_linear",
+        "energy.kinetic_angular",
+        "energy.potential",
+        "energy.total",
+    ];
+    let energy_scale = reference
+        .records
+        .iter()
+        .map(|r| {
+            r.energy
+                .total
+                .abs()
+                .max(r.energy.kinetic_linear + r.energy.kinetic_angular)
+        })
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    for (k, name) in names.iter().enumerate() {
+        track(name.to_string(), "J", tol.energy * energy_scale, &|t| {
+            (system_at(&reference.records, t)[k] - system_at(&other.records, t)[k]).abs()
+        });
+    }
+    for (k, name) in [
+        "momentum.linear",
+        "momentum.angular",
+        "momentum.angular_com",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let part = |v: &[f64; 13]| Vector3::new(v[4 + 3 * k], v[5 + 3 * k], v[6 + 3 * k]);
+        // Relative to the reference's largest momentum, but never less than that of the whole
+        // mass moving at 1 m/s (at 1 m for angular momentum): a system at rest has zero
+        // momentum, and round-off must not fail it.
+        let total_mass: f64 = reference.header.bodies.iter().map(|b| b.mass).sum();
+        let scale = reference
+            .records
+            .iter()
+            .map(|r| part(&system_at(std::slice::from_ref(r), r.t)).norm())
+            .fold(total_mass.max(f64::MIN_POSITIVE), f64::max);
+        let unit = if k == 0 { "kg·m/s" } else { "kg·m²/s" };
+        track(name.to_string(), unit, tol.momentum * scale, &|t| {
+            (part(&system_at(&reference.records, t)) - part(&system_at(&other.records, t))).norm()
+        });
+    }
+    let agree = errors.iter().all(|e| e.first_exceeded.is_none());
+    Ok(Comparison {
+        mode: "trajectory",
+        span,
+        matched_by,
+        errors,
+        outcomes: Vec::new(),
+        agree,
+    })
+}
+
+/// A body is at rest when |v| < 0.05 m/s and |ω| < 0.1 rad/s (the rapier comparison's rule).
+fn at_rest(b: &BodyState) -> bool {
+    v3(&b.v).norm() < 0.05 && v3(&b.omega).norm() < 0.1
+}
+
+/// The rotations mapping a mesh onto itself among the 24 that permute and flip the axes of its
+/// principal frame (identity included): the symmetries a box, a cube or a sphere has.
+fn symmetries(scene: Option<&Scene>, i: usize) -> Vec<Matrix3<f64>> {
+    let Some(body) = scene.and_then(|s| s.bodies.get(i)) else {
+        return vec![Matrix3::identity()];
+    };
+    let eigen = body.inertia.symmetric_eigen();
+    let mut frame = eigen.eigenvectors;
+    if frame.determinant() < 0.0 {
+        frame.column_mut(2).neg_mut();
+    }
+    let size = body.mesh.bounding_radius();
+    let mut out = Vec::new();
+    for perm in [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ] {
+        for signs in 0..8u32 {
+            let p = Matrix3::from_fn(|r, c| {
+                if perm[r] == c {
+                    if signs & (1 << r) != 0 { -1.0 } else { 1.0 }
+                } else {
+                    0.0
+                }
+            });
+            if p.determinant() < 0.0 {
+                continue;
+            }
+            let s = frame * p * frame.transpose();
+            let maps_onto_itself = body.mesh.vertices.iter().all(|v| {
+                let w = s * v;
+                body.mesh
+                    .vertices
+                    .iter()
+                    .any(|u| (u - w).norm() <= 1e-6 * size)
+            });
+            if maps_onto_itself {
+                out.push(s);
+            }
+        }
+    }
+    out
+}
+
+/// The first time after which the body stays at rest to the end, if it is at rest at the end.
+fn rest_time(trace: &Trace, i: usize) -> Option<f64> {
+    let records = &trace.records;
+    if !at_rest(&records.last()?.bodies[i]) {
+        return None;
+    }
+    let k = records.iter().rposition(|r| !at_rest(&r.bodies[i]));
+    Some(k.map_or(records[0].t, |k| records[(k + 1).min(records.len() - 1)].t))
+}
+
+/// Tolerances of outcome mode.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutcomeTolerances {
+    /// Time of first contact and of coming to rest, s.
+    pub time: f64,
+    /// Rest position, as a fraction of the body's bounding radius (0.05 m without a scene).
+    pub position: f64,
+    /// Rest orientation, rad, after the body's symmetries.
+    pub angle: f64,
+    /// Total energy at the end, relative to the reference's largest |E| or kinetic energy.
+    pub energy: f64,
+    /// Dzhanibekov flip times, relative to the reference's flip period.
+    pub flip: f64,
+}
+
+impl Default for OutcomeTolerances {
+    /// Five frames of 0.01 s (0.25 s for coming to rest, which a threshold decides), 5% of the
+    /// radius, 0.1 rad, 5% in energy, 5% of a flip period.
+    fn default() -> Self {
+        OutcomeTolerances {
+            time: 0.05,
+            position: 0.05,
+            angle: 0.1,
+            energy: 0.05,
+            flip: 0.05,
+        }
+    }
+}
+
+fn number(x: Option<f64>) -> String {
+    x.map_or("never".into(), |x| format!("{x:.4}"))
+}
+
+/// Outcome mode: what happened, compared observable by observable. `scene` (the reference's)
+/// gives the bodies' meshes and inertia, for sizes, symmetries and the Dzhanibekov axis; without
+/// it rest orientations are compared without symmetries and no flips are sought.
+pub fn compare_outcomes(
+    reference: &Trace,
+    other: &Trace,
+    scene: Option<&Scene>,
+    tol: &OutcomeTolerances,
+) -> Result<Comparison, String> {
+    let span = check_traces(reference, other)?;
+    let (map, matched_by) = match_bodies(reference, other)?;
+    let mut outcomes = Vec::new();
+    let mut push =
+        |name: String, a: String, b: String, difference: f64, tolerance: String, passed: bool| {
+            outcomes.push(Outcome {
+                name,
+                reference: a,
+                other: b,
+                difference,
+                tolerance,
+                passed,
+            })
+        };
+    // First contact.
+    let first_contact = |t: &Trace| {
+        t.records
+            .iter()
+            .find(|r| !r.contacts.is_empty())
+            .map(|r| r.t)
+    };
+    let (a, b) = (first_contact(reference), first_contact(other));
+    let d = match (a, b) {
+        (Some(a), Some(b)) => (a - b).abs(),
+        (None, None) => 0.0,
+        _ => f64::INFINITY,
+    };
+    push(
+        "time of first contact".into(),
+        number(a),
+        number(b),
+        d,
+        format!("{} s", tol.time),
+        d <= tol.time,
+    );
+    let end_r = reference
+        .records
+        .iter()
+        .rev()
+        .find(|r| r.t <= span.1)
+        .unwrap();
+    let end_o = other.records.iter().rev().find(|r| r.t <= span.1).unwrap();
+    for (i, &j) in map.iter().enumerate() {
+        let label = body_label(reference, i);
+        let (ra, rb) = (rest_time(reference, i), rest_time(other, j));
+        let d = match (ra, rb) {
+            (Some(a), Some(b)) => (a - b).abs(),
+            (None, None) => 0.0,
+            _ => f64::INFINITY,
+        };
+        let rest_tol = 5.0 * tol.time;
+        push(
+            format!("{label} comes to rest at"),
+            number(ra),
+            number(rb),
+            d,
+            format!("{rest_tol} s"),
+            d <= rest_tol,
+        );
+        if ra.is_some() && rb.is_some() {
+            let scale = scene
+                .and_then(|s| s.bodies.get(i))
+                .map_or(1.0, |b| b.mesh.bounding_radius());
+            let (xa, xb) = (v3(&end_r.bodies[i].x), v3(&end_o.bodies[j].x));
+            let d = (xa - xb).norm();
+            push(
+                format!("{label} rest position"),
+                format!("[{:.4}, {:.4}, {:.4}]", xa.x, xa.y, xa.z),
+                format!("[{:.4}, {:.4}, {:.4}]", xb.x, xb.y, xb.z),
+                d,
+                format!("{:.4} m", tol.position * scale),
+                d <= tol.position * scale,
+            );
+            let (qa, qb) = (rotation_of(&end_r.bodies[i]), rotation_of(&end_o.bodies[j]));
+            let (ma, mb) = (
+                qa.to_rotation_matrix().into_inner(),
+                qb.to_rotation_matrix().into_inner(),
+            );
+            // The smallest angle between the two orientations over the body's symmetries S
+            // (body frame): angle of R_aᵀ R_b S.
+            let angle = symmetries(scene, i)
+                .iter()
+                .map(|s| {
+                    let r = ma.transpose() * mb * s;
+                    ((r.trace() - 1.0) / 2.0).clamp(-1.0, 1.0).acos()
+                })
+                .fold(f64::INFINITY, f64::min);
+            push(
+                format!("{label} rest orientation (after symmetries)"),
+                "—".into(),
+                format!("{angle:.4} rad from the reference"),
+                angle,
+                format!("{} rad", tol.angle),
+                angle <= tol.angle,
+            );
+        }
+    }
+    let scale = reference
+        .records
+        .iter()
+        .map(|r| {
+            r.energy
+                .total
+                .abs()
+                .max(r.energy.kinetic_linear + r.energy.kinetic_angular)
+        })
+        .fold(0.0, f64::max)
+        .max(f64::MIN_POSITIVE);
+    let (ea, eb) = (end_r.energy.total, end_o.energy.total);
+    let d = (ea - eb).abs();
+    push(
+        format!("total energy at t = {}", end_r.t),
+        format!("{ea:.6e} J"),
+        format!("{eb:.6e} J"),
+        d,
+        format!("{:.3e} J", tol.energy * scale),
+        d <= tol.energy * scale,
+    );
+    if let Some(scene) = scene
+        && scene.bodies.len() == 1
+        && scene.params.gravity.norm() == 0.0
+    {
+        {
+            let flips = |t: &Trace| {
+                let body = &scene.bodies[0];
+                let eigen = body.inertia.symmetric_eigen();
+                let mut order: Vec<usize> = (0..3).collect();
+                order.sort_by(|&a, &b| eigen.eigenvalues[a].total_cmp(&eigen.eigenvalues[b]));
+                let axis = eigen.eigenvectors.column(order[1]).into_owned();
+                let samples: Vec<(f64, f64)> = t
+                    .records
+                    .iter()
+                    .map(|r| {
+                        let b = &r.bodies[0];
+                        let rot = Matrix3::from_fn(|i, j| b.rotation[i][j]);
+                        (r.t, (rot.transpose() * v3(&b.omega)).dot(&axis))
+                    })
+                    .collect();
+                sign_changes(&samples)
+            };
+            let (fa, fb) = (flips(reference), flips(other));
+            if fa.len() >= 2 {
+                let period = (fa[fa.len() - 1] - fa[0]) / (fa.len() - 1) as f64;
+                let n = fa.len().min(fb.len());
+                let worst = if fb.len() < fa.len() {
+                    f64::INFINITY
+                } else {
+                    (0..n).map(|k| (fa[k] - fb[k]).abs()).fold(0.0, f64::max)
+                };
+                push(
+                    "Dzhanibekov flip times".into(),
+                    format!("{} flips, period {period:.4} s", fa.len()),
+                    format!("{} flips", fb.len()),
+                    worst,
+                    format!("{:.4} s", tol.flip * period),
+                    worst <= tol.flip * period,
+                );
+            }
+        }
+    }
+    let agree = outcomes.iter().all(|o| o.passed);
+    Ok(Comparison {
+        mode: "outcome",
+        span,
+        matched_by,
+        errors: Vec::new(),
+        outcomes,
+        agree,
+    })
+}

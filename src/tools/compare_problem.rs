@@ -1,0 +1,278 @@
+//! Comparing two 3D contact-problem files for the same state (the format of
+//! `run --dump-problems`, docs/contact-problem-format.md), up to the choice of each contact's
+//! tangent basis. docs/grading.md §"Comparing contact problems".
+//!
+//! Two simulators may pick different tangents t1, t2 at a contact: any rotation Q of the pair
+//! about n. Under it the friction rows T (2 × 12) become Q T, the Delassus block
+//! A = [[a, cᵀ], [c, B]] becomes [[a, (Q c)ᵀ], [Q c, Q B Qᵀ]], and b's and λ's tangential parts
+//! turn by Q. What does not change, and is compared: the normal row and a, b_n, λn exactly; TᵀT
+//! (the tangent-plane projector with its lever arms), |c|, trace B and det B, |b_t| and |λ_t|.
+
+use crate::problem::json::{ContactJson, ProblemFile};
+use nalgebra::{DMatrix, DVector, Vector2};
+
+/// Tolerance of every comparison: relative to the larger magnitude of the two values (or of the
+/// quantity's scale), plus an absolute floor for values that should be zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProblemTolerance {
+    /// Relative tolerance.
+    pub relative: f64,
+    /// Absolute floor, in the quantity's unit.
+    pub absolute: f64,
+}
+
+impl Default for ProblemTolerance {
+    /// 1e-6 relative, 1e-9 absolute: round-off of a different but exact computation passes, a
+    /// different lever arm, normal or mass does not.
+    fn default() -> Self {
+        ProblemTolerance {
+            relative: 1e-6,
+            absolute: 1e-9,
+        }
+    }
+}
+
+/// One difference found.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct ProblemDifference {
+    /// Where: `body 1 velocity[4]`, `contact 0: normal row, body 1 entry 4 (ω_y)`, ….
+    pub quantity: String,
+    /// The reference's value.
+    pub reference: f64,
+    /// The other's value.
+    pub other: f64,
+}
+
+const ENTRY: [&str; 6] = ["v_x", "v_y", "v_z", "ω_x", "ω_y", "ω_z"];
+
+struct Checker {
+    tol: ProblemTolerance,
+    out: Vec<ProblemDifference>,
+    compared: usize,
+}
+
+impl Checker {
+    fn check(&mut self, quantity: impl FnOnce() -> String, a: f64, b: f64, scale: f64) {
+        self.compared += 1;
+        let bound = self.tol.absolute + self.tol.relative * a.abs().max(b.abs()).max(scale);
+        let difference = (a - b).abs();
+        if difference.is_nan() || difference > bound {
+            self.out.push(ProblemDifference {
+                quantity: quantity(),
+                reference: a,
+                other: b,
+            });
+        }
+    }
+}
+
+/// A contact's 3 × 12 Jacobian [J₁ | J₂] (a side whose body is −1 zeroed).
+fn jacobian(c: &ContactJson) -> DMatrix<f64> {
+    DMatrix::from_fn(3, 12, |r, k| {
+        let side = k / 6;
+        if c.bodies[side] < 0 {
+            0.0
+        } else {
+            c.jacobian[side][r][k % 6]
+        }
+    })
+}
+
+/// The 12 × 12 inverse mass of a contact's two bodies.
+fn inverse_mass(p: &ProblemFile, c: &ContactJson) -> DMatrix<f64> {
+    DMatrix::from_fn(12, 12, |r, k| {
+        let (side_r, side_k) = (r / 6, k / 6);
+        let body = c.bodies[side_r];
+        if side_r != side_k || body < 0 {
+            0.0
+        } else {
+            p.bodies[body as usize].inverse_mass[r % 6][k % 6]
+        }
+    })
+}
+
+fn check_shape(p: &ProblemFile, what: &str) -> Result<(), String> {
+    if p.dof_per_body != 6 || p.rows_per_contact != 3 {
+        return Err(format!(
+            "the {what} problem has {} degrees of freedom per body and {} rows per contact: compare-problem reads 3D problems (6 and 3)",
+            p.dof_per_body, p.rows_per_contact
+        ));
+    }
+    p.to_problem::<6, 3>()
+        .map(|_| ())
+        .map_err(|e| format!("the {what} problem: {e}"))
+}
+
+/// Every difference between the two problems beyond `tol`, up to each contact's tangent basis;
+/// empty when they agree. Also returns how many values were compared. Contacts are matched in
+/// order (both files list a state's contacts; a different count is itself a difference).
+pub fn compare_problems(
+    reference: &ProblemFile,
+    other: &ProblemFile,
+    tol: ProblemTolerance,
+) -> Result<(Vec<ProblemDifference>, usize), String> {
+    check_shape(reference, "reference")?;
+    check_shape(other, "other")?;
+    let mut c = Checker {
+        tol,
+        out: Vec::new(),
+        compared: 0,
+    };
+    c.check(
+        || "number of bodies".into(),
+        reference.bodies.len() as f64,
+        other.bodies.len() as f64,
+        0.0,
+    );
+    c.check(
+        || "number of contacts".into(),
+        reference.contacts.len() as f64,
+        other.contacts.len() as f64,
+        0.0,
+    );
+    for (i, (a, b)) in reference.bodies.iter().zip(&other.bodies).enumerate() {
+        let scale = a.velocity.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for (k, entry) in ENTRY.iter().enumerate() {
+            c.check(
+                || format!("body {i} velocity {entry}"),
+                a.velocity[k],
+                b.velocity[k],
+                scale,
+            );
+            for m in 0..6 {
+                c.check(
+                    || format!("body {i} inverse mass [{k}][{m}]"),
+                    a.inverse_mass[k][m],
+                    b.inverse_mass[k][m],
+                    0.0,
+                );
+            }
+        }
+    }
+    for (k, (ca, cb)) in reference.contacts.iter().zip(&other.contacts).enumerate() {
+        for side in 0..2 {
+            c.check(
+                || format!("contact {k}: body {}", side + 1),
+                ca.bodies[side] as f64,
+                cb.bodies[side] as f64,
+                0.0,
+            );
+        }
+        if ca.bodies != cb.bodies {
+            continue;
+        }
+        if let (Some(ga), Some(gb)) = (&ca.geometry, &cb.geometry) {
+            for d in 0..3 {
+                c.check(
+                    || format!("contact {k}: point p[{d}]"),
+                    ga.p[d],
+                    gb.p[d],
+                    1.0,
+                );
+                c.check(
+                    || format!("contact {k}: normal n[{d}]"),
+                    ga.n[d],
+                    gb.n[d],
+                    1.0,
+                );
+            }
+        }
+        c.check(|| format!("contact {k}: mu"), ca.mu, cb.mu, 0.0);
+        c.check(
+            || format!("contact {k}: compliance"),
+            ca.compliance,
+            cb.compliance,
+            0.0,
+        );
+        let (ja, jb) = (jacobian(ca), jacobian(cb));
+        let scale = ja.abs().max().max(1.0);
+        for e in 0..12 {
+            c.check(
+                || {
+                    format!(
+                        "contact {k}: normal row, body {} entry {e} ({})",
+                        e / 6 + 1,
+                        ENTRY[e % 6]
+                    )
+                },
+                ja[(0, e)],
+                jb[(0, e)],
+                scale,
+            );
+        }
+        // The friction rows up to a rotation about n: TᵀT is invariant.
+        let (ta, tb) = (ja.rows(1, 2).into_owned(), jb.rows(1, 2).into_owned());
+        let (pa, pb) = (ta.transpose() * &ta, tb.transpose() * &tb);
+        for r in 0..12 {
+            for e in 0..12 {
+                c.check(
+                    || {
+                        format!(
+                            "contact {k}: friction rows' TᵀT [{r}][{e}] (body {} {}, body {} {})",
+                            r / 6 + 1,
+                            ENTRY[r % 6],
+                            e / 6 + 1,
+                            ENTRY[e % 6]
+                        )
+                    },
+                    pa[(r, e)],
+                    pb[(r, e)],
+                    scale * scale,
+                );
+            }
+        }
+        // The Delassus block's invariants.
+        let delassus = |p: &ProblemFile, cj: &ContactJson, j: &DMatrix<f64>| {
+            j * inverse_mass(p, cj) * j.transpose()
+        };
+        let (aa, ab) = (delassus(reference, ca, &ja), delassus(other, cb, &jb));
+        let scale_a = aa.abs().max();
+        let coupling = |m: &DMatrix<f64>| Vector2::new(m[(1, 0)], m[(2, 0)]).norm();
+        let tangent_det = |m: &DMatrix<f64>| m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)];
+        c.check(
+            || format!("contact {k}: Delassus A_nn"),
+            aa[(0, 0)],
+            ab[(0, 0)],
+            scale_a,
+        );
+        c.check(
+            || format!("contact {k}: Delassus |A_nt|"),
+            coupling(&aa),
+            coupling(&ab),
+            scale_a,
+        );
+        c.check(
+            || format!("contact {k}: Delassus trace of the tangent block"),
+            aa[(1, 1)] + aa[(2, 2)],
+            ab[(1, 1)] + ab[(2, 2)],
+            scale_a,
+        );
+        c.check(
+            || format!("contact {k}: Delassus det of the tangent block"),
+            tangent_det(&aa),
+            tangent_det(&ab),
+            scale_a * scale_a,
+        );
+        let bscale = DVector::from_column_slice(&ca.b).abs().max();
+        c.check(|| format!("contact {k}: b_n"), ca.b[0], cb.b[0], bscale);
+        c.check(
+            || format!("contact {k}: |b_t|"),
+            Vector2::new(ca.b[1], ca.b[2]).norm(),
+            Vector2::new(cb.b[1], cb.b[2]).norm(),
+            bscale,
+        );
+    }
+    if let (Some(sa), Some(sb)) = (&reference.solution, &other.solution) {
+        for (k, (la, lb)) in sa.lambda.iter().zip(&sb.lambda).enumerate() {
+            let scale = la.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+            c.check(|| format!("contact {k}: λn"), la[0], lb[0], scale);
+            c.check(
+                || format!("contact {k}: |λ_t|"),
+                Vector2::new(la[1], la[2]).norm(),
+                Vector2::new(lb[1], lb[2]).norm(),
+                scale,
+            );
+        }
+    }
+    Ok((c.out, c.compared))
+}

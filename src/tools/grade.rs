@@ -1,0 +1,308 @@
+//! Grading a batch of submissions: each submission folder holds a trace per scene (`NAME.jsonl`
+//! for scene `NAME.json`) and optionally the first contact's problem (`NAME.problem.json`); each
+//! is compared with the reference's run of the scene. One table of submission × scene ×
+//! observable. docs/grading.md §"Grading a batch".
+
+use super::compare::{
+    Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
+};
+use super::compare_problem::{ProblemTolerance, compare_problems};
+use crate::problem::json::ProblemFile;
+use crate::rigid3d::scene::Scene;
+use crate::rigid3d::trace::{Trace, TraceHeader, TraceRecord, read_trace};
+use crate::rigid3d::world::World;
+use crate::sim::{Flow, drive, steps_in};
+use std::path::{Path, PathBuf};
+
+/// Which comparison grading applies (docs/grading.md says which fits which scene).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum GradeMode {
+    /// Every quantity over time ([`compare_trajectories`]).
+    Trajectory,
+    /// What happened ([`compare_outcomes`]).
+    Outcome,
+}
+
+/// The reference for one scene: its run and its first contact's problem.
+pub struct Reference {
+    /// The scene's file stem, which names the submissions' files.
+    pub name: String,
+    /// The scene.
+    pub scene: Scene,
+    /// The reference trace (every frame).
+    pub trace: Trace,
+    /// The first contact problem of the run, if it had contacts.
+    pub first_problem: Option<ProblemFile>,
+}
+
+/// Runs `scene` (named `name`) for `time` seconds, recording every frame and keeping the first
+/// contact problem.
+pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, String> {
+    let mut world = World::new(&scene)?;
+    let steps = steps_in(time, scene.params.dt, "").map_err(|e| format!("{name}: {e}"))?;
+    let header = TraceHeader::for_world(&world, &scene.source);
+    let mut records = vec![TraceRecord::of_world(&world)];
+    let mut first_problem = None;
+    drive(&mut world, steps, |w, k| {
+        records.push(TraceRecord::of_world(w));
+        if first_problem.is_none()
+            && let Some(solve) = w.solves.first()
+        {
+            first_problem = Some(solve.problem_file(&w.params.name, k, w.params.h()));
+        }
+        Ok::<_, String>(Flow::Continue)
+    })
+    .map_err(|e| format!("{name}: {e}"))?;
+    Ok(Reference {
+        name: name.to_string(),
+        scene,
+        trace: Trace { header, records },
+        first_problem,
+    })
+}
+
+/// One row of the grade table.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct GradeRow {
+    /// The submission folder's name.
+    pub submission: String,
+    /// The scene's name.
+    pub scene: String,
+    /// The observable or quantity (`trace` for the file as a whole).
+    pub observable: String,
+    /// `pass`, `fail`, `missing` or `unreadable`.
+    pub result: String,
+    /// The figure: the error, the observable's values, or what is wrong with the file.
+    pub figure: String,
+}
+
+fn row(submission: &str, scene: &str, observable: &str, result: &str, figure: String) -> GradeRow {
+    GradeRow {
+        submission: submission.into(),
+        scene: scene.into(),
+        observable: observable.into(),
+        result: result.into(),
+        figure,
+    }
+}
+
+fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRow> {
+    let mut rows = Vec::new();
+    for e in &c.errors {
+        let result = if e.first_exceeded.is_none() {
+            "pass"
+        } else {
+            "fail"
+        };
+        let figure = match e.first_exceeded {
+            Some(t) => format!(
+                "max {:.3e} {} at t = {} s; exceeds {:e} from t = {t} s",
+                e.max_error, e.unit, e.at, e.tolerance
+            ),
+            None => format!(
+                "max {:.3e} {} (tolerance {:e})",
+                e.max_error, e.unit, e.tolerance
+            ),
+        };
+        rows.push(row(submission, scene, &e.quantity, result, figure));
+    }
+    for o in &c.outcomes {
+        let figure = format!(
+            "reference {}, submission {} (tolerance {})",
+            o.reference, o.other, o.tolerance
+        );
+        rows.push(row(
+            submission,
+            scene,
+            &o.name,
+            if o.passed { "pass" } else { "fail" },
+            figure,
+        ));
+    }
+    rows
+}
+
+/// Grades one submission folder against every reference. Never fails: a missing or unreadable
+/// file becomes its row.
+pub fn grade_submission(dir: &Path, references: &[Reference], mode: GradeMode) -> Vec<GradeRow> {
+    let submission = dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |n| n.to_string_lossy().to_string(),
+    );
+    let mut rows = Vec::new();
+    for r in references {
+        let path = dir.join(format!("{}.jsonl", r.name));
+        if !path.is_file() {
+            rows.push(row(
+                &submission,
+                &r.name,
+                "trace",
+                "missing",
+                format!("no {}", path.display()),
+            ));
+        } else {
+            let read = std::fs::File::open(&path)
+                .map_err(|e| format!("{}: cannot open: {e}", path.display()))
+                .and_then(|f| read_trace(std::io::BufReader::new(f), &path.display().to_string()));
+            let compared = read.and_then(|trace| match mode {
+                GradeMode::Trajectory => {
+                    compare_trajectories(&r.trace, &trace, &TrajectoryTolerances::default())
+                }
+                GradeMode::Outcome => compare_outcomes(
+                    &r.trace,
+                    &trace,
+                    Some(&r.scene),
+                    &OutcomeTolerances::default(),
+                ),
+            });
+            match compared {
+                Ok(c) => rows.extend(comparison_rows(&submission, &r.name, &c)),
+                Err(e) => rows.push(row(&submission, &r.name, "trace", "unreadable", e)),
+            }
+        }
+        let problem_path = dir.join(format!("{}.problem.json", r.name));
+        if let (true, Some(reference_problem)) = (problem_path.is_file(), &r.first_problem) {
+            let result = ProblemFile::read(&problem_path)
+                .and_then(|p| compare_problems(reference_problem, &p, ProblemTolerance::default()));
+            rows.push(match result {
+                Ok((diffs, n)) if diffs.is_empty() => row(
+                    &submission,
+                    &r.name,
+                    "first contact problem",
+                    "pass",
+                    format!("{n} values agree"),
+                ),
+                Ok((diffs, n)) => row(
+                    &submission,
+                    &r.name,
+                    "first contact problem",
+                    "fail",
+                    format!(
+                        "{} of {n} values differ; first: {} (reference {}, submission {})",
+                        diffs.len(),
+                        diffs[0].quantity,
+                        diffs[0].reference,
+                        diffs[0].other
+                    ),
+                ),
+                Err(e) => row(
+                    &submission,
+                    &r.name,
+                    "first contact problem",
+                    "unreadable",
+                    e,
+                ),
+            });
+        }
+    }
+    rows
+}
+
+/// The submission folders of `dir`, sorted by name.
+pub fn submissions(dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map_err(|e| format!("{}: cannot read the submissions folder: {e}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    out.sort();
+    Ok(out)
+}
+
+/// Grades every submission, `threads` at a time; rows in submission order, then scene order.
+pub fn grade_all(
+    submissions: &[PathBuf],
+    references: &[Reference],
+    mode: GradeMode,
+    threads: usize,
+) -> Vec<GradeRow> {
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Vec<GradeRow>>> =
+        submissions.iter().map(|_| Default::default()).collect();
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1).min(submissions.len().max(1)) {
+            s.spawn(|| {
+                loop {
+                    let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    let Some(dir) = submissions.get(k) else { break };
+                    let rows = grade_submission(dir, references, mode);
+                    *results[k].lock().unwrap_or_else(|e| e.into_inner()) = rows;
+                }
+            });
+        }
+    });
+    results
+        .into_iter()
+        .flat_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
+        .collect()
+}
+
+/// A submission's verdict for a scene: `pass` when every row passes, else the worst result
+/// (`missing`, `unreadable`, `fail`).
+pub fn verdict(rows: &[GradeRow], submission: &str, scene: &str) -> &'static str {
+    let mine = rows
+        .iter()
+        .filter(|r| r.submission == submission && r.scene == scene);
+    let mut verdict = "pass";
+    for r in mine {
+        verdict = match (verdict, r.result.as_str()) {
+            (_, "missing") => "missing",
+            ("missing", _) => "missing",
+            (_, "unreadable") => "unreadable",
+            ("unreadable", _) => "unreadable",
+            (_, "fail") => "fail",
+            (v, _) => v,
+        };
+    }
+    verdict
+}
+
+/// The table as CSV (one row per observable).
+pub fn to_csv(rows: &[GradeRow]) -> Result<String, String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(["submission", "scene", "observable", "result", "figure"])
+        .map_err(|e| e.to_string())?;
+    for r in rows {
+        w.write_record([&r.submission, &r.scene, &r.observable, &r.result, &r.figure])
+            .map_err(|e| e.to_string())?;
+    }
+    String::from_utf8(w.into_inner().map_err(|e| e.to_string())?).map_err(|e| e.to_string())
+}
+
+/// The table as Markdown: the verdict of each submission for each scene, then every row that
+/// did not pass.
+pub fn to_markdown(rows: &[GradeRow], scenes: &[String]) -> String {
+    let mut names: Vec<&str> = rows.iter().map(|r| r.submission.as_str()).collect();
+    names.dedup();
+    let mut out = String::from("| submission |");
+    for s in scenes {
+        out.push_str(&format!(" {s} |"));
+    }
+    out.push_str("\n|---|");
+    out.push_str(&"---|".repeat(scenes.len()));
+    out.push('\n');
+    for n in &names {
+        out.push_str(&format!("| {n} |"));
+        for s in scenes {
+            out.push_str(&format!(" {} |", verdict(rows, n, s)));
+        }
+        out.push('\n');
+    }
+    let problems: Vec<&GradeRow> = rows.iter().filter(|r| r.result != "pass").collect();
+    if !problems.is_empty() {
+        out.push_str(
+            "\n| submission | scene | observable | result | figure |\n|---|---|---|---|---|\n",
+        );
+        for r in problems {
+            out.push_str(&format!(
+                "| {} | {} | {} | {} | {} |\n",
+                r.submission,
+                r.scene,
+                r.observable,
+                r.result,
+                r.figure.replace('|', "\\|")
+            ));
+        }
+    }
+    out
+}
