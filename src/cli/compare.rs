@@ -13,7 +13,8 @@ use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
 use rigidref::tools::grade::{GradeMode, grade_all, reference, submissions, to_csv, to_markdown};
 use std::path::{Path, PathBuf};
 
-/// An input could not be read: exit status 2 (1 means the inputs differ).
+/// An input could not be read or an option is unusable: exit status 2 (1 means the inputs
+/// differ).
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
 pub struct Unreadable(pub String);
@@ -44,7 +45,7 @@ pub struct CompareArgs {
     /// Trajectory mode: tolerance of positions (m), orientations (rad), velocities (m/s) and
     /// angular velocities (rad/s), and of energies and momenta relative to the reference's
     /// largest.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, conflicts_with = "outcome")]
     pub tolerance: f64,
     /// Outcome mode: the scene, for the bodies' sizes, symmetries and axes [default: the scene
     /// REF's header names as its source, when that file exists].
@@ -110,34 +111,52 @@ fn print_comparison(c: &Comparison) {
     );
 }
 
-/// The scene for outcome mode: --scene, else the reference header's source when it is a file.
-fn outcome_scene(args: &CompareArgs, reference: &Trace) -> anyhow::Result<Option<Scene>> {
+/// The scene for outcome mode and where it came from: --scene, else the reference header's
+/// source, looked up as written and then beside the reference trace, when it is a file.
+fn outcome_scene(
+    args: &CompareArgs,
+    reference: &Trace,
+) -> Result<Option<(Scene, PathBuf)>, Unreadable> {
     if let Some(path) = &args.scene {
-        return Ok(Some(
-            load_scene(path).map_err(|e| anyhow::anyhow!("{}", e.0))?,
-        ));
+        let scene = load_scene(path).map_err(|e| Unreadable(format!("--scene: {}", e.0)))?;
+        return Ok(Some((scene, path.clone())));
     }
     let source = Path::new(&reference.header.source);
-    Ok(if source.is_file() {
-        load_scene(source).ok()
-    } else {
-        None
-    })
+    let beside = args
+        .reference
+        .parent()
+        .map(|d| d.join(source))
+        .unwrap_or_default();
+    Ok([source.to_path_buf(), beside]
+        .into_iter()
+        .filter(|p| p.is_file())
+        .find_map(|p| load_scene(&p).ok().map(|s| (s, p))))
 }
 
 /// Runs `rigidref compare`.
 pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
     if args.tolerance.is_nan() || args.tolerance <= 0.0 {
-        bail!("--tolerance must be positive, got {}", args.tolerance);
+        let message = format!("--tolerance must be positive, got {}", args.tolerance);
+        return Err(Unreadable(message).into());
     }
     let reference = read(&args.reference)?;
     let other = read(&args.other)?;
     let comparison = if args.outcome {
         let scene = outcome_scene(&args, &reference)?;
+        match &scene {
+            Some((_, path)) => eprintln!(
+                "scene            {} (sizes, symmetries, flip axis)",
+                path.display()
+            ),
+            None => eprintln!(
+                "scene            none found (--scene, or the reference's source {:?}): positions to 0.05 m, orientations without symmetries, no flips",
+                reference.header.source
+            ),
+        }
         compare_outcomes(
             &reference,
             &other,
-            scene.as_ref(),
+            scene.as_ref().map(|(s, _)| s),
             &OutcomeTolerances::default(),
         )
     } else {
@@ -200,7 +219,8 @@ pub struct CompareProblemArgs {
 /// Runs `rigidref compare-problem`.
 pub fn compare_problem(args: CompareProblemArgs) -> anyhow::Result<()> {
     if args.tolerance.is_nan() || args.tolerance <= 0.0 {
-        bail!("--tolerance must be positive, got {}", args.tolerance);
+        let message = format!("--tolerance must be positive, got {}", args.tolerance);
+        return Err(Unreadable(message).into());
     }
     let reference = ProblemFile::read(&args.reference).map_err(Unreadable)?;
     let other = ProblemFile::read(&args.other).map_err(Unreadable)?;

@@ -336,6 +336,9 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let mut records = Vec::new();
     for (i, line) in lines {
         let line = line.map_err(|e| format!("{source}: {e}"))?;
+        if line.trim().is_empty() {
+            continue; // a trailing newline too many, from a hand-written or concatenated file
+        }
         records.push(serde_json::from_str(&line).map_err(|e| format!("{source}:{}: {e}", i + 1))?);
     }
     Ok(Trace { header, records })

@@ -18,7 +18,9 @@ pub struct TrajectoryTolerances {
     pub velocity: f64,
     /// Angular velocity, rad/s.
     pub omega: f64,
-    /// Energy terms, relative to the largest |total energy| or kinetic energy of the reference.
+    /// Energy terms, relative to the reference's energy scale: the largest of its largest
+    /// kinetic energy, the range of its potential energy and the energy of lifting every body by
+    /// 1 cm.
     pub energy: f64,
     /// Momenta, relative to the largest |momentum| of the reference, or to the total mass
     /// × 1 m/s (× 1 m for angular momentum) when that is larger.
@@ -85,7 +87,7 @@ impl Comparison {
             .min_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((t, e)) = by_time {
             return Some(format!(
-                "{} exceeds {:e} {} first at t = {t} s (largest {:.3e} {} at t = {} s)",
+                "{} exceeds {:.3e} {} first at t = {t} s (largest {:.3e} {} at t = {} s)",
                 e.quantity, e.tolerance, e.unit, e.max_error, e.unit, e.at
             ));
         }
@@ -129,8 +131,27 @@ fn v3(a: &[f64; 3]) -> Vector3<f64> {
 }
 
 fn rotation_of(b: &BodyState) -> UnitQuaternion<f64> {
+    // The traces were checked to hold rotations (orthonormal within 1e-6), so the direct
+    // conversion (no iteration) applies; the quaternion is normalised.
     let m = Matrix3::from_fn(|i, j| b.rotation[i][j]);
-    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix(&m))
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
+}
+
+/// Why `b.rotation` is not a rotation matrix (non-finite, not orthonormal within 1e-6, or a
+/// reflection), if it is not.
+fn not_a_rotation(b: &BodyState) -> Option<String> {
+    let m = Matrix3::from_fn(|i, j| b.rotation[i][j]);
+    if !m.iter().all(|x| x.is_finite()) {
+        return Some("R is not finite".into());
+    }
+    let error = (m.transpose() * m - Matrix3::identity()).norm();
+    if error > 1e-6 {
+        return Some(format!("R is not orthonormal (‖RᵀR − I‖ = {error:.3e})"));
+    }
+    if m.determinant() < 0.0 {
+        return Some("R is a reflection (det R < 0)".into());
+    }
+    None
 }
 
 fn state_of(b: &BodyState) -> State {
@@ -242,7 +263,18 @@ pub fn match_bodies(
     };
     match by_name {
         Some(map) if r.len() == o.len() && names_unique => Ok((map, "name")),
-        _ if r.len() == o.len() => Ok(((0..r.len()).collect(), "index")),
+        _ if r.len() == o.len() => {
+            // Matched by place: the masses must agree, or these are not the same scene's bodies.
+            if let Some(i) = (0..r.len()).find(|&i| {
+                (r[i].mass - o[i].mass).abs() > 1e-6 * r[i].mass.abs().max(o[i].mass.abs())
+            }) {
+                return Err(format!(
+                    "the bodies' names differ and body {i} has mass {} kg in one trace and {} kg in the other: not the same scene",
+                    r[i].mass, o[i].mass
+                ));
+            }
+            Ok(((0..r.len()).collect(), "index"))
+        }
         _ => Err(format!(
             "the traces have {} and {} bodies, and their names do not match",
             r.len(),
@@ -277,6 +309,23 @@ fn check_traces(reference: &Trace, other: &Trace) -> Result<(f64, f64), String> 
         if t.records.windows(2).any(|w| w[1].t < w[0].t) {
             return Err(format!("the {what} trace's times decrease"));
         }
+        for r in &t.records {
+            for (i, b) in r.bodies.iter().enumerate() {
+                let finite = |a: &[f64; 3]| a.iter().all(|x| x.is_finite());
+                if !(finite(&b.x) && finite(&b.v) && finite(&b.omega)) {
+                    return Err(format!(
+                        "the {what} trace's body {i} is not finite at step {}",
+                        r.step
+                    ));
+                }
+                if let Some(why) = not_a_rotation(b) {
+                    return Err(format!(
+                        "the {what} trace's body {i} at step {}: {why}",
+                        r.step
+                    ));
+                }
+            }
+        }
     }
     let start = reference.records[0].t.max(other.records[0].t);
     let end = reference
@@ -297,12 +346,36 @@ fn check_traces(reference: &Trace, other: &Trace) -> Result<(f64, f64), String> 
     Ok((start, end))
 }
 
+/// The energy scale of a trace, J: the largest of its largest kinetic energy, the range of its
+/// potential energy (not |E|, which depends on where the potential is zero) and the energy of
+/// lifting every body by 1 cm against gravity (|g| taken as at least 1 m/s²), so that a scene at
+/// rest is not judged by round-off.
+fn energy_scale(trace: &Trace) -> f64 {
+    let g = trace.header.gravity;
+    let g = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt().max(1.0);
+    let total_mass: f64 = trace.header.bodies.iter().map(|b| b.mass).sum();
+    let lift = total_mass * g * 0.01;
+    let kinetic = trace
+        .records
+        .iter()
+        .map(|r| r.energy.kinetic_linear + r.energy.kinetic_angular)
+        .fold(0.0, f64::max);
+    let (low, high) = trace
+        .records
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+            (l.min(r.energy.potential), h.max(r.energy.potential))
+        });
+    kinetic.max(high - low).max(lift).max(f64::MIN_POSITIVE)
+}
+
 fn body_label(trace: &Trace, i: usize) -> String {
     format!("body {i} ({:?})", trace.header.bodies[i].name)
 }
 
-/// Trajectory mode: every quantity of `other` against `reference` at the reference's record
-/// times within the common span, `other` interpolated (x, v, ω linearly, R by slerp).
+/// Trajectory mode: every quantity of `other` against `reference` at the record times of the
+/// sparser of the two within the common span, the other interpolated (x, v, ω, energies and
+/// momenta linearly, R by slerp).
 pub fn compare_trajectories(
     reference: &Trace,
     other: &Trace,
@@ -310,12 +383,21 @@ pub fn compare_trajectories(
 ) -> Result<Comparison, String> {
     let span = check_traces(reference, other)?;
     let (map, matched_by) = match_bodies(reference, other)?;
-    let times: Vec<f64> = reference
-        .records
-        .iter()
-        .map(|r| r.t)
-        .filter(|&t| t >= span.0 && t <= span.1)
-        .collect();
+    // Sample at the record times of the sparser trace (within the common span) and interpolate
+    // the denser one, so that a trace recorded every K frames is compared where it has data.
+    let in_span = |t: &Trace| -> Vec<f64> {
+        t.records
+            .iter()
+            .map(|r| r.t)
+            .filter(|&t| t >= span.0 && t <= span.1)
+            .collect()
+    };
+    let (from_reference, from_other) = (in_span(reference), in_span(other));
+    let times = if from_other.len() < from_reference.len() {
+        from_other
+    } else {
+        from_reference
+    };
     let mut errors = Vec::new();
     let mut track =
         |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(f64) -> f64| {
@@ -376,17 +458,7 @@ pub fn compare_trajectories(
         "energy.potential",
         "energy.total",
     ];
-    let energy_scale = reference
-        .records
-        .iter()
-        .map(|r| {
-            r.energy
-                .total
-                .abs()
-                .max(r.energy.kinetic_linear + r.energy.kinetic_angular)
-        })
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
+    let energy_scale = energy_scale(reference);
     for (k, name) in names.iter().enumerate() {
         track(name.to_string(), "J", tol.energy * energy_scale, &|t| {
             (system_at(&reference.records, t)[k] - system_at(&other.records, t)[k]).abs()
@@ -431,48 +503,55 @@ fn at_rest(b: &BodyState) -> bool {
     v3(&b.v).norm() < 0.05 && v3(&b.omega).norm() < 0.1
 }
 
-/// The rotations mapping a mesh onto itself among the 24 that permute and flip the axes of its
-/// principal frame (identity included): the symmetries a box, a cube or a sphere has.
+/// The rotations mapping a mesh onto itself among the 24 that permute and flip the axes of a
+/// frame (identity included), tried in the body's principal frame and in the mesh's own axes
+/// (a cube's or a ball's principal frame is decided by round-off, since its moments are
+/// equal): the symmetries a box, a cube or a symmetric tessellation has.
 fn symmetries(scene: Option<&Scene>, i: usize) -> Vec<Matrix3<f64>> {
     let Some(body) = scene.and_then(|s| s.bodies.get(i)) else {
         return vec![Matrix3::identity()];
     };
     let eigen = body.inertia.symmetric_eigen();
-    let mut frame = eigen.eigenvectors;
-    if frame.determinant() < 0.0 {
-        frame.column_mut(2).neg_mut();
+    let mut principal = eigen.eigenvectors;
+    if principal.determinant() < 0.0 {
+        principal.column_mut(2).neg_mut();
     }
     let size = body.mesh.bounding_radius();
-    let mut out = Vec::new();
-    for perm in [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ] {
-        for signs in 0..8u32 {
-            let p = Matrix3::from_fn(|r, c| {
-                if perm[r] == c {
-                    if signs & (1 << r) != 0 { -1.0 } else { 1.0 }
-                } else {
-                    0.0
+    let mut out: Vec<Matrix3<f64>> = Vec::new();
+    for frame in [principal, Matrix3::identity()] {
+        for perm in [
+            [0, 1, 2],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 2, 0],
+            [2, 0, 1],
+            [2, 1, 0],
+        ] {
+            for signs in 0..8u32 {
+                let p = Matrix3::from_fn(|r, c| {
+                    if perm[r] != c {
+                        0.0
+                    } else if signs & (1 << r) != 0 {
+                        -1.0
+                    } else {
+                        1.0
+                    }
+                });
+                if p.determinant() < 0.0 {
+                    continue;
                 }
-            });
-            if p.determinant() < 0.0 {
-                continue;
-            }
-            let s = frame * p * frame.transpose();
-            let maps_onto_itself = body.mesh.vertices.iter().all(|v| {
-                let w = s * v;
-                body.mesh
-                    .vertices
-                    .iter()
-                    .any(|u| (u - w).norm() <= 1e-6 * size)
-            });
-            if maps_onto_itself {
-                out.push(s);
+                let s = frame * p * frame.transpose();
+                let known = out.iter().any(|q| (q - s).norm() < 1e-9);
+                let maps_onto_itself = body.mesh.vertices.iter().all(|v| {
+                    let w = s * v;
+                    body.mesh
+                        .vertices
+                        .iter()
+                        .any(|u| (u - w).norm() <= 1e-6 * size)
+                });
+                if !known && maps_onto_itself {
+                    out.push(s);
+                }
             }
         }
     }
@@ -498,7 +577,7 @@ pub struct OutcomeTolerances {
     pub position: f64,
     /// Rest orientation, rad, after the body's symmetries.
     pub angle: f64,
-    /// Total energy at the end, relative to the reference's largest |E| or kinetic energy.
+    /// Total energy at the end, relative to the reference's energy scale (as for trajectories).
     pub energy: f64,
     /// Dzhanibekov flip times, relative to the reference's flip period.
     pub flip: f64,
@@ -533,6 +612,18 @@ pub fn compare_outcomes(
 ) -> Result<Comparison, String> {
     let span = check_traces(reference, other)?;
     let (map, matched_by) = match_bodies(reference, other)?;
+    // Only what both traces cover: a trace that runs longer must not count flips, contacts or
+    // rest the other could not show.
+    let within = |t: &Trace| Trace {
+        header: t.header.clone(),
+        records: t
+            .records
+            .iter()
+            .filter(|r| r.t >= span.0 && r.t <= span.1)
+            .cloned()
+            .collect(),
+    };
+    let (reference, other) = (&within(reference), &within(other));
     let mut outcomes = Vec::new();
     let mut push =
         |name: String, a: String, b: String, difference: f64, tolerance: String, passed: bool| {
@@ -545,27 +636,75 @@ pub fn compare_outcomes(
                 passed,
             })
         };
-    // First contact.
-    let first_contact = |t: &Trace| {
-        t.records
-            .iter()
-            .find(|r| !r.contacts.is_empty())
-            .map(|r| r.t)
-    };
-    let (a, b) = (first_contact(reference), first_contact(other));
-    let d = match (a, b) {
-        (Some(a), Some(b)) => (a - b).abs(),
-        (None, None) => 0.0,
-        _ => f64::INFINITY,
-    };
-    push(
-        "time of first contact".into(),
-        number(a),
-        number(b),
-        d,
-        format!("{} s", tol.time),
-        d <= tol.time,
-    );
+    // First contact of each pair of bodies (or body and ground) that touches in either trace,
+    // with the other trace's bodies renamed to the reference's.
+    let reported = other.records.iter().any(|r| !r.contacts.is_empty());
+    if reported {
+        let mut back = vec![usize::MAX; map.len()];
+        for (i, &j) in map.iter().enumerate() {
+            back[j] = i;
+        }
+        let pair_of = |bodies: [i64; 2], rename: bool| {
+            let name = |b: i64| {
+                if b < 0 || !rename {
+                    b
+                } else {
+                    back.get(b as usize).map_or(b, |&i| i as i64)
+                }
+            };
+            let (p, q) = (name(bodies[0]), name(bodies[1]));
+            (p.max(q), p.min(q))
+        };
+        let firsts = |t: &Trace, rename: bool| {
+            let mut out: Vec<((i64, i64), f64)> = Vec::new();
+            for r in &t.records {
+                for c in &r.contacts {
+                    let pair = pair_of(c.bodies, rename);
+                    if !out.iter().any(|(p, _)| *p == pair) {
+                        out.push((pair, r.t));
+                    }
+                }
+            }
+            out
+        };
+        let (fa, fb) = (firsts(reference, false), firsts(other, true));
+        let mut pairs: Vec<(i64, i64)> = fa.iter().chain(&fb).map(|(p, _)| *p).collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        for pair in pairs {
+            let find =
+                |f: &[((i64, i64), f64)]| f.iter().find(|(p, _)| *p == pair).map(|(_, t)| *t);
+            let (a, b) = (find(&fa), find(&fb));
+            let d = match (a, b) {
+                (Some(a), Some(b)) => (a - b).abs(),
+                _ => f64::INFINITY,
+            };
+            let who = |b: i64| {
+                if b < 0 {
+                    "the ground".to_string()
+                } else {
+                    body_label(reference, b as usize)
+                }
+            };
+            push(
+                format!("first contact of {} with {}", who(pair.0), who(pair.1)),
+                number(a),
+                number(b),
+                d,
+                format!("{} s", tol.time),
+                d <= tol.time,
+            );
+        }
+    } else {
+        push(
+            "first contacts".into(),
+            "recorded".into(),
+            "not reported (the trace lists no contacts)".into(),
+            f64::NAN,
+            "—".into(),
+            true,
+        );
+    }
     let end_r = reference
         .records
         .iter()
@@ -628,17 +767,7 @@ pub fn compare_outcomes(
             );
         }
     }
-    let scale = reference
-        .records
-        .iter()
-        .map(|r| {
-            r.energy
-                .total
-                .abs()
-                .max(r.energy.kinetic_linear + r.energy.kinetic_angular)
-        })
-        .fold(0.0, f64::max)
-        .max(f64::MIN_POSITIVE);
+    let scale = energy_scale(reference);
     let (ea, eb) = (end_r.energy.total, end_o.energy.total);
     let d = (ea - eb).abs();
     push(
@@ -673,7 +802,8 @@ pub fn compare_outcomes(
             };
             let (fa, fb) = (flips(reference), flips(other));
             if fa.len() >= 2 {
-                let period = (fa[fa.len() - 1] - fa[0]) / (fa.len() - 1) as f64;
+                // Two sign changes of the intermediate-axis spin per period.
+                let period = 2.0 * (fa[fa.len() - 1] - fa[0]) / (fa.len() - 1) as f64;
                 let n = fa.len().min(fb.len());
                 let worst = if fb.len() < fa.len() {
                     f64::INFINITY
@@ -682,8 +812,8 @@ pub fn compare_outcomes(
                 };
                 push(
                     "Dzhanibekov flip times".into(),
-                    format!("{} flips, period {period:.4} s", fa.len()),
-                    format!("{} flips", fb.len()),
+                    format!("{} sign changes, period {period:.4} s", fa.len()),
+                    format!("{} sign changes", fb.len()),
                     worst,
                     format!("{:.4} s", tol.flip * period),
                     worst <= tol.flip * period,

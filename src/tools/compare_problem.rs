@@ -103,9 +103,39 @@ fn check_shape(p: &ProblemFile, what: &str) -> Result<(), String> {
         .map_err(|e| format!("the {what} problem: {e}"))
 }
 
+/// Which contact of `other` each contact of `reference` is: among the other's contacts with
+/// the same [body 1, body 2] not yet taken, the nearest by contact point (when both have
+/// geometry) or else by normal Jacobian row; in reference order. Two simulators may list a
+/// state's contacts in different orders.
+fn match_contacts(reference: &ProblemFile, other: &ProblemFile) -> Vec<Option<usize>> {
+    let mut taken = vec![false; other.contacts.len()];
+    reference
+        .contacts
+        .iter()
+        .map(|ca| {
+            let ja = jacobian(ca);
+            let distance = |cb: &ContactJson| match (&ca.geometry, &cb.geometry) {
+                (Some(ga), Some(gb)) => (0..3).map(|d| (ga.p[d] - gb.p[d]).powi(2)).sum::<f64>(),
+                _ => (ja.row(0) - jacobian(cb).row(0)).norm_squared(),
+            };
+            let best = other
+                .contacts
+                .iter()
+                .enumerate()
+                .filter(|(m, cb)| !taken[*m] && cb.bodies == ca.bodies)
+                .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
+                .map(|(m, _)| m);
+            if let Some(m) = best {
+                taken[m] = true;
+            }
+            best
+        })
+        .collect()
+}
+
 /// Every difference between the two problems beyond `tol`, up to each contact's tangent basis;
-/// empty when they agree. Also returns how many values were compared. Contacts are matched in
-/// order (both files list a state's contacts; a different count is itself a difference).
+/// empty when they agree. Also returns how many values were compared. Contacts are matched by
+/// [`match_contacts`]; names use the reference's contact numbers.
 pub fn compare_problems(
     reference: &ProblemFile,
     other: &ProblemFile,
@@ -149,18 +179,31 @@ pub fn compare_problems(
             }
         }
     }
-    for (k, (ca, cb)) in reference.contacts.iter().zip(&other.contacts).enumerate() {
-        for side in 0..2 {
-            c.check(
-                || format!("contact {k}: body {}", side + 1),
-                ca.bodies[side] as f64,
-                cb.bodies[side] as f64,
-                0.0,
-            );
-        }
-        if ca.bodies != cb.bodies {
+    c.check(
+        || "friction model (0 box, 1 cone)".into(),
+        f64::from(u8::from(
+            reference.friction == crate::problem::FrictionModel::Cone,
+        )),
+        f64::from(u8::from(
+            other.friction == crate::problem::FrictionModel::Cone,
+        )),
+        0.0,
+    );
+    let matching = match_contacts(reference, other);
+    for (k, ca) in reference.contacts.iter().enumerate() {
+        let Some(m) = matching[k] else {
+            c.compared += 1;
+            c.out.push(ProblemDifference {
+                quantity: format!(
+                    "contact {k} (bodies {:?}): no contact of the other file matches it",
+                    ca.bodies
+                ),
+                reference: 1.0,
+                other: 0.0,
+            });
             continue;
-        }
+        };
+        let cb = &other.contacts[m];
         if let (Some(ga), Some(gb)) = (&ca.geometry, &cb.geometry) {
             for d in 0..3 {
                 c.check(
@@ -263,7 +306,10 @@ pub fn compare_problems(
         );
     }
     if let (Some(sa), Some(sb)) = (&reference.solution, &other.solution) {
-        for (k, (la, lb)) in sa.lambda.iter().zip(&sb.lambda).enumerate() {
+        for (k, la) in sa.lambda.iter().enumerate() {
+            let Some(lb) = matching[k].and_then(|m| sb.lambda.get(m)) else {
+                continue;
+            };
             let scale = la.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             c.check(|| format!("contact {k}: λn"), la[0], lb[0], scale);
             c.check(

@@ -96,11 +96,11 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
         };
         let figure = match e.first_exceeded {
             Some(t) => format!(
-                "max {:.3e} {} at t = {} s; exceeds {:e} from t = {t} s",
+                "max {:.3e} {} at t = {} s; exceeds {:.3e} from t = {t} s",
                 e.max_error, e.unit, e.at, e.tolerance
             ),
             None => format!(
-                "max {:.3e} {} (tolerance {:e})",
+                "max {:.3e} {} (tolerance {:.3e})",
                 e.max_error, e.unit, e.tolerance
             ),
         };
