@@ -17,7 +17,14 @@ fn main() {
         // One line, naming the file and what is wrong; the cause chain is joined with ": ".
         eprintln!("error: {err:#}");
         // `compare` and `compare-problem`: 1 means the inputs differ, 2 that one is unreadable.
-        let unreadable = err.downcast_ref::<cli::Unreadable>().is_some();
-        std::process::exit(if unreadable { 2 } else { 1 });
+        // `crosscheck`: 3 means some problems could not be checked (none disagrees).
+        let status = if err.downcast_ref::<cli::Unreadable>().is_some() {
+            2
+        } else if err.downcast_ref::<cli::Unverified>().is_some() {
+            3
+        } else {
+            1
+        };
+        std::process::exit(status);
     }
 }

@@ -28,8 +28,10 @@ For cone friction the report also gives the distance to Anitescu's relaxation (t
 fixed data), which differs from PGS wherever a contact slides.
 
 Coupled friction is not a monotone problem; where PGS cannot converge, the problem is reported
-as unverified, not compared (with --strict, it fails the check). Exit status 1 when any
-comparison exceeds its tolerance or clarabel fails. Formulations: docs/contact.md §\"Convex formulations\".")]
+as unverified, not compared. The verdict is one of three: agree (every problem verified within
+tolerance; exit status 0), unverified (none disagrees, but some could not be checked; exit status
+3), disagree (some comparison exceeds its tolerance or clarabel fails; exit status 1). With
+--strict, unverified problems count as disagreeing. Formulations: docs/contact.md §\"Convex formulations\".")]
 pub struct CrosscheckArgs {
     /// A scene file (3D, or 2D: an image or a 2D scene file), a contact-problem file (from
     /// `run --dump-problems`), or a folder of them. Without one, the built-in default scene.
@@ -91,15 +93,19 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
         }
         print_summary(&summary);
     }
-    if !summary.passed {
-        bail!(
-            "{input}: {} of {} problems disagree beyond the tolerance (worst: {})",
-            summary.failures,
-            summary.compared,
+    match summary.verdict {
+        "disagree" => bail!(
+            "{input}: {} (worst: {})",
+            super::crosscheck_report::describe_verdict(&summary),
             summary.worst.as_deref().unwrap_or("-")
-        );
+        ),
+        "unverified" => Err(super::crosscheck_report::Unverified(format!(
+            "{input}: {}",
+            super::crosscheck_report::describe_verdict(&summary)
+        ))
+        .into()),
+        _ => Ok(()),
     }
-    Ok(())
 }
 
 /// The input's name and one row per contact problem: a folder of problem files, one problem

@@ -36,6 +36,10 @@ pub(crate) struct Summary {
     pub(crate) failures: usize,
     pub(crate) tolerance: f64,
     pub(crate) objective_tolerance: f64,
+    /// `agree` (every problem verified within tolerance, or there were none), `unverified`
+    /// (none disagrees, but some could not be checked: PGS did not converge) or `disagree`.
+    pub(crate) verdict: &'static str,
+    /// True only for `agree`.
     pub(crate) passed: bool,
     /// 3D scenes: the deepest interpenetration measured after any step of the run, m
     /// (docs/contact.md §"Penetration measure"), whatever contacts were found.
@@ -45,6 +49,11 @@ pub(crate) struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) deepest_penetration_step: Option<u64>,
 }
+
+/// Some problems could not be checked and none disagrees: exit status 3.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Unverified(pub String);
 
 /// One line per problem.
 pub(crate) fn print_table(rows: &[Row]) {
@@ -150,7 +159,14 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
         failures,
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
-        passed: failures == 0,
+        verdict: if failures > 0 {
+            "disagree"
+        } else if rows.len() > compared.len() {
+            "unverified"
+        } else {
+            "agree"
+        },
+        passed: failures == 0 && rows.len() == compared.len(),
         deepest_penetration: None,
         deepest_penetration_step: None,
     }
@@ -176,14 +192,30 @@ pub(crate) fn print_summary(s: &Summary) {
             "penetration      deepest {depth:.3e} m, after step {step} (measured between the bodies, whatever contacts were found)"
         );
     }
-    println!(
-        "result           {}",
-        if s.passed && s.compared == 0 {
-            "nothing compared (no contact problem was verified)".to_string()
-        } else if s.passed {
-            "agree".to_string()
-        } else {
-            format!("{} problems disagree", s.failures)
-        }
-    );
+    println!("result           {}", describe_verdict(s));
+}
+
+/// The verdict as a sentence: agree, unverified or disagree, with the counts behind it.
+pub(crate) fn describe_verdict(s: &Summary) -> String {
+    match s.verdict {
+        "disagree" => format!(
+            "disagree: {} of {} problems beyond the tolerance{}",
+            s.failures,
+            s.problems,
+            if s.unverified > 0 {
+                format!(" ({} more unverified: PGS did not converge)", s.unverified)
+            } else {
+                String::new()
+            }
+        ),
+        "unverified" => format!(
+            "unverified: {} of {} problems could not be checked (PGS did not converge to 1e-10 m/s within 200 000 sweeps); the {} compared agree",
+            s.unverified, s.problems, s.compared
+        ),
+        _ if s.problems == 0 => "agree: no contact problems to compare".to_string(),
+        _ => format!(
+            "agree: all {} problems verified within tolerance",
+            s.problems
+        ),
+    }
 }

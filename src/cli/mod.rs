@@ -63,6 +63,7 @@ enum Command {
 }
 
 pub use compare::Unreadable;
+pub use crosscheck_report::Unverified;
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
 /// default scene).

@@ -300,8 +300,12 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
+    // Some of delicate's problems PGS cannot converge on (the tolerance is 1e-10 m/s): those are
+    // unverified (exit status 3), none may disagree (exit status 1).
+    let unverified = stdout.contains("result           unverified: ");
+    assert_eq!(
+        out.status.code(),
+        Some(if unverified { 3 } else { 0 }),
         "{stdout}{}",
         String::from_utf8_lossy(&out.stderr)
     );
