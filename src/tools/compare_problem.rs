@@ -135,7 +135,8 @@ fn match_contacts(reference: &ProblemFile, other: &ProblemFile) -> Vec<Option<us
 
 /// Every difference between the two problems beyond `tol`, up to each contact's tangent basis;
 /// empty when they agree. Also returns how many values were compared. Contacts are matched by
-/// [`match_contacts`]; names use the reference's contact numbers.
+/// nearest point (or normal row) within the same body pair (see `match_contacts`); names use
+/// the reference's contact numbers.
 pub fn compare_problems(
     reference: &ProblemFile,
     other: &ProblemFile,
