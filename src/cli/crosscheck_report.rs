@@ -144,6 +144,13 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
                 r.source, r.check.comparison, r.check.disagreement
             )
         });
+    let verdict = if failures > 0 {
+        "disagree"
+    } else if rows.len() > compared.len() {
+        "unverified"
+    } else {
+        "agree"
+    };
     Summary {
         input: input.to_string(),
         problems: rows.len(),
@@ -159,14 +166,8 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
         failures,
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
-        verdict: if failures > 0 {
-            "disagree"
-        } else if rows.len() > compared.len() {
-            "unverified"
-        } else {
-            "agree"
-        },
-        passed: failures == 0 && rows.len() == compared.len(),
+        verdict,
+        passed: verdict == "agree",
         deepest_penetration: None,
         deepest_penetration_step: None,
     }

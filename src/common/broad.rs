@@ -30,6 +30,12 @@ impl Aabb {
         (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
     }
 
+    /// The length of the box's shortest side, m.
+    pub fn smallest_side(&self) -> f64 {
+        let side = self.max - self.min;
+        side.x.min(side.y).min(side.z)
+    }
+
     /// Whether `p` is inside the box (boundary included).
     pub fn contains(&self, p: &Vector3<f64>) -> bool {
         (0..3).all(|k| self.min[k] <= p[k] && p[k] <= self.max[k])

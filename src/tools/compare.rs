@@ -398,9 +398,36 @@ pub fn compare_trajectories(
     } else {
         from_reference
     };
+    // Both traces at each sample time, interpolated once: every body's state, and the 13
+    // system values (energy terms, momenta).
+    struct Sample {
+        t: f64,
+        bodies: Vec<(State, State)>,
+        system: ([f64; 13], [f64; 13]),
+    }
+    let samples: Vec<Sample> = times
+        .iter()
+        .map(|&t| Sample {
+            t,
+            bodies: map
+                .iter()
+                .enumerate()
+                .map(|(i, &j)| {
+                    (
+                        body_at(&reference.records, i, t),
+                        body_at(&other.records, j, t),
+                    )
+                })
+                .collect(),
+            system: (
+                system_at(&reference.records, t),
+                system_at(&other.records, t),
+            ),
+        })
+        .collect();
     let mut errors = Vec::new();
     let mut track =
-        |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(f64) -> f64| {
+        |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(&Sample) -> f64| {
             let mut e = QuantityError {
                 quantity,
                 unit,
@@ -409,45 +436,39 @@ pub fn compare_trajectories(
                 first_exceeded: None,
                 tolerance,
             };
-            for &t in &times {
-                let err = f(t);
+            for sample in &samples {
+                let err = f(sample);
                 if err > e.max_error || err.is_nan() {
                     e.max_error = if err.is_nan() { f64::INFINITY } else { err };
-                    e.at = t;
+                    e.at = sample.t;
                 }
                 // NaN counts as exceeding.
                 if e.first_exceeded.is_none() && (err.is_nan() || err > tolerance) {
-                    e.first_exceeded = Some(t);
+                    e.first_exceeded = Some(sample.t);
                 }
             }
             errors.push(e);
         };
-    for (i, &j) in map.iter().enumerate() {
+    for i in 0..map.len() {
         let label = body_label(reference, i);
-        let pair = |t: f64| {
-            (
-                body_at(&reference.records, i, t),
-                body_at(&other.records, j, t),
-            )
-        };
-        track(format!("{label} position"), "m", tol.position, &|t| {
-            let (a, b) = pair(t);
+        track(format!("{label} position"), "m", tol.position, &|s| {
+            let (a, b) = &s.bodies[i];
             (a.x - b.x).norm()
         });
-        track(format!("{label} orientation"), "rad", tol.angle, &|t| {
-            let (a, b) = pair(t);
+        track(format!("{label} orientation"), "rad", tol.angle, &|s| {
+            let (a, b) = &s.bodies[i];
             angle_between(&a.rotation, &b.rotation)
         });
-        track(format!("{label} velocity"), "m/s", tol.velocity, &|t| {
-            let (a, b) = pair(t);
+        track(format!("{label} velocity"), "m/s", tol.velocity, &|s| {
+            let (a, b) = &s.bodies[i];
             (a.v - b.v).norm()
         });
         track(
             format!("{label} angular velocity"),
             "rad/s",
             tol.omega,
-            &|t| {
-                let (a, b) = pair(t);
+            &|s| {
+                let (a, b) = &s.bodies[i];
                 (a.omega - b.omega).norm()
             },
         );
@@ -460,10 +481,14 @@ pub fn compare_trajectories(
     ];
     let energy_scale = energy_scale(reference);
     for (k, name) in names.iter().enumerate() {
-        track(name.to_string(), "J", tol.energy * energy_scale, &|t| {
-            (system_at(&reference.records, t)[k] - system_at(&other.records, t)[k]).abs()
+        track(name.to_string(), "J", tol.energy * energy_scale, &|s| {
+            (s.system.0[k] - s.system.1[k]).abs()
         });
     }
+    // Relative to the reference's largest momentum, but never less than that of the whole mass
+    // moving at 1 m/s (at 1 m for angular momentum): a system at rest has zero momentum, and
+    // round-off must not fail it.
+    let total_mass: f64 = reference.header.bodies.iter().map(|b| b.mass).sum();
     for (k, name) in [
         "momentum.linear",
         "momentum.angular",
@@ -473,18 +498,18 @@ pub fn compare_trajectories(
     .enumerate()
     {
         let part = |v: &[f64; 13]| Vector3::new(v[4 + 3 * k], v[5 + 3 * k], v[6 + 3 * k]);
-        // Relative to the reference's largest momentum, but never less than that of the whole
-        // mass moving at 1 m/s (at 1 m for angular momentum): a system at rest has zero
-        // momentum, and round-off must not fail it.
-        let total_mass: f64 = reference.header.bodies.iter().map(|b| b.mass).sum();
+        let of_record = |r: &TraceRecord| {
+            let m = &r.momentum;
+            v3([&m.linear, &m.angular, &m.angular_com][k]).norm()
+        };
         let scale = reference
             .records
             .iter()
-            .map(|r| part(&system_at(std::slice::from_ref(r), r.t)).norm())
+            .map(of_record)
             .fold(total_mass.max(f64::MIN_POSITIVE), f64::max);
         let unit = if k == 0 { "kg·m/s" } else { "kg·m²/s" };
-        track(name.to_string(), unit, tol.momentum * scale, &|t| {
-            (part(&system_at(&reference.records, t)) - part(&system_at(&other.records, t))).norm()
+        track(name.to_string(), unit, tol.momentum * scale, &|s| {
+            (part(&s.system.0) - part(&s.system.1)).norm()
         });
     }
     let agree = errors.iter().all(|e| e.first_exceeded.is_none());

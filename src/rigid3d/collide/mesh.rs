@@ -114,8 +114,7 @@ impl MeshCollider {
 
     /// The body's size: the smallest side of the mesh's bounding box in its own frame, m.
     pub fn size(&self) -> f64 {
-        let side = self.local_box.max - self.local_box.min;
-        side.x.min(side.y).min(side.z)
+        self.local_box.smallest_side()
     }
 
     /// Whether a body-frame point is inside this mesh's bounding box (a cheap first test).

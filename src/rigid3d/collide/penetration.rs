@@ -44,9 +44,7 @@ pub fn body_size(body: &RigidBody) -> f64 {
 
 /// The smallest side of a mesh's bounding box in its own frame, m.
 pub fn mesh_size(mesh: &TriMesh) -> f64 {
-    let b = Aabb::around(mesh.vertices.iter().copied());
-    let side = b.max - b.min;
-    side.x.min(side.y).min(side.z)
+    Aabb::around(mesh.vertices.iter().copied()).smallest_side()
 }
 
 /// Depth of `body` below the ground plane, m (0 when no vertex is below it).

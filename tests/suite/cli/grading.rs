@@ -405,6 +405,20 @@ fn grade_gives_the_expected_table_for_five_fabricated_submissions() {
     );
 }
 
+/// `compare A B --outcome --scene SCENE` in `dir` must agree (exit 0); returns its report.
+fn assert_outcomes_agree(dir: &Path, a: &str, b: &str, scene_name: &str) -> String {
+    let s = scene(scene_name);
+    let o = rigidref(&["compare", a, b, "--outcome", "--scene", &s], dir);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{a} against {b}: {stdout}{}",
+        stderr(&o)
+    );
+    stdout
+}
+
 /// Rewrites a JSON Lines trace in `dir`, applying `edit` to every record (not the header).
 fn edit_records(dir: &Path, from: &str, to: &str, mut edit: impl FnMut(&mut serde_json::Value)) {
     let text = std::fs::read_to_string(dir.join(from)).unwrap();
@@ -482,61 +496,17 @@ fn compare_refuses_what_is_not_a_trace_and_respects_symmetries() {
             turn_body(r, i, &quarter);
         }
     });
-    let s = scene("cube_stack.json");
-    let o = rigidref(
-        &[
-            "compare",
-            "stack.jsonl",
-            "stack-turned.jsonl",
-            "--outcome",
-            "--scene",
-            &s,
-        ],
-        dir,
-    );
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        stderr(&o)
-    );
+    assert_outcomes_agree(dir, "stack.jsonl", "stack-turned.jsonl", "cube_stack.json");
     run(dir, "sphere_drop.json", "3", "ball.jsonl", &[]);
     edit_records(dir, "ball.jsonl", "ball-turned.jsonl", |r| {
         turn_body(r, 0, &half)
     });
-    let s = scene("sphere_drop.json");
-    let o = rigidref(
-        &[
-            "compare",
-            "ball.jsonl",
-            "ball-turned.jsonl",
-            "--outcome",
-            "--scene",
-            &s,
-        ],
-        dir,
-    );
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        stderr(&o)
-    );
+    assert_outcomes_agree(dir, "ball.jsonl", "ball-turned.jsonl", "sphere_drop.json");
     // The Dzhanibekov slab over 20 s against the same run cut at 12 s: the flips both show.
     run(dir, "dzhanibekov.json", "20", "long.jsonl", &[]);
     run(dir, "dzhanibekov.json", "12", "cut.jsonl", &[]);
-    let s = scene("dzhanibekov.json");
     for (a, b) in [("long.jsonl", "cut.jsonl"), ("cut.jsonl", "long.jsonl")] {
-        let o = rigidref(&["compare", a, b, "--outcome", "--scene", &s], dir);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{a} against {b}: {}{}",
-            String::from_utf8_lossy(&o.stdout),
-            stderr(&o)
-        );
-        assert!(String::from_utf8_lossy(&o.stdout).contains("Dzhanibekov flip times"));
+        let stdout = assert_outcomes_agree(dir, a, b, "dzhanibekov.json");
+        assert!(stdout.contains("Dzhanibekov flip times"), "{stdout}");
     }
 }
