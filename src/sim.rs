@@ -138,6 +138,9 @@ pub struct RunTotals {
     pub sweeps: u64,
     /// The largest residual a solve ended with.
     pub worst_residual: f64,
+    /// Cone friction: the largest exact Coulomb residual a solve ended with (m/s in 3D;
+    /// docs/contact.md §"The exact Coulomb residual"); `None` when no solve reported one.
+    pub worst_coulomb_residual: Option<f64>,
     /// The deepest penetration of a contact found (m in 3D, blocks in 2D).
     pub deepest: f64,
     /// The deepest interpenetration the system measured between bodies, whatever contacts were
@@ -160,6 +163,10 @@ impl RunTotals {
         self.sweeps += t.sweeps;
         self.worst_residual = self.worst_residual.max(t.worst_residual);
         for s in solves {
+            if let Some(r) = s.report.coulomb_residual {
+                self.worst_coulomb_residual =
+                    Some(self.worst_coulomb_residual.map_or(r, |w: f64| w.max(r)));
+            }
             for c in &s.contacts {
                 self.deepest = self.deepest.max(c.depth());
             }
@@ -183,8 +190,12 @@ impl RunTotals {
                 _ => "none".to_string(),
             };
         }
+        let coulomb = match self.worst_coulomb_residual {
+            Some(r) => format!(" (exact Coulomb residual {r:.3e} {velocity})"),
+            None => String::new(),
+        };
         format!(
-            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}, {penetration}",
+            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}{coulomb}, {penetration}",
             self.solves,
             self.steps_with_contacts,
             self.most_contacts,

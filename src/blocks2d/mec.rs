@@ -1,4 +1,5 @@
-//! Minimum enclosing circle (Welzl's algorithm, in its iterative move-to-front form).
+//! Minimum enclosing circle (Welzl's algorithm, in its randomised incremental form: the points
+//! shuffled once, then three nested loops; de Berg et al., Computational Geometry, §4.7).
 //! docs/blocks2d.md §"Minimum enclosing circle".
 
 use nalgebra::Vector2;

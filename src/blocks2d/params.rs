@@ -1,7 +1,7 @@
 //! The 2D system's parameters and their defaults (the Java starter's where it has one).
 //! docs/blocks2d.md §"Demonstration settings".
 
-use crate::solve::ContactOrder;
+use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::Vector2;
 
 /// How contacts are resolved.
@@ -49,6 +49,9 @@ pub struct Params2 {
     pub order: ContactOrder,
     /// Seed of the random order.
     pub seed: u64,
+    /// How a PGS visit updates its contact (scene key `pgs_local_solve`; default rows, the
+    /// starter's; docs/contact.md §"Exact local solve").
+    pub local_solve: LocalSolve,
     /// Warm start (default true).
     pub warm_start: bool,
     /// Post-stabilisation of penetration (default true).
@@ -120,6 +123,7 @@ impl Params2 {
             tolerance: None,
             order: ContactOrder::Sequential,
             seed: 0,
+            local_solve: LocalSolve::Rows,
             warm_start: true,
             post_stabilization: true,
             slop: 0.01,

@@ -15,7 +15,7 @@ use super::params::{ContactModel, Params2, Preset};
 use super::world::{ScriptedImpulse, Shake, World2};
 use crate::common::scene_json::{Overrides, SceneError};
 use crate::common::values::{Count, NonNegative, Positive};
-use crate::solve::ContactOrder;
+use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::Vector2;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -44,6 +44,7 @@ struct ParametersFile2 {
     pgs_tolerance: Option<Positive>,
     order: Option<ContactOrder>,
     seed: Option<u64>,
+    pgs_local_solve: Option<LocalSolve>,
     warm_start: Option<bool>,
     post_stabilization: Option<bool>,
     slop: Option<NonNegative>,
@@ -116,6 +117,8 @@ pub struct Parameters2 {
     pub order: Option<ContactOrder>,
     /// Seed of the random order.
     pub seed: Option<u64>,
+    /// How a PGS visit updates its contact.
+    pub pgs_local_solve: Option<LocalSolve>,
     /// Warm start.
     pub warm_start: Option<bool>,
     /// Post-stabilisation.
@@ -152,6 +155,7 @@ impl Parameters2 {
             ("pgs_tolerance", self.pgs_tolerance.is_some()),
             ("order", self.order.is_some()),
             ("seed", self.seed.is_some()),
+            ("pgs_local_solve", self.pgs_local_solve.is_some()),
             ("warm_start", self.warm_start.is_some()),
             ("post_stabilization", self.post_stabilization.is_some()),
             ("slop", self.slop.is_some()),
@@ -179,6 +183,7 @@ impl Parameters2 {
             tolerance: self.pgs_tolerance,
             order: self.order.unwrap_or(d.order),
             seed: self.seed.unwrap_or(d.seed),
+            local_solve: self.pgs_local_solve.unwrap_or(d.local_solve),
             warm_start: self.warm_start.unwrap_or(d.warm_start),
             post_stabilization: self.post_stabilization.unwrap_or(d.post_stabilization),
             slop: self.slop.unwrap_or(d.slop),
@@ -252,6 +257,7 @@ impl Parameters2 {
             pgs_tolerance: self.pgs_tolerance.or(other.pgs_tolerance),
             order: self.order.or(other.order),
             seed: self.seed.or(other.seed),
+            pgs_local_solve: self.pgs_local_solve.or(other.pgs_local_solve),
             warm_start: self.warm_start.or(other.warm_start),
             post_stabilization: self.post_stabilization.or(other.post_stabilization),
             slop: self.slop.or(other.slop),
@@ -277,6 +283,7 @@ impl ParametersFile2 {
             pgs_tolerance: p.pgs_tolerance.map(|x| x.0),
             order: p.order,
             seed: p.seed,
+            pgs_local_solve: p.pgs_local_solve,
             warm_start: p.warm_start,
             post_stabilization: p.post_stabilization,
             slop: p.slop.map(|x| x.0),

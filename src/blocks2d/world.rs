@@ -132,6 +132,7 @@ impl World2 {
             max_iterations: self.params.iterations,
             tolerance: self.params.tolerance,
             order: self.params.order,
+            local: self.params.local_solve,
         }
     }
 

@@ -132,6 +132,10 @@ pub struct Blocks2dOptions {
     /// 2D: seed of the random order [default: 0].
     #[arg(long)]
     pub seed: Option<u64>,
+    /// 2D: how a PGS visit updates its contact: `rows` (normal row, then friction row) or `exact`
+    /// (the contact's 2 × 2 problem solved exactly) [default: rows].
+    #[arg(long, value_enum)]
+    pub pgs_local_solve: Option<rigidref::solve::LocalSolve>,
     /// 2D: start each solve cold.
     #[arg(long)]
     pub no_warm_start: bool,
@@ -207,6 +211,7 @@ impl Blocks2dOptions {
             pgs_tolerance: self.pgs_tolerance,
             order: self.order,
             seed: self.seed,
+            pgs_local_solve: self.pgs_local_solve,
             warm_start: self.no_warm_start.then_some(false),
             post_stabilization: self.no_post_stabilization.then_some(false),
             slop: self.slop,

@@ -16,6 +16,9 @@ struct ContactsJson {
     friction_model: String,
     iterations: u32,
     residual: f64,
+    /// Cone friction: the exact Coulomb law's residual, m/s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    coulomb_residual: Option<f64>,
     contacts: Vec<ContactJson>,
 }
 
@@ -68,6 +71,7 @@ fn contacts_json(world: &World, solve: &Solve3) -> ContactsJson {
         friction_model: world.params.friction_model.name().into(),
         iterations: solve.report.iterations,
         residual: solve.report.residual,
+        coulomb_residual: solve.report.coulomb_residual,
         contacts: solve
             .contacts
             .iter()
@@ -102,10 +106,14 @@ fn print_table(out: &ContactsJson, world: &World) {
         out.scene, out.step, out.t, out.substep, out.h, out.mu, out.friction_model
     );
     println!(
-        "{} contacts; PGS {} sweeps, residual {:.3e} m/s",
+        "{} contacts; PGS {} sweeps, residual {:.3e} m/s{}",
         out.contacts.len(),
         out.iterations,
-        out.residual
+        out.residual,
+        match out.coulomb_residual {
+            Some(r) => format!(", exact Coulomb residual {r:.3e} m/s"),
+            None => String::new(),
+        }
     );
     let names = |i: i64| {
         if i < 0 {

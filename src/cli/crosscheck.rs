@@ -28,7 +28,10 @@ For cone friction the report also gives the distance to Anitescu's relaxation (t
 fixed data), which differs from PGS wherever a contact slides.
 
 Coupled friction is not a monotone problem; where PGS cannot converge, the problem is reported
-as unverified, not compared. The verdict is one of three: agree (every problem verified within
+as unverified, not compared. Row-by-row PGS can cycle on a single contact whose normal and
+friction rows are coupled; --pgs-local-solve exact (or --set pgs_local_solve=exact) solves each
+contact's own problem exactly and cannot. For cone friction the exact Coulomb law's residual of
+PGS's answers is reported too. The verdict is one of three: agree (every problem verified within
 tolerance; exit status 0), unverified (none disagrees, but some could not be checked; exit status
 3), disagree (some comparison exceeds its tolerance or clarabel fails; exit status 1). With
 --strict, unverified problems count as disagreeing. Formulations: docs/contact.md §\"Convex formulations\".")]
@@ -51,6 +54,11 @@ pub struct CrosscheckArgs {
     /// Also fail when PGS cannot converge on some problem (instead of reporting it unverified).
     #[arg(long, conflicts_with = "rapier")]
     pub strict: bool,
+    /// How PGS visits a contact while run to convergence: `rows` (the assignment's row-by-row
+    /// update) or `exact` (each contact's own problem solved exactly; docs/contact.md §"Exact
+    /// local solve") [default: the scene's pgs_local_solve; rows for problem files].
+    #[arg(long, value_enum)]
+    pub pgs_local_solve: Option<rigidref::solve::LocalSolve>,
     /// Print the summary (and with --table every problem) as JSON.
     #[arg(long)]
     pub json: bool,
@@ -69,9 +77,10 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     if !(args.tolerance > 0.0 && args.objective_tolerance > 0.0) {
         bail!("--tolerance and --objective-tolerance must be positive");
     }
-    let settings = CrosscheckSettings::default();
+    let mut settings = CrosscheckSettings::default();
+    settings.pgs.local = args.pgs_local_solve.unwrap_or_default();
     let mut penetration = None;
-    let (input, rows) = rows_of(&args, &settings, &mut penetration)?;
+    let (input, rows) = rows_of(&args, &mut settings, &mut penetration)?;
     let limits = Limits {
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
@@ -115,7 +124,7 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
 /// the step after which it was measured (docs/contact.md §"Penetration measure").
 fn rows_of(
     args: &CrosscheckArgs,
-    settings: &CrosscheckSettings,
+    settings: &mut CrosscheckSettings,
     penetration: &mut Option<(f64, u64)>,
 ) -> anyhow::Result<(String, Vec<Row>)> {
     Ok(match &args.input {
@@ -127,8 +136,9 @@ fn rows_of(
         Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
             // An image with the default parameters, or a 2D scene file with its own.
             let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
+            settings.pgs.local = args.pgs_local_solve.unwrap_or(world.params.local_solve);
             let source = path.display().to_string();
-            let rows = check_run(&mut world, args.time, &source, settings, |_| {})?;
+            let rows = check_run(&mut world, args.time, &source, &*settings, |_| {})?;
             (source, rows)
         }
         other => {
@@ -140,9 +150,10 @@ fn rows_of(
                 );
             }
             let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+            settings.pgs.local = args.pgs_local_solve.unwrap_or(scene.params.pgs_local_solve);
             let mut watch = InterpenetrationWatch::default();
             let mut warnings = watch.observe(&world);
-            let rows = check_run(&mut world, args.time, &scene.source, settings, |w| {
+            let rows = check_run(&mut world, args.time, &scene.source, &*settings, |w| {
                 warnings.extend(watch.observe(w));
             })?;
             for w in &warnings {

@@ -41,6 +41,12 @@ pub(crate) struct Summary {
     pub(crate) verdict: &'static str,
     /// True only for `agree`.
     pub(crate) passed: bool,
+    /// How PGS visited each contact: `rows` or `exact` (docs/contact.md §"Exact local solve").
+    pub(crate) pgs_local_solve: &'static str,
+    /// Cone friction: the largest exact Coulomb residual of PGS's answers (m/s; docs/contact.md
+    /// §"The exact Coulomb residual").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) worst_coulomb_residual: Option<f64>,
     /// 3D scenes: the deepest interpenetration measured after any step of the run, m
     /// (docs/contact.md §"Penetration measure"), whatever contacts were found.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -168,6 +174,11 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
         objective_tolerance: args.objective_tolerance,
         verdict,
         passed: verdict == "agree",
+        pgs_local_solve: rows.first().map_or("rows", |r| r.check.pgs_local_solve),
+        worst_coulomb_residual: rows
+            .iter()
+            .filter_map(|r| r.check.coulomb_residual_pgs)
+            .reduce(f64::max),
         deepest_penetration: None,
         deepest_penetration_step: None,
     }
@@ -188,6 +199,12 @@ pub(crate) fn print_summary(s: &Summary) {
         s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
     );
     println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
+    println!("PGS visit        {}", s.pgs_local_solve);
+    if let Some(r) = s.worst_coulomb_residual {
+        println!(
+            "Coulomb residual worst {r:.2e} m/s (the exact Coulomb law, De Saxcé's natural map, of PGS's answers)"
+        );
+    }
     if let (Some(depth), Some(step)) = (s.deepest_penetration, s.deepest_penetration_step) {
         println!(
             "penetration      deepest {depth:.3e} m, after step {step} (measured between the bodies, whatever contacts were found)"
@@ -210,8 +227,15 @@ pub(crate) fn describe_verdict(s: &Summary) -> String {
             }
         ),
         "unverified" => format!(
-            "unverified: {} of {} problems could not be checked (PGS did not converge to 1e-10 m/s within 200 000 sweeps); the {} compared agree",
-            s.unverified, s.problems, s.compared
+            "unverified: {} of {} problems could not be checked (PGS did not converge to 1e-10 m/s within 200 000 sweeps){}; the {} compared agree",
+            s.unverified,
+            s.problems,
+            if s.pgs_local_solve == "rows" {
+                " (try --pgs-local-solve exact: row-by-row PGS can cycle where the exact local solve cannot)"
+            } else {
+                ""
+            },
+            s.compared
         ),
         _ if s.problems == 0 => "agree: no contact problems to compare".to_string(),
         _ => format!(

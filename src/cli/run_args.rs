@@ -33,6 +33,10 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
     pgs_order         \"sequential\" or \"random\" (seeded shuffle each sweep)  sequential
     pgs_seed          seed of the random order                        0
+    pgs_local_solve   how a PGS visit updates its contact: \"rows\" (normal row, then
+                      the friction rows bounded by the new λn: the assignment's;
+                      default) or \"exact\" (the contact's 3×3 problem solved exactly,
+                      normal and friction together: cannot cycle on one contact)
     collision         \"vertices\" (the assignment's rule: vertices of one mesh
                       inside the other; default) or \"complete\" (also edge-edge
                       crossings and face contacts, from the contact manifolds of

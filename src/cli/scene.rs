@@ -42,6 +42,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
         None => println!("pgs_tolerance    none (all pgs_iterations sweeps)"),
     }
     println!("pgs_order        {:?} (seed {})", p.pgs_order, p.pgs_seed);
+    println!("pgs_local_solve  {}", p.pgs_local_solve.name());
     println!("collision        {}", p.collision.name());
     for (i, b) in scene.bodies.iter().enumerate() {
         let moments = b.inertia.symmetric_eigenvalues();

@@ -113,6 +113,10 @@ pub struct SolutionJson {
     pub iterations: u32,
     /// Its residual (docs/contact.md §"Residual"), m/s.
     pub residual: f64,
+    /// Cone friction: the exact Coulomb law's residual (docs/contact.md §"The exact Coulomb
+    /// residual"), m/s; absent for box friction and in files written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coulomb_residual: Option<f64>,
 }
 
 fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>> {
@@ -203,6 +207,7 @@ impl ProblemFile {
             lambda: lambda.iter().map(|l| l.iter().copied().collect()).collect(),
             iterations: report.iterations,
             residual: report.residual,
+            coulomb_residual: report.coulomb_residual,
         });
         file
     }

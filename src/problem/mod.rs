@@ -28,7 +28,10 @@ pub enum FrictionModel {
     /// Each friction row separately in [−μ λn, μ λn] (the assignment's model; a pyramid).
     #[default]
     Box,
-    /// The friction rows together in the disk ‖λt‖ ≤ μ λn (Anitescu's convex cone).
+    /// The friction rows together in the disk ‖λt‖ ≤ μ λn, with maximal dissipation in it: at a
+    /// fixed point, the exact Coulomb law (a non-convex problem; clarabel's SOCP
+    /// `QpFormulation::Cone` is Anitescu's convex relaxation of it, docs/contact.md §"Which
+    /// problem each solver answers").
     Cone,
 }
 
@@ -242,4 +245,7 @@ pub struct SolveReport {
     pub residual: f64,
     /// The tolerance was given and reached.
     pub converged: bool,
+    /// For cone friction: the exact Coulomb law's residual of the returned λ (De Saxcé's natural
+    /// map, docs/contact.md §"The exact Coulomb residual"), m/s; `None` for box friction.
+    pub coulomb_residual: Option<f64>,
 }

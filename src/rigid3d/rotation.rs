@@ -32,8 +32,8 @@ pub fn exp_so3(theta: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::identity() + k * a + k * k * b
 }
 
-/// One Newton step of the polar decomposition towards the nearest rotation:
-/// `R ← R (3I − RᵀR) / 2`. It removes the first-order part of the orthonormality error, so a
+/// One step of the Newton–Schulz iteration (Björck and Bowie's first-order orthogonalisation)
+/// towards the nearest rotation: `R ← R (3I − RᵀR) / 2`. It removes the first-order part of the orthonormality error, so a
 /// matrix that is orthonormal to ε comes back orthonormal to O(ε²) — applied every step it holds
 /// `RᵀR = I` at round-off level indefinitely. docs/dynamics.md §"Rotation update".
 pub fn reorthonormalize(r: &Matrix3<f64>) -> Matrix3<f64> {

@@ -144,6 +144,7 @@ impl World {
             max_iterations: self.params.pgs_iterations,
             tolerance: self.params.pgs_tolerance,
             order: self.params.pgs_order,
+            local: self.params.pgs_local_solve,
         }
     }
 

@@ -6,8 +6,11 @@
 //! body. One sweep visits every contact once: the normal row first, then its friction rows with
 //! bounds from the λn just computed.
 
+use super::local::{LocalSolve, solve_local};
 use super::projection::{project_disk, project_feasible};
-use super::residual::{RowScales, contact_residual, row_scales};
+use super::residual::{
+    RowScales, contact_coulomb_residual, contact_residual, coulomb_scale, row_scales,
+};
 use crate::problem::{ContactProblem, FrictionModel, SolveReport};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
@@ -44,6 +47,8 @@ pub struct PgsSettings {
     pub tolerance: Option<f64>,
     /// Contact order.
     pub order: ContactOrder,
+    /// How a visit updates its contact: row by row (the assignment's) or the exact local solve.
+    pub local: LocalSolve,
 }
 
 /// Buffers PGS reuses from solve to solve, so that a solve does not allocate once they have
@@ -134,6 +139,16 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         w
     }
 
+    fn coulomb_residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
+        (0..problem.contacts.len())
+            .map(|k| {
+                let w = self.contact_velocity(problem, k, &lambda[k]);
+                let rho = coulomb_scale(&self.scales[k]);
+                contact_coulomb_residual(problem.contacts[k].mu, &lambda[k], &w, rho)
+            })
+            .fold(0.0, f64::max)
+    }
+
     fn residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
         (0..problem.contacts.len())
             .map(|k| {
@@ -174,7 +189,10 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
-            solve_contact(problem, workspace, k, &mut lambda[k]);
+            match settings.local {
+                LocalSolve::Rows => solve_contact(problem, workspace, k, &mut lambda[k]),
+                LocalSolve::Exact => solve_contact_exactly(problem, workspace, k, &mut lambda[k]),
+            }
         }
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
@@ -188,6 +206,32 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         iterations,
         residual: workspace.residual(problem, lambda),
         converged,
+        coulomb_residual: (problem.friction == FrictionModel::Cone)
+            .then(|| workspace.coulomb_residual(problem, lambda)),
+    }
+}
+
+/// One contact's exact update: its own R × R problem solved for the others' current impulses
+/// (docs/contact.md §"Exact local solve"); the row-by-row update where no case gives a
+/// candidate (a contact its own impulse cannot move).
+fn solve_contact_exactly<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    workspace: &mut PgsWorkspace<D, R>,
+    k: usize,
+    lambda: &mut SVector<f64, R>,
+) {
+    let contact = &problem.contacts[k];
+    let scales = &workspace.scales[k];
+    // q = w_now − A λ_now: the velocity the rest of the problem gives this contact.
+    let q = workspace.contact_velocity(problem, k, lambda) - scales.block * *lambda;
+    match solve_local(&scales.block, &q, contact.mu, problem.friction, scales) {
+        Some(solution) => {
+            for r in 0..R {
+                workspace.apply(problem, k, r, solution[r] - lambda[r]);
+            }
+            *lambda = solution;
+        }
+        None => solve_contact(problem, workspace, k, lambda),
     }
 }
 

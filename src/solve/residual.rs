@@ -13,16 +13,40 @@
 //! being violated, or how far from its bound an impulse is, measured as a velocity".
 
 use crate::problem::{ContactProblem, FrictionModel};
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
 /// The scales of one contact's rows that PGS steps with and the residual measures with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowScales<const R: usize> {
     /// a_r = (A + C)_rr per row, kg⁻¹ (compliance on the normal row only).
     pub diagonal: SVector<f64, R>,
-    /// ρ ≥ largest eigenvalue of the friction rows' block A_tt (Gershgorin: the largest absolute
-    /// row sum), kg⁻¹; the cone step is 1/ρ. For one friction row (2D) it is that row's diagonal.
+    /// ρ = the largest eigenvalue of the friction rows' block A_tt, kg⁻¹; the cone step is 1/ρ.
+    /// For one friction row (2D) it is that row's diagonal. An eigenvalue, not a bound such as
+    /// Gershgorin's row sums, because it does not change when (t1, t2) is turned about n:
+    /// A_tt turns by a similarity, so PGS's λ after any number of sweeps turns with it.
     pub tangent_rho: f64,
+    /// The contact's Delassus block A_kk with its compliance on the normal row, kg⁻¹: the
+    /// matrix of the exact local solve ([`super::local::solve_local`]).
+    pub block: SMatrix<f64, R, R>,
+}
+
+/// The largest eigenvalue of the friction rows' block A_tt of a symmetric R × R block `a`
+/// (rows and columns 1..R), kg⁻¹: exact for R ≤ 3 (the closed form of a symmetric 2 × 2),
+/// Gershgorin's bound above (no system here has more than two friction rows).
+pub fn tangent_eigenvalue<const R: usize>(a: &SMatrix<f64, R, R>) -> f64 {
+    match R {
+        0 | 1 => 0.0,
+        2 => a[(1, 1)].max(0.0),
+        3 => {
+            let (p, d, o) = (a[(1, 1)], a[(2, 2)], a[(1, 2)]);
+            let mean = 0.5 * (p + d);
+            let half_gap = 0.5 * (p - d);
+            (mean + (half_gap * half_gap + o * o).sqrt()).max(0.0)
+        }
+        _ => (1..R)
+            .map(|r| (1..R).map(|s| a[(r, s)].abs()).sum::<f64>())
+            .fold(0.0, f64::max),
+    }
 }
 
 /// The row scales of contact `k`.
@@ -30,15 +54,12 @@ pub fn row_scales<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     k: usize,
 ) -> RowScales<R> {
-    let a = problem.delassus_block(k);
-    let mut diagonal = a.diagonal();
-    diagonal[0] += problem.contacts[k].compliance;
-    let tangent_rho = (1..R)
-        .map(|r| (1..R).map(|s| a[(r, s)].abs()).sum::<f64>())
-        .fold(0.0, f64::max);
+    let mut block = problem.delassus_block(k);
+    block[(0, 0)] += problem.contacts[k].compliance;
     RowScales {
-        diagonal,
-        tangent_rho,
+        diagonal: block.diagonal(),
+        tangent_rho: tangent_eigenvalue(&block),
+        block,
     }
 }
 
@@ -104,6 +125,73 @@ pub fn residual<const D: usize, const R: usize>(
                 &lambda[k],
                 &w[k],
                 &row_scales(problem, k),
+            )
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Projects (λn, λt) onto the second-order cone K_μ = {‖λt‖ ≤ μ λn}: itself inside, 0 in the
+/// polar cone (μ‖λt‖ ≤ −λn), else onto the nearest boundary ray.
+pub fn project_cone<const R: usize>(lambda: &SVector<f64, R>, mu: f64) -> SVector<f64, R> {
+    let n = lambda[0];
+    let s = (1..R).map(|r| lambda[r] * lambda[r]).sum::<f64>().sqrt();
+    if s <= mu * n {
+        return *lambda;
+    }
+    if mu * s <= -n {
+        return SVector::zeros();
+    }
+    // Here s > 0 (s = 0 is one of the cases above) and n + μ s > 0.
+    let n_new = (n + mu * s) / (1.0 + mu * mu);
+    let mut p = *lambda * (mu * n_new / s);
+    p[0] = n_new;
+    p
+}
+
+/// One contact's exact Coulomb residual (m/s): De Saxcé's natural map,
+///
+///   r = ρ ‖λ − proj_K(λ − ŵ/ρ)‖,   ŵ = w + μ‖w_t‖ e_n,
+///
+/// with K the cone ‖λt‖ ≤ μ λn and ρ > 0 a scale (kg⁻¹). It is zero exactly when λ ∈ K, ŵ is in
+/// the dual cone and λ·ŵ = 0: separation (λ = 0, w_n ≥ 0), sticking (w = 0) or sliding with
+/// λt = −μλn w_t/‖w_t‖ and w_n = 0. docs/contact.md §"The exact Coulomb residual".
+pub fn contact_coulomb_residual<const R: usize>(
+    mu: f64,
+    lambda: &SVector<f64, R>,
+    w: &SVector<f64, R>,
+    rho: f64,
+) -> f64 {
+    let wt = (1..R).map(|r| w[r] * w[r]).sum::<f64>().sqrt();
+    let mut w_hat = *w;
+    w_hat[0] += mu * wt;
+    let projected = project_cone(&(lambda - w_hat / rho), mu);
+    rho * (lambda - projected).norm()
+}
+
+/// The scale ρ of a contact's Coulomb residual: the trace of its Delassus block with compliance
+/// (kg⁻¹), which does not change when (t1, t2) is turned about n and lies between the block's
+/// largest eigenvalue and R times it; 1 kg⁻¹ for a contact no impulse of its own can move.
+pub fn coulomb_scale<const R: usize>(scales: &RowScales<R>) -> f64 {
+    let trace = scales.block.trace();
+    if trace > 0.0 { trace } else { 1.0 }
+}
+
+/// The exact Coulomb law's residual of impulses `lambda` for `problem` (m/s): the largest
+/// [`contact_coulomb_residual`] over the contacts, whatever the problem's friction model (for box
+/// friction it says how far the box answer is from Coulomb's law). Allocates.
+pub fn coulomb_residual<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    lambda: &[SVector<f64, R>],
+) -> f64 {
+    let w = problem.constraint_velocity(lambda);
+    (0..problem.contacts.len())
+        .map(|k| {
+            let scales = row_scales(problem, k);
+            contact_coulomb_residual(
+                problem.contacts[k].mu,
+                &lambda[k],
+                &w[k],
+                coulomb_scale(&scales),
             )
         })
         .fold(0.0, f64::max)

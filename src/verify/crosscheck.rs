@@ -8,7 +8,8 @@
 use crate::problem::{ContactProblem, FrictionModel};
 use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
-use crate::solve::{PgsSettings, PgsWorkspace, residual, solve_pgs};
+use crate::solve::residual::coulomb_residual;
+use crate::solve::{LocalSolve, PgsSettings, PgsWorkspace, residual, solve_pgs};
 use nalgebra::{DMatrix, DVector, SVector};
 use serde::Serialize;
 
@@ -54,6 +55,12 @@ pub struct ProblemCheck {
     pub disagreement: f64,
     /// PGS's residual (docs/contact.md §"Residual"), m/s.
     pub residual_pgs: f64,
+    /// For cone friction, the exact Coulomb law's residual of PGS's λ (De Saxcé's natural map,
+    /// docs/contact.md §"The exact Coulomb residual"), m/s.
+    pub coulomb_residual_pgs: Option<f64>,
+    /// The PGS visit that produced the answer checked: `rows` or `exact` (the scene's
+    /// `pgs_local_solve`, or crosscheck's `--pgs-local-solve`).
+    pub pgs_local_solve: &'static str,
     /// The same residual of clarabel's λ, m/s.
     pub residual_qp: f64,
     /// PGS sweeps used.
@@ -89,7 +96,9 @@ impl Default for CrosscheckSettings {
                 max_iterations: 200_000,
                 tolerance: Some(1e-12),
                 order: crate::solve::ContactOrder::Sequential,
+                local: LocalSolve::Rows,
             },
+
             qp: QpSettings::default(),
             uniqueness_threshold: 1e-8,
             // A tenth of the λ tolerance the tests and the command use (1e-5).
@@ -276,6 +285,9 @@ pub fn check_problem<const D: usize, const R: usize>(
             Comparison::Objective => objective_gap,
         },
         residual_pgs: report.residual,
+        coulomb_residual_pgs: (problem.friction == FrictionModel::Cone)
+            .then(|| coulomb_residual(problem, &lambda)),
+        pgs_local_solve: settings.pgs.local.name(),
         residual_qp: residual(problem, &qp.lambda),
         pgs_iterations: report.iterations,
         qp_status: qp.status,

@@ -8,7 +8,7 @@ use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::rigid3d::collide::CollisionMethod;
-use crate::solve::ContactOrder;
+use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
 
@@ -44,6 +44,7 @@ pub(super) struct SimParametersJson {
     pgs_tolerance: Option<Positive>,
     pgs_order: Option<ContactOrder>,
     pgs_seed: Option<u64>,
+    pgs_local_solve: Option<LocalSolve>,
     collision: Option<CollisionMethod>,
 }
 
@@ -71,6 +72,7 @@ impl SimParametersJson {
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
             pgs_order: self.pgs_order.unwrap_or_default(),
             pgs_seed: self.pgs_seed.unwrap_or(0),
+            pgs_local_solve: self.pgs_local_solve.unwrap_or_default(),
             collision: self.collision.unwrap_or_default(),
         }
     }

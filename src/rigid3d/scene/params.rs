@@ -3,7 +3,7 @@
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::rigid3d::collide::CollisionMethod;
-use crate::solve::ContactOrder;
+use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::Vector3;
 
 /// Simulation parameters: the first entry of the scene's `sim_parameters`, with the starter's
@@ -47,6 +47,9 @@ pub struct SimParameters {
     pub pgs_order: ContactOrder,
     /// `pgs_seed`: seed of the random contact order (default 0).
     pub pgs_seed: u64,
+    /// `pgs_local_solve`: `rows` (default, the assignment's row-by-row update) or `exact` (each
+    /// visit solves its contact's 3 × 3 problem exactly; docs/contact.md §"Exact local solve").
+    pub pgs_local_solve: LocalSolve,
     /// `collision`: `vertices` (default, the assignment's) or `complete`.
     pub collision: CollisionMethod,
 }

@@ -89,6 +89,7 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
         max_iterations: 10,
         tolerance: None,
         order: ContactOrder::Sequential,
+        local: rigidref::solve::LocalSolve::Rows,
     };
     let mut with_contacts = 0;
     for record in records.iter().skip(1) {

@@ -179,6 +179,68 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
 }
 
 #[test]
+fn post_stabilisation_changes_angular_momentum_by_h_sum_m_dv_cross_v() {
+    // docs/blocks2d.md: the velocity solve keeps L about the origin at fixed positions, then the
+    // positions move by x₁ − x₀ = h v₁ + δx (δx the post-stabilisation's correction), so
+    // L₁ − L₀ = Σ m (x₁ − x₀) × v₁ = Σ m δx × v₁: exactly zero without post-stabilisation, not with
+    // it. Two overlapping 2 × 2 squares (0.5 deep along x) sliding past each other along y at
+    // ±1 (μ = 0), one step with the starter's settings and post-stabilisation on.
+    let mut world = World2::new(
+        &[],
+        Params2 {
+            gravity: 0.0,
+            mu: 0.0,
+            iterations: 50,
+            post_stabilization: true,
+            ..Params2::starter()
+        },
+    );
+    for (k, (x, vy)) in [(0.0, 1.0), (1.5, -1.0)].into_iter().enumerate() {
+        let mut b = body_of(&[(0, 0), (1, 0), (0, 1), (1, 1)], false);
+        b.x = Vector2::new(x, 0.1 * k as f64);
+        b.v = Vector2::new(0.0, vy);
+        world.add_body(b);
+    }
+    let (p0, l0) = {
+        let m = world.momentum();
+        (m.linear, m.angular)
+    };
+    let x0: Vec<Vector2<f64>> = world.bodies.iter().map(|b| b.x).collect();
+    common::run(&mut world, 1, |_, _| {});
+    let m = world.momentum();
+    let predicted: f64 = world
+        .bodies
+        .iter()
+        .zip(&x0)
+        .map(|(b, x0)| {
+            let d = b.x - x0;
+            b.mass * (d.x * b.v.y - d.y * b.v.x)
+        })
+        .sum();
+    let scale: f64 = world
+        .bodies
+        .iter()
+        .map(|b| b.mass * b.x.norm() * b.v.norm())
+        .sum::<f64>()
+        .max(1.0);
+    // Linear momentum: positions do not enter it; exact to round-off.
+    assert!(
+        (m.linear[0] - p0[0]).abs() <= 1e-12 * scale
+            && (m.linear[1] - p0[1]).abs() <= 1e-12 * scale
+    );
+    let change = m.angular - l0;
+    assert!(
+        (change - predicted).abs() <= 1e-12 * scale,
+        "ΔL {change}, Σ m (x₁ − x₀) × v₁ {predicted}"
+    );
+    println!("post-stabilisation changed L by {change:.4} (Σ m δx × v)");
+    assert!(
+        change.abs() > 0.1,
+        "the correction must change L here: {change}"
+    );
+}
+
+#[test]
 fn the_2d_and_3d_systems_call_the_same_pgs() {
     // In the source: both steps call solve::solve_pgs, and there is one PGS in the crate.
     let root = common::project_root();
@@ -244,6 +306,7 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
         max_iterations: 10,
         tolerance: None,
         order: ContactOrder::Sequential,
+        local: rigidref::solve::LocalSolve::Rows,
     };
     rigidref::solve::solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
     assert_eq!(lambda, world.solves.last().unwrap().lambda);

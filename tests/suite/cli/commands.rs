@@ -688,6 +688,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--width") => &["20"],
             (_, "--depth") => &["12"],
             (_, "--pieces") => &["tetris"],
+            (_, "--pgs-local-solve") => &["exact"],
             (_, "--piece-scale") => &["2"],
             // Flags.
             (

@@ -510,3 +510,66 @@ fn compare_refuses_what_is_not_a_trace_and_respects_symmetries() {
         assert!(stdout.contains("Dzhanibekov flip times"), "{stdout}");
     }
 }
+
+#[test]
+fn compare_problem_accepts_another_frictional_solution_by_its_residual() {
+    // The 2D example of docs/contact-problem-format.md in 3D (a decoupled second tangent row):
+    // M⁻¹ = diag(0.1, 0.1, 0.1, 1, 1, 1), n = [0, 1, 0, 0, 0, 0.9], t1 = [−1, 0, 0, 0, 0, −2],
+    // t2 = [0, 0, 1, 0, 0, 0], b = (1, −5, 0), μ = 1. It has three solutions (separate, slide,
+    // stick) with different velocities afterwards. A reference that separates and another file
+    // that slides are both right: compare-problem must not call the second one wrong, and must
+    // still name a λ that solves nothing.
+    use rigidref::problem::json::{ProblemFile, SolutionJson};
+    use rigidref::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
+    use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
+    let mut inverse_mass = nalgebra::SMatrix::<f64, 6, 6>::zeros();
+    inverse_mass.set_diagonal(&nalgebra::SVector::from([0.1, 0.1, 0.1, 1.0, 1.0, 1.0]));
+    let mut jacobian = nalgebra::SMatrix::<f64, 3, 6>::zeros();
+    jacobian[(0, 1)] = 1.0;
+    jacobian[(0, 5)] = 0.9;
+    jacobian[(1, 0)] = -1.0;
+    jacobian[(1, 5)] = -2.0;
+    jacobian[(2, 2)] = 1.0;
+    let problem = ContactProblem3 {
+        friction: FrictionModel::Box,
+        bodies: vec![ProblemBody {
+            inverse_mass,
+            velocity: nalgebra::SVector::zeros(),
+        }],
+        contacts: vec![ProblemContact {
+            bodies: [Some(0), None],
+            jacobian: [jacobian, nalgebra::SMatrix::zeros()],
+            b: nalgebra::SVector::from([1.0, -5.0, 0.0]),
+            mu: 1.0,
+            compliance: 0.0,
+            lambda0: nalgebra::SVector::zeros(),
+        }],
+    };
+    let with = |lambda: [f64; 3]| {
+        let mut file = ProblemFile::new(&problem);
+        file.solution = Some(SolutionJson {
+            solver: "test".into(),
+            lambda: vec![lambda.to_vec()],
+            iterations: 1,
+            residual: 0.0,
+            coulomb_residual: None,
+        });
+        file
+    };
+    let reference = with([0.0, 0.0, 0.0]);
+    let slide = 1.0 / 0.89;
+    let stick = [4.9 / 0.491, 2.75 / 0.491, 0.0];
+    let tol = ProblemTolerance::default();
+    for other in [[slide, slide, 0.0], stick] {
+        let (differences, compared) = compare_problems(&reference, &with(other), tol).unwrap();
+        assert!(differences.is_empty(), "{other:?}: {differences:?}");
+        assert!(compared > 0);
+    }
+    // Half the sliding impulse solves nothing: named.
+    let (differences, _) =
+        compare_problems(&reference, &with([slide / 2.0, slide / 2.0, 0.0]), tol).unwrap();
+    assert!(
+        differences.iter().any(|d| d.quantity.contains("λn")),
+        "{differences:?}"
+    );
+}

@@ -386,7 +386,10 @@ fn assignment_scenes_run_five_seconds_with_contact() {
         // - in the last second, no deeper than twice the slop (stabilisation has settled it);
         // - with friction, the energy never rises above its lowest value so far by more than
         //   M |g| d_max, the potential energy of lifting every body out of the deepest
-        //   penetration seen (Baumgarte's push-out is the only source of energy).
+        //   penetration seen. This is an observation on these scenes, not a bound: Baumgarte's
+        //   push-out can add up to ½β̃ᵀA⁻¹β̃ per solve, and a PGS stopped before convergence can
+        //   add energy too (docs/contact.md §"Stabilisation";
+        //   solver::derivations::converged_solve_gains_at_most_the_bias_energy).
         let energy_bound = total_mass * g * deepest;
         println!(
             "{what}: deepest {deepest:.4} m, last second {last_second_deepest:.4} m, worst energy rise {worst_rise:.3e} J (bound {energy_bound:.3e} J)"

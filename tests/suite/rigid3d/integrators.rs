@@ -112,6 +112,30 @@ proptest! {
         prop_assert!((a.rotation - b.rotation).norm() < 1e-10);
     }
 
+    /// The implicit gyroscopic step loses exactly ΔE = ½h² g₁ᵀJ₀⁻¹g₁ and Δ|L|² = h²|g₁|² per step,
+    /// g₁ = ω₁ × J₀ω₁ at the NEW body-frame ω₁ (docs/dynamics.md §"Implicit gyroscopic term"):
+    /// J₀ω₀ = J₀ω₁ + h g₁ with g₁ ⟂ ω₁ and g₁ ⟂ J₀ω₁. Checked to 1e-6 of the decrement, as the
+    /// explicit scheme's gain above. One step where the old claim "at most ½h²g₀ᵀJ₀⁻¹g₀" (g at
+    /// the old ω) fails is kept below.
+    #[test]
+    fn implicit_gyroscopic_loses_exactly_half_h2_g1_jinv_g1(body in random_body(), h in 0.005f64..0.01) {
+        let mut b = body.clone();
+        b.omega = b.omega.normalize() * 20.0;
+        let zero = Vector3::zeros();
+        let e0 = body_energy(&b, &zero).total;
+        let l0 = body_momentum(&b).angular_com.norm_squared();
+        free_step(&mut b, h, AngularIntegrator::ImplicitGyroscopic);
+        let w1 = b.omega_body();
+        let g1 = w1.cross(&(b.inertia_body * w1));
+        let expected_de = 0.5 * h * h * g1.dot(&(b.inertia_body_inv * g1));
+        let expected_dl2 = h * h * g1.norm_squared();
+        prop_assume!(expected_de > 1e-7 * e0);
+        let de = e0 - body_energy(&b, &zero).total;
+        let dl2 = l0 - body_momentum(&b).angular_com.norm_squared();
+        prop_assert!((de - expected_de).abs() < 1e-6 * expected_de, "loss {} expected {}", de, expected_de);
+        prop_assert!((dl2 - expected_dl2).abs() < 1e-6 * expected_dl2, "Δ|L|² {} expected {}", dl2, expected_dl2);
+    }
+
     /// The implicit gyroscopic step never gains energy or angular momentum (beyond round-off:
     /// 1e-12 relative per step), and its total loss over N steps stays within the documented
     /// bound N (h|ω|κ)², κ = λmax/λmin of J₀ (docs/dynamics.md §"Implicit gyroscopic term").
@@ -166,4 +190,32 @@ fn explicit_energy_growth_at_high_spin_is_measured_and_the_implicit_option_remov
     assert!(report[0].1 > 3.0 && report[1].1 > 3.0, "{report:?}");
     assert!((report[0].1 - report[1].1).abs() < 1e-9 * report[0].1);
     assert!(report[2].1 < 1.0, "{report:?}");
+}
+
+#[test]
+fn implicit_gyroscopic_loss_can_exceed_the_old_g0_bound() {
+    // The counter-example to "the loss per step is at most ½h²g₀ᵀJ₀⁻¹g₀": J₀ = diag(7.8262,
+    // 0.19013, 7.7190) kg·m², ω₀ = (3.3792, −0.21197, 4.7163) rad/s, h = 0.0065656 s. The loss is
+    // ½h²g₁ᵀJ₀⁻¹g₁ = 7.233e-4 J, 1.27 times ½h²g₀ᵀJ₀⁻¹g₀ = 5.704e-4 J.
+    use rigidref::rigid3d::body::implicit_gyroscopic_step;
+    let j = Matrix3::from_diagonal(&Vector3::new(7.8262, 0.19013, 7.7190));
+    let j_inv = j.try_inverse().unwrap();
+    let w0 = Vector3::new(3.3792, -0.21197, 4.7163);
+    let h = 0.0065656;
+    let w1 = implicit_gyroscopic_step(&j, &w0, h);
+    let energy = |w: &Vector3<f64>| 0.5 * w.dot(&(j * w));
+    let loss = energy(&w0) - energy(&w1);
+    let g = |w: &Vector3<f64>| w.cross(&(j * w));
+    let (g0, g1) = (g(&w0), g(&w1));
+    let exact = 0.5 * h * h * g1.dot(&(j_inv * g1));
+    let old = 0.5 * h * h * g0.dot(&(j_inv * g0));
+    assert!(
+        (loss - exact).abs() < 1e-9 * exact,
+        "loss {loss}, ½h²g₁ᵀJ⁻¹g₁ {exact}"
+    );
+    assert!(
+        (loss - 7.233e-4).abs() < 1e-6 && (old - 5.704e-4).abs() < 1e-6,
+        "{loss} {old}"
+    );
+    assert!(loss > 1.25 * old);
 }

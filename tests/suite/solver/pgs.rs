@@ -32,6 +32,7 @@ fn solve(
         max_iterations: iterations,
         tolerance,
         order,
+        local: rigidref::solve::LocalSolve::Rows,
     };
     let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     (lambda, report)
@@ -166,7 +167,7 @@ fn cone_friction_impulses_stay_in_the_disk_and_converge() {
 
 /// The project's 0.5 m box (125 kg) on the ground with its four bottom corners in contact,
 /// moving with velocity `v` and angular velocity `w`.
-fn box_on_ground(
+pub(super) fn box_on_ground(
     v: nalgebra::Vector3<f64>,
     w: nalgebra::Vector3<f64>,
     mu: f64,

@@ -1,0 +1,270 @@
+//! The exact local solve: one contact's own R × R problem solved exactly, normal and friction
+//! together, for the current impulses of all the others. docs/contact.md §"Exact local solve".
+//!
+//! With the other contacts' impulses frozen, contact k's velocity is affine in its own impulse,
+//!
+//!   w = A λ + q,   A = A_kk + c e₀e₀ᵀ (its Delassus block with compliance),
+//!   q = w_now − A λ_now (everything the other contacts and b contribute),
+//!
+//! and the contact law is one of a few closed-form cases. Each case fixes which constraints are
+//! active, which turns the law into a small linear (or, for sliding in the disk, a
+//! one-dimensional) equation; a case's candidate is a solution exactly when the contact's own
+//! residual ([`contact_residual`]) is zero. The cases are tried in a fixed order and the first
+//! whose candidate is a solution is taken:
+//!
+//! 1. separate: λ = 0, valid when q_n ≥ 0;
+//! 2. stick: every row active (w = 0), valid when λ is inside the friction set;
+//! 3. slide. Box friction: each friction row either free (w_r = 0) or at a bound ±μλn, the 3^(R−1)
+//!    − 1 remaining patterns in a fixed order. Disk (R = 3): λt = −μλn d with d = (cos θ, sin θ)
+//!    the unit sliding direction, w_n = 0 and w_t parallel to d; one equation in θ, whose roots
+//!    are bracketed on a grid and bisected to round-off.
+//!
+//! In 2D (R = 2) the disk is the interval [−μλn, μλn], so both friction models take the box path.
+
+use super::residual::{RowScales, contact_residual};
+use crate::problem::FrictionModel;
+use nalgebra::{SMatrix, SVector};
+
+/// How a PGS visit updates one contact (scene key `pgs_local_solve`).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum LocalSolve {
+    /// Row by row: the normal row, then the friction rows with the bound from the new λn (the
+    /// assignment's projected Gauss–Seidel).
+    #[default]
+    Rows,
+    /// The contact's whole R × R problem solved exactly ([`solve_local`]).
+    Exact,
+}
+
+impl LocalSolve {
+    /// The scene-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            LocalSolve::Rows => "rows",
+            LocalSolve::Exact => "exact",
+        }
+    }
+}
+
+/// Grid cells on which the sliding direction's equation is bracketed (disk friction). Its
+/// left-hand side is a trigonometric polynomial of degree 2 in θ, so it has at most four roots;
+/// two roots closer than 2π/256 with no sign change between them (a near-tangency) are the only
+/// ones the grid can miss, and then the candidate with the smallest residual is taken.
+const SLIDE_GRID: usize = 256;
+
+/// A candidate is taken when the contact's residual at it is at most this times the scale of
+/// q (m/s): a few hundred ulps, round-off in a 3 × 3 elimination of a well-scaled block.
+const ACCEPT: f64 = 1e-13;
+
+/// Solves one contact's problem w = A λ + q exactly (module documentation). `a` is the contact's
+/// Delassus block with compliance on the normal row (kg⁻¹), `q` in m/s, `scales` the row scales
+/// the residual measures with. Returns the first case's λ (N·s) whose residual is zero to
+/// round-off, else the candidate with the smallest residual; `None` only when no case gives a
+/// candidate at all (every linear system singular and q_n < 0: the contact cannot be moved by
+/// its own impulse).
+pub fn solve_local<const R: usize>(
+    a: &SMatrix<f64, R, R>,
+    q: &SVector<f64, R>,
+    mu: f64,
+    friction: FrictionModel,
+    scales: &RowScales<R>,
+) -> Option<SVector<f64, R>> {
+    let tolerance = ACCEPT * q.amax().max(f64::MIN_POSITIVE);
+    let mut best: Option<(f64, SVector<f64, R>)> = None;
+    let mut consider = |lambda: SVector<f64, R>| -> bool {
+        let w = a * lambda + q;
+        let r = contact_residual(friction, mu, &lambda, &w, scales);
+        if best.is_none_or(|(b, _)| r < b) {
+            best = Some((r, lambda));
+        }
+        r <= tolerance
+    };
+
+    // 1. Separate.
+    if consider(SVector::zeros()) {
+        return Some(SVector::zeros());
+    }
+    // 2. Stick: every row active, A λ = −q.
+    if let Some(lambda) = solve_linear(a, &(-q))
+        && consider(lambda)
+    {
+        return Some(lambda);
+    }
+    // 3. Slide.
+    if friction == FrictionModel::Cone && R == 3 {
+        for lambda in disk_slides(a, q, mu) {
+            if consider(lambda) {
+                return Some(lambda);
+            }
+        }
+    } else {
+        // Pattern digits per friction row: 0 free, 1 at +μλn, 2 at −μλn; pattern 0 is stick.
+        let patterns = 3usize.pow(R as u32 - 1);
+        for pattern in 1..patterns {
+            if let Some(lambda) = box_pattern(a, q, mu, pattern)
+                && consider(lambda)
+            {
+                return Some(lambda);
+            }
+        }
+    }
+    best.map(|(_, lambda)| lambda)
+}
+
+/// The candidate of one box pattern: λn > 0 with w_n = 0, each friction row free (w_r = 0) or
+/// fixed at s_r μ λn. Unknowns are λn and the free rows' λ_r; a fixed row's equation is replaced
+/// by "its own unknown is 0" so the system stays R × R.
+fn box_pattern<const R: usize>(
+    a: &SMatrix<f64, R, R>,
+    q: &SVector<f64, R>,
+    mu: f64,
+    pattern: usize,
+) -> Option<SVector<f64, R>> {
+    // sign[r]: 0 free, +1 or −1 at that bound.
+    let mut sign = [0.0; R];
+    let mut digits = pattern;
+    for s in sign.iter_mut().skip(1) {
+        *s = match digits % 3 {
+            0 => 0.0,
+            1 => 1.0,
+            _ => -1.0,
+        };
+        digits /= 3;
+    }
+    // λ = λn g + Σ_free λ_r e_r, g = e₀ + Σ_fixed s_r μ e_r.
+    let mut g = SVector::<f64, R>::zeros();
+    g[0] = 1.0;
+    for r in 1..R {
+        g[r] = sign[r] * mu;
+    }
+    let ag = a * g;
+    let mut m = SMatrix::<f64, R, R>::identity();
+    let mut rhs = SVector::<f64, R>::zeros();
+    for row in 0..R {
+        if row > 0 && sign[row] != 0.0 {
+            continue; // the identity row: this unknown is 0
+        }
+        m[(row, 0)] = ag[row];
+        for col in 1..R {
+            m[(row, col)] = if sign[col] == 0.0 { a[(row, col)] } else { 0.0 };
+        }
+        rhs[row] = -q[row];
+    }
+    let x = solve_linear(&m, &rhs)?;
+    let mut lambda = g * x[0];
+    for r in 1..R {
+        if sign[r] == 0.0 {
+            lambda[r] = x[r];
+        }
+    }
+    Some(lambda)
+}
+
+/// The sliding candidates of disk friction (R = 3), in increasing θ ∈ [0, 2π).
+///
+/// With d = (cos θ, sin θ) and g(θ) = (1, −μ cos θ, −μ sin θ), λ = λn g: w_n = 0 gives
+/// λn = −q_n / (A g)_n, and w_t = λn (A g)_t + q_t must be parallel to d. Multiplied by
+/// (A g)_n, the parallelism is F(θ) = ((A g)_n q_t − q_n (A g)_t) × d = 0, smooth in θ.
+fn disk_slides<const R: usize>(
+    a: &SMatrix<f64, R, R>,
+    q: &SVector<f64, R>,
+    mu: f64,
+) -> impl Iterator<Item = SVector<f64, R>> {
+    let a = *a;
+    let q = *q;
+    let g = move |theta: f64| {
+        let mut g = SVector::<f64, R>::zeros();
+        g[0] = 1.0;
+        g[1] = -mu * theta.cos();
+        g[2] = -mu * theta.sin();
+        g
+    };
+    let f = move |theta: f64| {
+        let ag = a * g(theta);
+        let u1 = ag[0] * q[1] - q[0] * ag[1];
+        let u2 = ag[0] * q[2] - q[0] * ag[2];
+        u1 * theta.sin() - u2 * theta.cos()
+    };
+    let step = std::f64::consts::TAU / SLIDE_GRID as f64;
+    (0..SLIDE_GRID).filter_map(move |i| {
+        let (mut lo, mut hi) = (i as f64 * step, (i + 1) as f64 * step);
+        let (mut f_lo, f_hi) = (f(lo), f(hi));
+        let root = if f_lo == 0.0 {
+            lo
+        } else if f_lo * f_hi >= 0.0 {
+            return None; // no sign change in this cell (a root at hi is the next cell's lo)
+        } else {
+            // Bisection to the last bit: the interval halves until it cannot.
+            loop {
+                let mid = 0.5 * (lo + hi);
+                if mid <= lo || mid >= hi {
+                    break;
+                }
+                let f_mid = f(mid);
+                if f_mid == 0.0 {
+                    lo = mid;
+                    break;
+                }
+                if f_lo * f_mid < 0.0 {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                    f_lo = f_mid;
+                }
+            }
+            lo
+        };
+        let gr = g(root);
+        let normal = (a * gr)[0];
+        if normal <= 0.0 {
+            return None;
+        }
+        let lambda_n = -q[0] / normal;
+        (lambda_n > 0.0).then(|| gr * lambda_n)
+    })
+}
+
+/// Solves m x = rhs by Gaussian elimination with partial pivoting (R ≤ 3 here: no library
+/// factorisation is generic over the size); `None` when a pivot is zero against the matrix's
+/// largest entry to round-off (the system is singular: the case has no single candidate).
+fn solve_linear<const R: usize>(
+    m: &SMatrix<f64, R, R>,
+    rhs: &SVector<f64, R>,
+) -> Option<SVector<f64, R>> {
+    let (mut m, mut x) = (*m, *rhs);
+    let tiny = 1e-14 * m.amax();
+    for col in 0..R {
+        let pivot = (col..R).max_by(|&i, &j| m[(i, col)].abs().total_cmp(&m[(j, col)].abs()))?;
+        if m[(pivot, col)].abs() <= tiny || m[(pivot, col)].is_nan() {
+            return None;
+        }
+        m.swap_rows(col, pivot);
+        x.swap_rows(col, pivot);
+        for row in col + 1..R {
+            let factor = m[(row, col)] / m[(col, col)];
+            for c in col..R {
+                m[(row, c)] -= factor * m[(col, c)];
+            }
+            x[row] -= factor * x[col];
+        }
+    }
+    for row in (0..R).rev() {
+        let mut sum = x[row];
+        for c in row + 1..R {
+            sum -= m[(row, c)] * x[c];
+        }
+        x[row] = sum / m[(row, row)];
+    }
+    Some(x)
+}
