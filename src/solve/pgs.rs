@@ -212,8 +212,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
 }
 
 /// One contact's exact update: its own R × R problem solved for the others' current impulses
-/// (docs/contact.md §"Exact local solve"); the row-by-row update where no case gives a
-/// candidate (a contact its own impulse cannot move).
+/// (docs/contact.md §"Exact local solve").
 fn solve_contact_exactly<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     workspace: &mut PgsWorkspace<D, R>,
@@ -224,15 +223,11 @@ fn solve_contact_exactly<const D: usize, const R: usize>(
     let scales = &workspace.scales[k];
     // q = w_now − A λ_now: the velocity the rest of the problem gives this contact.
     let q = workspace.contact_velocity(problem, k, lambda) - scales.block * *lambda;
-    match solve_local(&scales.block, &q, contact.mu, problem.friction, scales) {
-        Some(solution) => {
-            for r in 0..R {
-                workspace.apply(problem, k, r, solution[r] - lambda[r]);
-            }
-            *lambda = solution;
-        }
-        None => solve_contact(problem, workspace, k, lambda),
+    let solution = solve_local(&scales.block, &q, contact.mu, problem.friction, scales);
+    for r in 0..R {
+        workspace.apply(problem, k, r, solution[r] - lambda[r]);
     }
+    *lambda = solution;
 }
 
 /// One contact's Gauss–Seidel update: normal row, then friction rows.

@@ -4,6 +4,7 @@ mod coulomb;
 mod derivations;
 mod local_solve;
 mod pgs;
+mod problem;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.
 fn local_solve_problem(

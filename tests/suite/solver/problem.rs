@@ -1,0 +1,134 @@
+//! The contact problem as plain data (src/problem/mod.rs): its dense forms are the per-contact
+//! blocks put in place, and the names it prints are the scene files' spellings.
+
+use crate::common;
+
+use common::problems::{build, spec};
+use nalgebra::{DVector, SVector};
+use proptest::prelude::*;
+use rigidref::problem::FrictionModel;
+use rigidref::solve::LocalSolve;
+
+#[test]
+fn dense_matrices_are_the_per_contact_blocks_in_place() {
+    // The dense J, M⁻¹, C, b and A = J M⁻¹ Jᵀ (for tests and clarabel) against the blocks PGS
+    // uses: J u stacked equals each contact's J₁u₁ + J₂u₂ (a sign or a misplaced block shows
+    // here even where A, which has J twice, would not), A's diagonal blocks are the Delassus
+    // blocks, and w from the dense matrices equals w computed through the bodies. 1e-12
+    // relative: sums of a few products.
+    proptest!(common::seeded(100), |(
+        s in spec(1..4, 1..6),
+        velocities in proptest::collection::vec(-2.0..2.0f64, 6),
+        lambdas in proptest::collection::vec(-1.0..1.0f64, 3),
+        compliance in 0.0..0.1f64,
+    )| {
+        let mut problem = build(&s, 0.5, compliance, FrictionModel::Box);
+        for (i, body) in problem.bodies.iter_mut().enumerate() {
+            body.velocity = SVector::from_fn(|r, _| velocities[(6 * i + r) % velocities.len()]);
+        }
+        let u = DVector::from_iterator(
+            6 * problem.bodies.len(),
+            problem.bodies.iter().flat_map(|b| b.velocity.iter().copied()),
+        );
+        let ju = problem.dense_jacobian() * &u;
+        let a = problem.dense_delassus();
+        let c = problem.dense_compliance();
+        let b = problem.dense_b();
+        let lambda: Vec<SVector<f64, 3>> = (0..problem.contacts.len())
+            .map(|k| SVector::from_fn(|r, _| lambdas[(3 * k + r) % lambdas.len()]))
+            .collect();
+        let stacked = DVector::from_iterator(3 * lambda.len(), lambda.iter().flat_map(|l| l.iter().copied()));
+        let w_dense = (&a + &c) * &stacked + &b;
+        let w = problem.constraint_velocity(&lambda);
+        let m_inverse = problem.dense_inverse_mass();
+        for (k, contact) in problem.contacts.iter().enumerate() {
+            let mut expected = SVector::<f64, 3>::zeros();
+            for side in 0..2 {
+                if let Some(body) = contact.bodies[side] {
+                    expected += contact.jacobian[side] * problem.bodies[body].velocity;
+                    let block = m_inverse.view((6 * body, 6 * body), (6, 6));
+                    prop_assert_eq!(block.clone_owned(), problem.bodies[body].inverse_mass.clone_owned());
+                }
+            }
+            let block = problem.delassus_block(k);
+            for r in 0..3 {
+                let scale = 1.0 + expected.amax();
+                prop_assert!((ju[3 * k + r] - expected[r]).abs() <= 1e-12 * scale, "J u, contact {k} row {r}");
+                prop_assert_eq!(b[3 * k + r], contact.b[r]);
+                prop_assert!((w_dense[3 * k + r] - w[k][r]).abs() <= 1e-12 * (1.0 + w[k].amax()), "w, contact {k} row {r}");
+                for q in 0..3 {
+                    prop_assert!((a[(3 * k + r, 3 * k + q)] - block[(r, q)]).abs() <= 1e-12 * (1.0 + block.amax()));
+                }
+            }
+            prop_assert_eq!(c[(3 * k, 3 * k)], contact.compliance);
+        }
+    });
+}
+
+#[test]
+fn printed_names_are_the_scene_file_spellings() {
+    // `rigidref scene`, `contacts` and the crosscheck print these names; a user copies them back
+    // into a scene file, so each must be exactly the value the scene reader accepts.
+    for model in [FrictionModel::Box, FrictionModel::Cone] {
+        assert_eq!(
+            serde_json::to_string(&model).unwrap(),
+            format!("\"{}\"", model.name())
+        );
+        let read: FrictionModel = serde_json::from_str(&format!("\"{}\"", model.name())).unwrap();
+        assert_eq!(read, model);
+    }
+    for local in [LocalSolve::Rows, LocalSolve::Exact] {
+        assert_eq!(
+            serde_json::to_string(&local).unwrap(),
+            format!("\"{}\"", local.name())
+        );
+        let read: LocalSolve = serde_json::from_str(&format!("\"{}\"", local.name())).unwrap();
+        assert_eq!(read, local);
+    }
+}
+
+#[test]
+fn pgs_leaves_alone_a_contact_no_impulse_can_move() {
+    // A contact between two bodies that cannot move (both inverse masses zero: two pinned 2D
+    // bodies, say) has A = 0: no impulse changes its velocity. PGS must leave its impulse where
+    // the start put it (projected onto the friction set) rather than divide by a zero diagonal,
+    // and the residual must report the violation it cannot remove (|min(λn, w_n)| = 1 m/s here).
+    use rigidref::problem::{ContactProblem3, ProblemBody, ProblemContact};
+    use rigidref::solve::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
+    let still = ProblemBody {
+        inverse_mass: nalgebra::SMatrix::zeros(),
+        velocity: SVector::zeros(),
+    };
+    let mut jacobian = nalgebra::SMatrix::<f64, 3, 6>::zeros();
+    jacobian.fixed_view_mut::<3, 3>(0, 0).fill_with_identity();
+    let problem = ContactProblem3 {
+        friction: FrictionModel::Box,
+        bodies: vec![still.clone(), still],
+        contacts: vec![ProblemContact {
+            bodies: [Some(0), Some(1)],
+            jacobian: [jacobian, -jacobian],
+            b: SVector::from([-1.0, 2.0, 0.0]),
+            mu: 0.5,
+            compliance: 0.0,
+            lambda0: SVector::from([1.0, 0.3, -0.2]),
+        }],
+    };
+    let settings = PgsSettings {
+        max_iterations: 5,
+        tolerance: None,
+        order: ContactOrder::Sequential,
+        local: LocalSolve::Rows,
+    };
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        let mut problem = problem.clone();
+        problem.friction = friction;
+        let mut workspace = PgsWorkspace::new(0);
+        let mut lambda = Vec::new();
+        let report = solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
+        assert_eq!(lambda[0], SVector::from([1.0, 0.3, -0.2]), "{friction:?}");
+        assert_eq!(report.residual, 1.0, "{friction:?}");
+        for i in 0..2 {
+            assert_eq!(*workspace.delta_velocity(i), SVector::<f64, 6>::zeros());
+        }
+    }
+}
