@@ -3,6 +3,7 @@
 //! balance of one solve, the frictionless QP, the rotation-invariant cone step, compliance with
 //! Baumgarte as a spring–damper, box friction as a pyramid, the push-out inside λn.
 
+use super::run_pgs as pgs;
 use crate::common;
 
 use common::problems::{build, spec};
@@ -11,26 +12,7 @@ use proptest::prelude::*;
 use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
 use rigidref::solve::residual::coulomb_residual;
-use rigidref::solve::{
-    ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, SolveReport, residual, solve_pgs,
-};
-
-fn pgs<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    local: LocalSolve,
-    sweeps: u32,
-    tolerance: Option<f64>,
-) -> (Vec<SVector<f64, R>>, SolveReport) {
-    let settings = PgsSettings {
-        max_iterations: sweeps,
-        tolerance,
-        order: ContactOrder::Sequential,
-        local,
-    };
-    let mut lambda = Vec::new();
-    let report = solve_pgs(problem, &settings, &mut PgsWorkspace::new(0), &mut lambda);
-    (lambda, report)
-}
+use rigidref::solve::{LocalSolve, residual};
 
 /// `problem` with each contact's tangents turned about its normal by `turn` + k radians
 /// (contact k): rows t1, t2 of J and b replaced by cos·t1 + sin·t2 and −sin·t1 + cos·t2, and
@@ -57,14 +39,13 @@ pub(super) fn turn_tangents(
     (turned, turned_lambda)
 }
 
-#[test]
-fn frictional_velocities_need_not_be_unique() {
-    // docs/contact-problem-format.md: a 2D body (M⁻¹ = diag(0.1, 0.1, 1)) against the static
-    // world, normal row [0, 1, 0.9], tangent row [−1, 0, −2], b = (1, −5) m/s, μ = 1. A is
-    // positive definite (A = [[0.91, −1.8], [−1.8, 4.1]], det 0.491), yet three λ solve it.
+/// The 2D example of docs/contact-problem-format.md with right-hand side `b` (m/s): one body,
+/// M⁻¹ = diag(0.1, 0.1, 1), against the static world; normal row [0, 1, 0.9], tangent row
+/// [−1, 0, −2], μ = 1, so A = [[0.91, −1.8], [−1.8, 4.1]] kg⁻¹.
+fn painleve(b: [f64; 2]) -> ContactProblem<3, 2> {
     let mut inverse_mass = SMatrix::<f64, 3, 3>::zeros();
     inverse_mass.set_diagonal(&nalgebra::Vector3::new(0.1, 0.1, 1.0));
-    let problem = ContactProblem::<3, 2> {
+    ContactProblem::<3, 2> {
         friction: FrictionModel::Box,
         bodies: vec![ProblemBody {
             inverse_mass,
@@ -76,12 +57,20 @@ fn frictional_velocities_need_not_be_unique() {
                 SMatrix::<f64, 2, 3>::new(0.0, 1.0, 0.9, -1.0, 0.0, -2.0),
                 SMatrix::zeros(),
             ],
-            b: SVector::from([1.0, -5.0]),
+            b: SVector::from(b),
             mu: 1.0,
             compliance: 0.0,
             lambda0: SVector::zeros(),
         }],
-    };
+    }
+}
+
+#[test]
+fn frictional_velocities_need_not_be_unique() {
+    // docs/contact-problem-format.md: a 2D body (M⁻¹ = diag(0.1, 0.1, 1)) against the static
+    // world, normal row [0, 1, 0.9], tangent row [−1, 0, −2], b = (1, −5) m/s, μ = 1. A is
+    // positive definite (A = [[0.91, −1.8], [−1.8, 4.1]], det 0.491), yet three λ solve it.
+    let problem = painleve([1.0, -5.0]);
     assert!(problem.delassus_block(0).determinant() > 0.49);
     // Separation: λ = 0, w = b, w_n = 1 ≥ 0.
     let separate = vec![SVector::<f64, 2>::zeros()];
@@ -212,26 +201,7 @@ fn converged_solve_gains_at_most_the_bias_energy() {
     // The bound is reached: the 2D body of `frictional_velocities_need_not_be_unique` at rest,
     // pushed out at 1 m/s (b = (−1, 0), β̃ = (1, 0)), sticks with λ = A⁻¹β̃ = (4.1, 1.8)/0.491
     // and gains ΔT = ½β̃ᵀA⁻¹β̃ = 4.1/0.982 = 4.1752 J, while ½ β̃nᵀA_nn⁻¹β̃n is only 0.5495 J.
-    let mut inverse_mass = SMatrix::<f64, 3, 3>::zeros();
-    inverse_mass.set_diagonal(&nalgebra::Vector3::new(0.1, 0.1, 1.0));
-    let stuck = ContactProblem::<3, 2> {
-        friction: FrictionModel::Box,
-        bodies: vec![ProblemBody {
-            inverse_mass,
-            velocity: SVector::zeros(),
-        }],
-        contacts: vec![ProblemContact {
-            bodies: [Some(0), None],
-            jacobian: [
-                SMatrix::<f64, 2, 3>::new(0.0, 1.0, 0.9, -1.0, 0.0, -2.0),
-                SMatrix::zeros(),
-            ],
-            b: SVector::from([-1.0, 0.0]),
-            mu: 1.0,
-            compliance: 0.0,
-            lambda0: SVector::zeros(),
-        }],
-    };
+    let stuck = painleve([-1.0, 0.0]);
     let (lambda, report) = pgs(&stuck, LocalSolve::Exact, 1, None);
     assert!(report.residual < 1e-14);
     assert!(

@@ -2,6 +2,7 @@
 //! in one visit, the cycle of row-by-row PGS it removes, agreement with row-by-row PGS where both
 //! converge, and convergence on the assignment's cone-friction problems.
 
+use super::run_pgs as pgs;
 use crate::common;
 
 use common::problems::{build, physical_spec};
@@ -10,9 +11,7 @@ use proptest::prelude::*;
 use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
 use rigidref::solve::qp::objective;
 use rigidref::solve::residual::coulomb_residual;
-use rigidref::solve::{
-    ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, SolveReport, residual, solve_pgs,
-};
+use rigidref::solve::{LocalSolve, residual};
 use std::cell::Cell;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I, so
@@ -38,24 +37,6 @@ fn one_contact<const R: usize>(
             lambda0: SVector::zeros(),
         }],
     }
-}
-
-fn pgs<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    local: LocalSolve,
-    sweeps: u32,
-    tolerance: Option<f64>,
-) -> (Vec<SVector<f64, R>>, SolveReport) {
-    let settings = PgsSettings {
-        max_iterations: sweeps,
-        tolerance,
-        order: ContactOrder::Sequential,
-        local,
-    };
-    let mut workspace = PgsWorkspace::new(0);
-    let mut lambda = Vec::new();
-    let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
-    (lambda, report)
 }
 
 /// A random symmetric positive definite R × R block A = L Lᵀ + 0.05 I (kg⁻¹), L's entries in

@@ -30,3 +30,23 @@ fn local_solve_problem(
         }],
     }
 }
+
+/// PGS on `problem` with `local` visits, in problem order, cold started: at most `sweeps` sweeps,
+/// stopping at `tolerance` when one is given. The impulses and the report.
+fn run_pgs<const D: usize, const R: usize>(
+    problem: &rigidref::problem::ContactProblem<D, R>,
+    local: rigidref::solve::LocalSolve,
+    sweeps: u32,
+    tolerance: Option<f64>,
+) -> (Vec<nalgebra::SVector<f64, R>>, rigidref::solve::SolveReport) {
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: sweeps,
+        tolerance,
+        order: rigidref::solve::ContactOrder::Sequential,
+        local,
+    };
+    let mut lambda = Vec::new();
+    let mut workspace = rigidref::solve::PgsWorkspace::new(0);
+    let report = rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
+    (lambda, report)
+}
