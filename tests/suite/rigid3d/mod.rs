@@ -10,3 +10,4 @@ mod dzhanibekov;
 mod integrators;
 mod massprops;
 mod projectile;
+mod rotation;

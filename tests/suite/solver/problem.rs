@@ -132,3 +132,22 @@ fn pgs_leaves_alone_a_contact_no_impulse_can_move() {
         }
     }
 }
+
+#[test]
+fn validation_rejects_a_negative_or_infinite_compliance() {
+    // A contact problem is checked before it is solved (`ContactProblem::validate`, used on every
+    // problem file read): compliance is a finite number ≥ 0. −1e-3 and ∞ are refused with a
+    // message naming the contact and the quantity; 0 and 1e-3 pass.
+    proptest!(common::seeded(5), |(s in spec(1..3, 1..4))| {
+        for (c, ok) in [(0.0, true), (1e-3, true), (-1e-3, false), (f64::INFINITY, false)] {
+            let mut problem = build(&s, 0.5, 0.0, FrictionModel::Box);
+            let last = problem.contacts.len() - 1;
+            problem.contacts[last].compliance = c;
+            let result = problem.validate();
+            prop_assert_eq!(result.is_ok(), ok, "compliance {}: {:?}", c, result);
+            if let Err(e) = result {
+                prop_assert!(e.contains(&format!("contact {last}")) && e.contains("compliance"), "{}", e);
+            }
+        }
+    });
+}
