@@ -66,6 +66,10 @@ pub struct Record2 {
     /// (`run --all-contacts`), since they make up most of a trace's size.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contacts: Option<Vec<Contact2Record>>,
+    /// What the step's contact solves did (sweeps, worst residual); absent when it solved none,
+    /// and in traces written before issue 16.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<crate::common::trace::SolverRecord>,
 }
 
 /// A body's state.
@@ -169,6 +173,7 @@ impl Record2 {
                     })
                     .collect()
             }),
+            solver: crate::common::trace::SolverRecord::of(&world.solves),
         }
     }
 }

@@ -12,6 +12,7 @@ mod crosscheck_report;
 mod factory;
 mod golden;
 mod massprops;
+mod plot;
 mod progress;
 mod rapier;
 mod render;
@@ -20,6 +21,7 @@ mod run2d;
 mod run3d;
 mod run_args;
 mod scene;
+mod view;
 
 use clap::{Parser, Subcommand};
 
@@ -58,6 +60,10 @@ enum Command {
     Compare(compare::CompareArgs),
     /// Compare two 3D contact-problem files for the same state, up to the tangent basis.
     CompareProblem(compare::CompareProblemArgs),
+    /// Write one HTML page that shows a run in a browser, offline: the bodies, contacts, plots.
+    View(view::ViewArgs),
+    /// Plot quantities over time from one or more traces, to an SVG file.
+    Plot(plot::PlotArgs),
     /// Grade a folder of submissions (traces and problem files per scene) against the reference.
     Grade(compare::GradeArgs),
 }
@@ -85,6 +91,8 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Compare(args)) => compare::compare(args),
         Some(Command::CompareProblem(args)) => compare::compare_problem(args),
         Some(Command::Grade(args)) => compare::grade(args),
+        Some(Command::View(args)) => view::view(args),
+        Some(Command::Plot(args)) => plot::plot(args),
         None => run::run(cli.run),
     }
 }

@@ -8,7 +8,7 @@ use crate::rigid3d::world::World;
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufWriter, Write};
 
-pub use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION};
+pub use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION, SolverRecord};
 
 /// The first line of a JSON Lines trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -72,6 +72,10 @@ pub struct TraceRecord {
     /// ([`crate::rigid3d::collide::penetration`]). `None` only when read from a version 1 trace.
     #[serde(default)]
     pub penetration: Option<f64>,
+    /// What the frame's contact solves did (sweeps, worst residual); absent when it solved none,
+    /// and in traces written before issue 16.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<SolverRecord>,
 }
 
 fn vertices() -> String {
@@ -173,6 +177,7 @@ impl TraceRecord {
             },
             contacts,
             penetration: Some(world.deepest_penetration()),
+            solver: SolverRecord::of(&world.solves),
         }
     }
 }

@@ -4,6 +4,8 @@
 //! - [`scaling`]: PGS solve time against contacts, re-timed side by side, fitted and plotted;
 //! - [`nuts`]: where the heaviest nuts of the nut bag are (the shaking challenge);
 //! - [`render2d`]: PNG frames of a 2D world;
+//! - [`series`], [`view`], [`plot`]: the quantities of a run over time, the self-contained HTML
+//!   viewer and the plot files (docs/viewing.md);
 //! - [`compare`], [`compare_problem`], [`grade`]: another simulator's traces and contact
 //!   problems against the reference's, one submission or a batch (docs/grading.md).
 
@@ -12,5 +14,8 @@ pub mod compare_problem;
 pub mod factory;
 pub mod grade;
 pub mod nuts;
+pub mod plot;
 pub mod render2d;
 pub mod scaling;
+pub mod series;
+pub mod view;

@@ -1,0 +1,139 @@
+//! `rigidref plot TRACE.jsonl… [--out FILE.svg] [--quantities …]`: the viewer's plots as a
+//! file, for one trace or several overlaid. docs/viewing.md §"Plots".
+
+use anyhow::{Context, bail};
+use clap::Args;
+use rigidref::tools::plot::{PlottedRun, plot_runs};
+use rigidref::tools::series::{QUANTITIES, default_omega_bodies, plots_2d, plots_3d};
+use rigidref::tools::view::{ViewTrace, read_view_trace};
+use std::path::PathBuf;
+
+/// Arguments of `rigidref plot`.
+#[derive(Args)]
+#[command(after_long_help = "\
+Draws quantities over time from traces written by `rigidref run` (or any trace in that format,
+docs/trace-format.md), one panel per quantity:
+  energy            kinetic (3D: linear and angular), potential, total
+  momentum          linear momentum p
+  angular_momentum  3D: L about the system's centre of mass; 2D: L about the origin
+  omega             angular velocity of the bodies chosen by --bodies (default: the first four
+                    that are not pinned)
+  contacts          number of contacts in the record
+  sweeps            PGS sweeps in the recorded frame (traces of this version)
+  residual          PGS residual, and the exact Coulomb residual with cone friction (log scale)
+  penetration       3D: the penetration measure; 2D: the deepest disc overlap
+Several traces are overlaid, each series named with its trace's file name: rigidref against
+another simulator's trace of the same scene, or two integrators. A trace cut off in its last
+line is plotted up to its last complete record, with a warning.")]
+pub struct PlotArgs {
+    /// One or more traces (.jsonl) of the same system (all 3D or all 2D).
+    #[arg(required = true)]
+    pub traces: Vec<PathBuf>,
+    /// The SVG file to write.
+    #[arg(long, short, default_value = "plot.svg")]
+    pub out: PathBuf,
+    /// The quantities to plot, comma-separated, in this order [default: all of them].
+    #[arg(long, value_delimiter = ',', value_name = "Q,…")]
+    pub quantities: Vec<String>,
+    /// Bodies whose angular velocity is plotted, by index, comma-separated.
+    #[arg(long, value_delimiter = ',', value_name = "I,J,…")]
+    pub bodies: Vec<usize>,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Writes the plot.
+pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
+    for q in &args.quantities {
+        if !QUANTITIES.contains(&q.as_str()) {
+            bail!(
+                "--quantities: unknown quantity {q:?}; known: {}",
+                QUANTITIES.join(", ")
+            );
+        }
+    }
+    let ext = args
+        .out
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase());
+    if ext.as_deref() != Some("svg") {
+        bail!(
+            "{}: plots are written as SVG (name the file .svg); PNG output is not implemented yet",
+            args.out.display()
+        );
+    }
+    let mut runs = Vec::new();
+    let mut dimension = None;
+    for path in &args.traces {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
+        let mut warnings = Vec::new();
+        let trace = read_view_trace(&text, &name, &mut warnings).map_err(anyhow::Error::msg)?;
+        for w in &warnings {
+            eprintln!("warning: {w}");
+        }
+        let n = trace.body_count();
+        if let Some(&b) = args.bodies.iter().find(|&&b| b >= n) {
+            bail!("{name}: --bodies: no body {b}; the trace has {n}");
+        }
+        let label = path
+            .file_name()
+            .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
+        let (dim, run) = match &trace {
+            ViewTrace::Three { header, records } => {
+                let omega = if args.bodies.is_empty() {
+                    default_omega_bodies(&vec![false; n])
+                } else {
+                    args.bodies.clone()
+                };
+                let t = records.iter().map(|r| r.t).collect();
+                (
+                    3,
+                    PlottedRun {
+                        label,
+                        t,
+                        plots: plots_3d(header, records, &omega),
+                    },
+                )
+            }
+            ViewTrace::Two { header, records } => {
+                let omega = if args.bodies.is_empty() {
+                    default_omega_bodies(
+                        &header.bodies.iter().map(|b| b.pinned).collect::<Vec<_>>(),
+                    )
+                } else {
+                    args.bodies.clone()
+                };
+                let t = records.iter().map(|r| r.t).collect();
+                (
+                    2,
+                    PlottedRun {
+                        label,
+                        t,
+                        plots: plots_2d(records, &omega),
+                    },
+                )
+            }
+        };
+        if dimension.is_some_and(|d| d != dim) {
+            bail!(
+                "{name}: a {dim}D trace; the traces before it are {}D: overlay traces of one system",
+                5 - dim
+            );
+        }
+        dimension = Some(dim);
+        runs.push(run);
+    }
+    let keys: Vec<&str> = args.quantities.iter().map(String::as_str).collect();
+    let title = runs
+        .iter()
+        .map(|r| r.label.as_str())
+        .collect::<Vec<_>>()
+        .join(" vs ");
+    plot_runs(&runs, &keys, &args.out, &title).map_err(anyhow::Error::msg)?;
+    if !args.quiet {
+        eprintln!("plot           {}", args.out.display());
+    }
+    Ok(())
+}
