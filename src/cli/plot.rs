@@ -1,11 +1,11 @@
 //! `rigidref plot TRACE.jsonl… [--out FILE.svg] [--quantities …]`: the viewer's plots as a
 //! file, for one trace or several overlaid. docs/viewing.md §"Plots".
 
-use anyhow::{Context, bail};
+use anyhow::bail;
 use clap::Args;
 use rigidref::tools::plot::{PlottedRun, plot_runs};
-use rigidref::tools::series::{QUANTITIES, default_omega_bodies, plots_2d, plots_3d};
-use rigidref::tools::view::{ViewTrace, read_view_trace};
+use rigidref::tools::series::{QUANTITIES, plots_2d, plots_3d};
+use rigidref::tools::view::ViewTrace;
 use std::path::PathBuf;
 
 /// Arguments of `rigidref plot`.
@@ -67,26 +67,13 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
     let mut dimension = None;
     for path in &args.traces {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
-        let mut warnings = Vec::new();
-        let trace = read_view_trace(&text, &name, &mut warnings).map_err(anyhow::Error::msg)?;
-        for w in &warnings {
-            eprintln!("warning: {w}");
-        }
-        let n = trace.body_count();
-        if let Some(&b) = args.bodies.iter().find(|&&b| b >= n) {
-            bail!("{name}: --bodies: no body {b}; the trace has {n}");
-        }
+        let (trace, _) = super::view::read_trace_file(path, &args.bodies)?;
+        let omega = trace.omega_bodies(&args.bodies);
         let label = path
             .file_name()
             .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
         let (dim, run) = match &trace {
             ViewTrace::Three { header, records } => {
-                let omega = if args.bodies.is_empty() {
-                    default_omega_bodies(&vec![false; n])
-                } else {
-                    args.bodies.clone()
-                };
                 let t = records.iter().map(|r| r.t).collect();
                 (
                     3,
@@ -97,14 +84,7 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
                     },
                 )
             }
-            ViewTrace::Two { header, records } => {
-                let omega = if args.bodies.is_empty() {
-                    default_omega_bodies(
-                        &header.bodies.iter().map(|b| b.pinned).collect::<Vec<_>>(),
-                    )
-                } else {
-                    args.bodies.clone()
-                };
+            ViewTrace::Two { records, .. } => {
                 let t = records.iter().map(|r| r.t).collect();
                 (
                     2,

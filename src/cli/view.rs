@@ -8,7 +8,6 @@ use clap::Args;
 use rigidref::blocks2d::scene::is_2d_scene;
 use rigidref::rigid3d::scene::embedded::{BUILT_IN_SOURCE, default_scene_with};
 use rigidref::rigid3d::scene::{Overrides, load_scene_with};
-use rigidref::tools::series::default_omega_bodies;
 use rigidref::tools::view::{
     DEFAULT_MAX_FRAMES, ViewTrace, html, read_view_trace, view_data_2d, view_data_3d,
 };
@@ -189,8 +188,13 @@ fn run_scene(args: &ViewArgs, trace: &Path) -> anyhow::Result<()> {
     super::run::run(run)
 }
 
-/// The page for the trace at `path`, its geometry from the scene the header names.
-fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
+/// Reads the trace at `path` for viewing or plotting, printing its warnings (and returning
+/// them, for the page); fails, naming the
+/// file, when it is not a trace or `bodies` names a body it does not have.
+pub(crate) fn read_trace_file(
+    path: &Path,
+    bodies: &[usize],
+) -> anyhow::Result<(ViewTrace, Vec<String>)> {
     let name = path.display().to_string();
     let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
     let mut warnings = Vec::new();
@@ -199,12 +203,21 @@ fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
         eprintln!("warning: {w}");
     }
     let n = trace.body_count();
-    if let Some(&b) = args.bodies.iter().find(|&&b| b >= n) {
+    if let Some(&b) = bodies.iter().find(|&&b| b >= n) {
         bail!(
-            "--bodies: no body {b}; the trace has {n} (0 to {})",
-            n.saturating_sub(1)
+            "{name}: --bodies: no body {b}; the trace has {n} (0 to {})",
+            n - 1
         );
     }
+    Ok((trace, warnings))
+}
+
+/// The page for the trace at `path`, its geometry from the scene the header names.
+fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
+    let name = path.display().to_string();
+    let (trace, warnings) = read_trace_file(path, &args.bodies)?;
+    let n = trace.body_count();
+    let omega = trace.omega_bodies(&args.bodies);
     let source = trace.source().to_string();
     let cannot = |e: &dyn std::fmt::Display| {
         anyhow::anyhow!(
@@ -226,11 +239,6 @@ fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
                 );
             }
             let meshes: Vec<_> = scene.bodies.iter().map(|b| &*b.mesh).collect();
-            let omega = if args.bodies.is_empty() {
-                default_omega_bodies(&vec![false; n])
-            } else {
-                args.bodies.clone()
-            };
             view_data_3d(header, records, &meshes, &warnings, args.max_frames, &omega)
         }
         ViewTrace::Two { header, records } => {
@@ -248,11 +256,6 @@ fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
                     world.bodies.len()
                 );
             }
-            let omega = if args.bodies.is_empty() {
-                default_omega_bodies(&world.bodies.iter().map(|b| b.pinned).collect::<Vec<_>>())
-            } else {
-                args.bodies.clone()
-            };
             view_data_2d(header, records, &world, &warnings, args.max_frames, &omega)
         }
     };

@@ -54,6 +54,19 @@ impl ViewTrace {
         }
     }
 
+    /// The bodies whose angular velocity is plotted: `chosen` when given, else the first
+    /// [`super::series::MAX_OMEGA_BODIES`] that are not pinned.
+    pub fn omega_bodies(&self, chosen: &[usize]) -> Vec<usize> {
+        if !chosen.is_empty() {
+            return chosen.to_vec();
+        }
+        let pinned: Vec<bool> = match self {
+            ViewTrace::Three { header, .. } => vec![false; header.bodies.len()],
+            ViewTrace::Two { header, .. } => header.bodies.iter().map(|b| b.pinned).collect(),
+        };
+        super::series::default_omega_bodies(&pinned)
+    }
+
     /// How many bodies the header lists.
     pub fn body_count(&self) -> usize {
         match self {
