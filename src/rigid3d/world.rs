@@ -215,7 +215,7 @@ impl World {
                 self.process_contacts(substep);
             }
             for body in &mut self.bodies {
-                body.step_position(h);
+                body.step_position(h, integrator);
             }
             self.check_finite_at(Some(substep))?;
         }
