@@ -100,6 +100,20 @@ pub fn objective<const D: usize, const R: usize>(
         .sum()
 }
 
+/// The variable scaling λ = S x of [`solve_qp`]: S = diag(1/√P_ii), so that Sᵀ P S has a unit
+/// diagonal; a row with P_ii = 0 (no impulse can move that constraint) is left unscaled (1).
+pub fn diagonal_scaling(p: &nalgebra::DMatrix<f64>) -> Vec<f64> {
+    (0..p.nrows())
+        .map(|i| {
+            if p[(i, i)] > 0.0 {
+                1.0 / p[(i, i)].sqrt()
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
 /// Solves `problem` in the given formulation with clarabel. Errors only for malformed input
 /// (a fixed-bound list of the wrong length) or a clarabel set-up failure; a solve that does not
 /// reach `Solved` is reported in the status, not as an error.
@@ -118,19 +132,21 @@ pub fn solve_qp<const D: usize, const R: usize>(
             fixed.len()
         ));
     }
+    // No contacts: nothing to solve (clarabel's factorisation indexes into an empty matrix).
+    if k_count == 0 {
+        return Ok(QpSolution {
+            lambda: Vec::new(),
+            objective: 0.0,
+            status: "Solved".into(),
+            solved: true,
+            iterations: 0,
+        });
+    }
     // Objective: P = A + C (clarabel keeps the upper triangle), q = b, in scaled variables
     // λ = S x with S = diag(1/√P_ii): P's diagonal becomes 1, so clarabel's absolute
     // tolerances mean the same for a 1 kg body and a 10 t one.
     let p_dense = problem.dense_delassus() + problem.dense_compliance();
-    let scale: Vec<f64> = (0..n)
-        .map(|i| {
-            if p_dense[(i, i)] > 0.0 {
-                1.0 / p_dense[(i, i)].sqrt()
-            } else {
-                1.0
-            }
-        })
-        .collect();
+    let scale = diagonal_scaling(&p_dense);
     let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
     for j in 0..n {
         for i in 0..=j {

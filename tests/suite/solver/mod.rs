@@ -5,6 +5,7 @@ mod derivations;
 mod local_solve;
 mod pgs;
 mod problem;
+mod qp;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.
 fn local_solve_problem(

@@ -151,3 +151,64 @@ fn validation_rejects_a_negative_or_infinite_compliance() {
         }
     });
 }
+
+#[test]
+fn a_row_no_impulse_can_move_counts_in_the_residual_only_as_far_as_it_is_violated() {
+    // A contact between two pinned bodies has a zero Delassus diagonal: its rows cannot be
+    // scaled to velocities, so the residual takes the violation itself (docs/contact.md
+    // §"Residual"): a negative λn or an approach w_n < 0 by its size, a friction impulse by how
+    // far it is outside ±μλn. The values here are exact in binary, so the checks are exact.
+    use rigidref::solve::residual::{RowScales, contact_residual};
+    let scales = RowScales::<3> {
+        diagonal: SVector::zeros(),
+        tangent_rho: 0.0,
+        block: nalgebra::SMatrix::zeros(),
+    };
+    let r = |lambda: [f64; 3], w: [f64; 3]| {
+        contact_residual(
+            FrictionModel::Box,
+            0.5,
+            &SVector::from(lambda),
+            &SVector::from(w),
+            &scales,
+        )
+    };
+    assert_eq!(r([0.0, 0.0, 0.0], [2.0, 1.0, -1.0]), 0.0); // separating, no impulse
+    assert_eq!(r([-1.0, 0.0, 0.0], [5.0, 0.0, 0.0]), 1.0); // a pulling impulse of 1
+    assert_eq!(r([2.0, 0.0, 0.0], [-0.25, 0.0, 0.0]), 0.25); // approaching at 0.25
+    assert_eq!(r([2.0, 0.75, -0.5], [0.0, 3.0, 3.0]), 0.0); // friction within ±μλn = ±1
+    assert_eq!(r([2.0, 1.5, 0.0], [0.0, 0.0, 0.0]), 0.5); // friction 0.5 beyond its bound
+    assert_eq!(r([2.0, 0.0, -1.25], [0.0, 0.0, 0.0]), 0.25);
+}
+
+#[test]
+fn the_residuals_are_velocities_on_the_contacts_own_scale() {
+    // Row and cone residuals are velocities (m/s): a sticking contact inside its disk that
+    // still slips at ‖w_t‖ has the friction residual ρ‖Δλ‖ with Δλ = w_t/ρ its one projected
+    // step, i.e. exactly ‖w_t‖, whatever ρ; the Coulomb residual's scale is the trace of the
+    // contact's block, or 1 kg⁻¹ for a contact no impulse of its own can move. Values exact
+    // in binary.
+    use rigidref::solve::residual::{RowScales, contact_residual, coulomb_scale};
+    let block =
+        nalgebra::SMatrix::<f64, 3, 3>::from_diagonal(&nalgebra::Vector3::new(4.0, 2.0, 2.0));
+    let scales = RowScales::<3> {
+        diagonal: block.diagonal(),
+        tangent_rho: 2.0,
+        block,
+    };
+    let r = contact_residual(
+        FrictionModel::Cone,
+        0.5,
+        &SVector::from([2.0, 0.0, 0.0]),
+        &SVector::from([0.0, 0.5, 0.0]),
+        &scales,
+    );
+    assert_eq!(r, 0.5);
+    assert_eq!(coulomb_scale(&scales), 8.0);
+    let pinned = RowScales::<3> {
+        diagonal: SVector::zeros(),
+        tangent_rho: 0.0,
+        block: nalgebra::SMatrix::zeros(),
+    };
+    assert_eq!(coulomb_scale(&pinned), 1.0);
+}
