@@ -79,6 +79,11 @@ pub struct FactoryArgs {
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Also write DIR/view.html, the viewer page of the run (docs/viewing.md), recording the
+    /// bodies every K steps (bodies appear when dropped; contacts are counted, not drawn)
+    /// [default: no page].
+    #[arg(long, value_name = "K", default_value_t = 0)]
+    pub view_every: u64,
 }
 
 impl FactoryArgs {
@@ -98,6 +103,7 @@ impl FactoryArgs {
             seed: self.seed,
             iterations: self.iterations,
             substeps: self.substeps,
+            view_every: self.view_every,
         }
     }
 }

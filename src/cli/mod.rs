@@ -52,7 +52,7 @@ enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Compare fresh runs of the canonical scenes with golden/ (or regenerate it with --update).
     Golden(golden::GoldenArgs),
-    /// Run a 2D image scene and write PNG frames and an animated GIF.
+    /// Draw a run as PNG frames, a GIF and an MP4 video: a 2D image scene, a 3D scene or trace.
     Render(render::RenderArgs),
     /// Drop random bodies into a container (2D stress test), with the scaling report.
     Factory(factory::FactoryArgs),

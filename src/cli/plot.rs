@@ -29,7 +29,7 @@ pub struct PlotArgs {
     /// One or more traces (.jsonl) of the same system (all 3D or all 2D).
     #[arg(required = true)]
     pub traces: Vec<PathBuf>,
-    /// The SVG file to write.
+    /// The file to write: SVG (.svg) or PNG (.png), by its extension.
     #[arg(long, short, default_value = "plot.svg")]
     pub out: PathBuf,
     /// The quantities to plot, comma-separated, in this order [default: all of them].
@@ -57,9 +57,9 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
         .out
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase());
-    if ext.as_deref() != Some("svg") {
+    if !matches!(ext.as_deref(), Some("svg" | "png")) {
         bail!(
-            "{}: plots are written as SVG (name the file .svg); PNG output is not implemented yet",
+            "{}: plots are written as SVG or PNG: name the file .svg or .png",
             args.out.display()
         );
     }

@@ -66,7 +66,7 @@ pub struct ViewArgs {
 
 /// Whether `path` is a trace (its first line a JSON object with a `format` key) rather than a
 /// scene.
-fn is_trace(path: &Path) -> bool {
+pub(crate) fn is_trace(path: &Path) -> bool {
     use std::io::BufRead;
     let Ok(file) = std::fs::File::open(path) else {
         return false;
@@ -151,31 +151,52 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
 
 /// Runs the scene of `args` as `rigidref run` would, its trace to `trace`.
 fn run_scene(args: &ViewArgs, trace: &Path) -> anyhow::Result<()> {
-    let two_d = args.input.as_deref().is_some_and(is_2d_scene);
-    if !two_d && !args.blocks.given().is_empty() {
+    run_to_trace(
+        args.input.as_deref(),
+        &args.length,
+        &args.sets,
+        &args.blocks,
+        args.every,
+        args.quiet,
+        trace,
+    )
+}
+
+/// Runs `input` (a 3D scene, a 2D image or scene file, or the built-in default when `None`) as
+/// `rigidref run` would, recording every `every`-th frame to `trace` (2D: with all contacts).
+/// `view` and `render` run scenes through this.
+pub(crate) fn run_to_trace(
+    input: Option<&Path>,
+    length: &RunLength,
+    sets: &SceneSets,
+    blocks: &Blocks2dOptions,
+    every: u64,
+    quiet: bool,
+    trace: &Path,
+) -> anyhow::Result<()> {
+    let two_d = input.is_some_and(is_2d_scene);
+    if !two_d && !blocks.given().is_empty() {
         bail!(
             "{}: {} apply to 2D scenes only",
-            args.input
-                .as_ref()
-                .map_or("the built-in default scene".into(), |p| p
-                    .display()
-                    .to_string()),
-            args.blocks.given().join(", ")
+            input.map_or("the built-in default scene".into(), |p| p
+                .display()
+                .to_string()),
+            blocks.given().join(", ")
         );
     }
     let run = RunArgs {
-        scene: args.input.clone(),
-        length: args.length.clone(),
-        sets: args.sets.clone(),
+        scene: input.map(Path::to_path_buf),
+        length: length.clone(),
+        sets: sets.clone(),
         output: TraceOutput {
             out: Some(trace.to_path_buf()),
-            every: args.every,
+            every,
             format: None,
             dump_problems: None,
         },
-        quiet: args.quiet,
+        quiet,
         no_collisions: false,
-        blocks: args.blocks.clone(),
+        blocks: blocks.clone(),
         rest: RestThreshold {
             rest_threshold: None,
         },
@@ -212,6 +233,33 @@ pub(crate) fn read_trace_file(
     Ok((trace, warnings))
 }
 
+/// The scene a 3D trace names (`source`, or the built-in default), whose meshes draw its bodies;
+/// fails, naming the trace `name`, when it cannot be loaded or has not `n` bodies.
+pub(crate) fn scene_of_3d_trace(
+    name: &str,
+    source: &str,
+    n: usize,
+) -> anyhow::Result<rigidref::rigid3d::scene::Scene> {
+    let cannot = |e: &dyn std::fmt::Display| {
+        anyhow::anyhow!(
+            "{name}: the bodies are drawn from the scene the trace names, {source}, which cannot be loaded: {e}"
+        )
+    };
+    let none = Overrides::default();
+    let scene = if source == BUILT_IN_SOURCE {
+        default_scene_with(&none).map_err(|e| cannot(&e))?
+    } else {
+        load_scene_with(Path::new(source), &none).map_err(|e| cannot(&e))?
+    };
+    if scene.bodies.len() != n {
+        bail!(
+            "{name}: the trace has {n} bodies but its scene {source} has {}; was the scene changed after the run?",
+            scene.bodies.len()
+        );
+    }
+    Ok(scene)
+}
+
 /// The page for the trace at `path`, its geometry from the scene the header names.
 fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
     let name = path.display().to_string();
@@ -226,18 +274,7 @@ fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
     };
     let data = match &trace {
         ViewTrace::Three { header, records } => {
-            let none = Overrides::default();
-            let scene = if source == BUILT_IN_SOURCE {
-                default_scene_with(&none).map_err(|e| cannot(&e))?
-            } else {
-                load_scene_with(Path::new(&source), &none).map_err(|e| cannot(&e))?
-            };
-            if scene.bodies.len() != n {
-                bail!(
-                    "{name}: the trace has {n} bodies but its scene {source} has {}; was the scene changed after the run?",
-                    scene.bodies.len()
-                );
-            }
+            let scene = scene_of_3d_trace(&name, &source, n)?;
             let meshes: Vec<_> = scene.bodies.iter().map(|b| &*b.mesh).collect();
             view_data_3d(header, records, &meshes, &warnings, args.max_frames, &omega)
         }

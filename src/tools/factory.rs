@@ -373,6 +373,22 @@ pub const FULL_AFTER: u32 = 20;
 /// Contact problems kept during the run for re-timing (spread evenly over the planned steps).
 pub const RETIMED_PROBLEMS: u64 = 100;
 
+/// The viewer page of a factory run (docs/viewing.md): the final world's bodies, each drawn
+/// from the record where it was dropped on; the plots of the run.
+fn write_view_page(
+    world: &World2,
+    records: &[crate::blocks2d::trace::Record2],
+    path: &Path,
+) -> Result<(), String> {
+    use crate::tools::view::{DEFAULT_MAX_FRAMES, html, view_data_2d};
+    let header =
+        crate::blocks2d::trace::TraceHeader2::for_world(world, "factory", "rigidref factory");
+    let pinned: Vec<bool> = world.bodies.iter().map(|b| b.pinned).collect();
+    let omega = crate::tools::series::default_omega_bodies(&pinned);
+    let data = view_data_2d(&header, records, world, &[], DEFAULT_MAX_FRAMES, &omega);
+    std::fs::write(path, html(&data)).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
 /// Rounds of re-timing: each problem's time is the median of this many solves.
 pub const RETIME_ROUNDS: usize = 5;
 
@@ -405,6 +421,8 @@ pub struct FactorySettings {
     pub iterations: u32,
     /// Substeps per step.
     pub substeps: u32,
+    /// Record the state every this many steps for the viewer page DIR/view.html (0: no page).
+    pub view_every: u64,
 }
 
 impl FactorySettings {
@@ -822,10 +840,19 @@ pub fn run_factory(
         full: false,
         settled: 0,
     };
+    // The viewer's records: the bodies dropped so far (a prefix of the final list), without
+    // contacts (31 000 contacts per record would make a page of gigabytes).
+    let mut view_records = Vec::new();
+    if s.view_every > 0 {
+        view_records.push(crate::blocks2d::trace::Record2::of_world(&world, false));
+    }
     if !schedule.before_step(&mut world, 0) {
         // An open-ended run: it stops when the schedule says it is done.
         drive(&mut world, u64::MAX, |w, k| -> Result<Flow, String> {
             let contacts = log.record(w, k)?;
+            if s.view_every > 0 && k.is_multiple_of(s.view_every) {
+                view_records.push(crate::blocks2d::trace::Record2::of_world(w, false));
+            }
             progress(&FactoryProgress {
                 step: k,
                 planned: if k > planned {
@@ -884,6 +911,12 @@ pub fn run_factory(
         pgs_cpu_seconds: log.pgs_cpu_seconds,
         wall_seconds: started.elapsed().as_secs_f64(),
     };
+    if s.view_every > 0 {
+        if view_records.last().is_none_or(|r| r.step != world.step) {
+            view_records.push(crate::blocks2d::trace::Record2::of_world(&world, false));
+        }
+        write_view_page(&world, &view_records, &out.join("view.html"))?;
+    }
     let report_path = out.join("report.json");
     let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     std::fs::write(&report_path, text + "\n")

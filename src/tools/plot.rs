@@ -1,6 +1,7 @@
 //! `rigidref plot`'s drawing: the plots of [`super::series`] for one run or several overlaid
 //! (rigidref against another simulator's trace, two integrators, …), one panel per quantity,
-//! as SVG. docs/viewing.md §"Plots".
+//! as SVG or PNG (the same chart code on plotters' SVG backend or on
+//! [`super::pixmap_backend`]). docs/viewing.md §"Plots".
 
 use super::series::Plot;
 use plotters::coord::Shift;
@@ -34,7 +35,7 @@ const COLOURS: [RGBColor; 8] = [
 ];
 
 /// Draws the panels named by `keys` (in that order; every panel of the first run when empty) of
-/// `runs` into `path` as SVG. Series of the second and later
+/// `runs` into `path`, as PNG when its extension is .png, else as SVG. Series of the second and later
 /// runs are drawn thinner, and with several runs every legend name is prefixed by its run's label.
 pub fn plot_runs(
     runs: &[PlottedRun],
@@ -60,9 +61,26 @@ pub fn plot_runs(
     }
     let size = (PANEL.0, PANEL.1 * panels.len() as u32 + 40);
     let err = |e: &dyn std::fmt::Display| format!("{}: cannot draw: {e}", path.display());
-    let root = SVGBackend::new(path, size).into_drawing_area();
-    draw(&root, runs, &panels, title).map_err(|e| err(&e))?;
-    root.present().map_err(|e| err(&e))
+    let png = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if png {
+        let backend = super::pixmap_backend::PixmapBackend::new(path, size).ok_or_else(|| {
+            format!(
+                "{}: cannot draw {}×{} pixels",
+                path.display(),
+                size.0,
+                size.1
+            )
+        })?;
+        let root = backend.into_drawing_area();
+        draw(&root, runs, &panels, title).map_err(|e| err(&e))?;
+        root.present().map_err(|e| err(&e))
+    } else {
+        let root = SVGBackend::new(path, size).into_drawing_area();
+        draw(&root, runs, &panels, title).map_err(|e| err(&e))?;
+        root.present().map_err(|e| err(&e))
+    }
 }
 
 /// The finite values of a series with their times; a log plot keeps the positive values only,

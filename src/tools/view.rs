@@ -358,12 +358,25 @@ pub fn view_data_2d(
         })
         .collect();
     let picked = pick_frames(records.len(), max_frames);
+    // A factory run's records hold the bodies dropped so far, a prefix of the world's list:
+    // the rest are padded with null and the frame says how many are `present`.
+    let nb = world.bodies.len();
+    let absent = |r: &Record2| nb.saturating_sub(r.bodies.len());
     let frames: Vec<Value> = picked
         .iter()
         .map(|&k| {
             let r = &records[k];
-            let pose = r7s(r.bodies.iter().flat_map(|b| [b.x[0], b.x[1], b.theta]));
-            let vel = r7s(r.bodies.iter().flat_map(|b| [b.v[0], b.v[1], b.omega]));
+            let pad = std::iter::repeat_n(f64::NAN, 3 * absent(r));
+            let pose = r7s(r
+                .bodies
+                .iter()
+                .flat_map(|b| [b.x[0], b.x[1], b.theta])
+                .chain(pad.clone()));
+            let vel = r7s(r
+                .bodies
+                .iter()
+                .flat_map(|b| [b.v[0], b.v[1], b.omega])
+                .chain(pad));
             let contacts = r.contacts.as_ref().map(|cs| {
                 cs.iter()
                     .map(|c| {
@@ -385,7 +398,10 @@ pub fn view_data_2d(
                     })
                     .collect::<Vec<_>>()
             });
-            json!({ "step": r.step, "t": r.t, "pose": pose, "vel": vel, "contacts": contacts })
+            json!({
+                "step": r.step, "t": r.t, "pose": pose, "vel": vel, "contacts": contacts,
+                "present": r.bodies.len().min(nb),
+            })
         })
         .collect();
     let plots = plots_2d(records, omega_bodies);

@@ -235,6 +235,14 @@ pub fn blocks2d_assignment() -> Option<PathBuf> {
     }
 }
 
+/// Whether ffmpeg can be started (for `render --mp4`; `.ci/run` installs it).
+pub fn has_ffmpeg() -> bool {
+    std::process::Command::new("ffmpeg")
+        .arg("-version")
+        .output()
+        .is_ok_and(|o| o.status.success())
+}
+
 /// Runs the built `rigidref` with `args` in `dir` and returns what it printed and its status.
 pub fn rigidref(args: &[&str], dir: &std::path::Path) -> std::process::Output {
     std::process::Command::new(rigidref_bin())

@@ -340,8 +340,14 @@
       if (k > 0 && f.t < times[k - 1]) monotone = false;
       const pose = requireArray(f.pose, 'frames[' + k + '].pose');
       if (pose.length !== nb * model.stride) throw dataError('frames[' + k + '].pose has ' + pose.length + ' numbers, expected ' + nb * model.stride + ' (' + nb + ' bodies × ' + model.stride + ')');
+      // Bodies beyond `present` do not exist yet (a factory run drops them later): their
+      // null pose is expected, and they are not drawn.
+      const present = (typeof f.present === 'number') ? Math.min(f.present, nb) : nb;
       for (let i = 0; i < pose.length; i++) {
-        if (typeof pose[i] !== 'number') { pose[i] = NaN; badPose++; }
+        if (typeof pose[i] !== 'number') { pose[i] = NaN; if (i < present * model.stride) badPose++; }
+      }
+      if (Array.isArray(f.vel)) {
+        for (let i = 0; i < f.vel.length; i++) if (typeof f.vel[i] !== 'number') f.vel[i] = NaN;
       }
       if (f.vel !== undefined && f.vel !== null && (!Array.isArray(f.vel) || f.vel.length !== nb * model.velStride)) { f.vel = null; badVel++; }
       if (f.contacts === undefined) f.contacts = null;
@@ -1691,6 +1697,10 @@
     body.dataset.viewRect = [rect.left, rect.top, rect.width, rect.height].map(Math.round).join(',');
     body.dataset.frame = String(state.frame);
     body.dataset.readyMs = performance.now().toFixed(1);
+    // Measuring hook: #bench=N draws N frames spread over the run and records the mean ms per
+    // view draw (how interactive a big run stays; docs/viewing.md).
+    const benchCount = Number(new URLSearchParams(location.hash.replace(/^#/, '')).get('bench'));
+    if (benchCount > 0 && view) body.dataset.drawMs = window.rigidrefView.benchmark(benchCount).toFixed(2);
     body.dataset.status = view || model.dim !== 3 ? 'ready' : 'no-webgl';
   }
 

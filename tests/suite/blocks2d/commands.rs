@@ -482,8 +482,15 @@ fn bad_2d_input_is_a_one_line_error() {
             "--substeps, --mu apply to 2D scenes",
         ),
         (
-            words(&["render", "../box_stack.json", "--frames", &dir("fr")]),
-            "render draws 2D scenes",
+            words(&[
+                "render",
+                "../box_stack.json",
+                "--scale",
+                "2",
+                "--frames",
+                &dir("fr"),
+            ]),
+            "--scale apply to 2D renders only",
         ),
         (
             words(&["run", &no_kind.display().to_string()]),

@@ -610,7 +610,7 @@ fn help_options(command: &str, dir: &std::path::Path) -> Vec<String> {
             let name: String = l
                 .strip_prefix("--")?
                 .chars()
-                .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                .take_while(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || *c == '-')
                 .collect();
             (!name.is_empty() && name != "help" && name != "version").then(|| format!("--{name}"))
         })
@@ -685,7 +685,13 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--interval") => &["1"],
             (_, "--drop-speed") => &["5"],
             (_, "--settle") => &["0"],
-            (_, "--width") => &["20"],
+            (_, "--width") | (_, "--height") => &["20"],
+            (_, "--azimuth") => &["45"],
+            (_, "--elevation") => &["30"],
+            (_, "--orbit") => &["10"],
+            (_, "--mp4") => &["a.mp4"],
+            (_, "--view-every") => &["2"],
+            ("render", "--trace") => &["r.jsonl"],
             (_, "--depth") => &["12"],
             (_, "--pieces") => &["tetris"],
             (_, "--pgs-local-solve") => &["exact"],
@@ -698,6 +704,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 | "--no-warm-start"
                 | "--no-post-stabilization"
                 | "--show-contacts"
+                | "--no-overlay"
                 | "--show-discs"
                 | "--json"
                 | "--table"
@@ -724,7 +731,10 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
         ),
         (
             "render",
-            vec![vec![stack2.clone(), "--gif".into(), "g.gif".into()]],
+            vec![
+                vec![stack2.clone(), "--gif".into(), "g.gif".into()],
+                vec![box3.clone(), "--gif".into(), "g.gif".into()],
+            ],
             vec!["--steps", "2"],
         ),
         (
@@ -755,6 +765,10 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
         for option in help_options(command, dir) {
             if option == "--container" && tube.is_none() {
                 continue; // needs ../shared's tetrisTube.png
+            }
+            if option == "--mp4" && !common::has_ffmpeg() {
+                eprintln!("SKIPPED render --mp4: no ffmpeg on the PATH (.ci/run installs it)");
+                continue;
             }
             let v = value(command, &option);
             let mut failures = Vec::new();

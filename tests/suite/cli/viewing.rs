@@ -337,4 +337,315 @@ fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
     assert!(out.status.success());
     let svg = std::fs::read_to_string(tmp.path().join("both.svg")).unwrap();
     assert!(svg.contains("dz.jsonl: total") && svg.contains("again.jsonl: total"));
+
+    // The same plot as PNG: two panels of 1000 × 300 pixels under a 40-pixel title, the first
+    // series in the first colour of the palette, and text (dark pixels) in the title strip.
+    let out = rigidref(
+        &[
+            "plot",
+            "dz.jsonl",
+            "--out",
+            "dz.png",
+            "--quantities",
+            "omega,energy",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let png = image::open(tmp.path().join("dz.png")).unwrap().to_rgba8();
+    assert_eq!(png.dimensions(), (1000, 640));
+    let blue = png.pixels().filter(|p| p.0 == [31, 119, 180, 255]).count();
+    assert!(blue > 500, "the first series' line has {blue} pixels");
+    let title_ink = (0..1000)
+        .flat_map(|x| (0..40).map(move |y| (x, y)))
+        .filter(|&(x, y)| png.get_pixel(x, y).0[0] < 80)
+        .count();
+    assert!(title_ink > 50, "no title text ({title_ink} dark pixels)");
+    // Any other extension is refused in one line.
+    let out = rigidref(&["plot", "dz.jsonl", "--out", "dz.pdf"], tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr.contains("dz.pdf") && stderr.contains(".svg or .png"),
+        "{stderr}"
+    );
+}
+
+/// Pixels of body 0's colour (orange, any shade: red well above green, green well above blue)
+/// and their centroid, in pixels.
+fn orange_pixels(img: &image::RgbaImage) -> (usize, (f64, f64)) {
+    let (mut n, mut sx, mut sy) = (0usize, 0.0, 0.0);
+    for (x, y, p) in img.enumerate_pixels() {
+        let [r, g, b, _] = p.0.map(f64::from);
+        if r > 60.0 && r > 1.4 * g && g > 1.5 * b {
+            n += 1;
+            sx += f64::from(x);
+            sy += f64::from(y);
+        }
+    }
+    (n, (sx / n.max(1) as f64, sy / n.max(1) as f64))
+}
+
+/// The number of frames of an animated GIF.
+fn gif_frames(path: &Path) -> usize {
+    use image::AnimationDecoder;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .count()
+}
+
+/// Whether `path` is an MP4 file (an ISO media file: its first box is `ftyp`) of some size.
+fn is_mp4(path: &Path) -> bool {
+    let bytes = std::fs::read(path).unwrap_or_default();
+    bytes.len() > 1000 && &bytes[4..8] == b"ftyp"
+}
+
+#[test]
+fn render_of_the_assignment_brick_draws_it_moving_and_writes_the_animations() {
+    let Some(dir) = common::rigid3d_assignment() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = dir.join("scenes/scene6.json");
+    let mp4 = common::has_ffmpeg();
+    let mut args = vec![
+        "render",
+        scene.to_str().unwrap(),
+        "--time",
+        "1.5",
+        "--frame-every",
+        "10",
+        "--frames",
+        "fr",
+        "--gif",
+        "brick.gif",
+    ];
+    if mp4 {
+        args.extend(["--mp4", "brick.mp4"]);
+    } else {
+        eprintln!("SKIPPED the MP4 part: no ffmpeg on the PATH (.ci/run installs it)");
+    }
+    let out = rigidref(&args, tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    // 150 steps, every 10th drawn: frames 0, 10, …, 150.
+    let first = image::open(tmp.path().join("fr/frame-00000.png"))
+        .unwrap()
+        .to_rgba8();
+    let last = image::open(tmp.path().join("fr/frame-00150.png"))
+        .unwrap()
+        .to_rgba8();
+    assert_eq!(first.dimensions(), (800, 600));
+    let (n0, c0) = orange_pixels(&first);
+    let (n1, c1) = orange_pixels(&last);
+    // The brick covers a few percent of the frame: thousands of pixels, not a stray few.
+    assert!(n0 > 2000 && n1 > 2000, "brick pixels {n0}, {n1}");
+    // It falls 0.4 m and turns: its image moves down by tens of pixels.
+    let moved = (c1.0 - c0.0).hypot(c1.1 - c0.1);
+    assert!(
+        c1.1 > c0.1 + 10.0,
+        "the brick's image should move down: {c0:?} → {c1:?}"
+    );
+    eprintln!("brick: {n0} → {n1} pixels, centroid {c0:.1?} → {c1:.1?} ({moved:.1} px)");
+    // The overlay: dark text pixels in the top-left corner.
+    let ink = (0..300)
+        .flat_map(|x| (0..60).map(move |y| (x, y)))
+        .filter(|&(x, y)| first.get_pixel(x, y).0[0] < 60)
+        .count();
+    assert!(ink > 100, "no overlay text ({ink} dark pixels)");
+    assert_eq!(gif_frames(&tmp.path().join("brick.gif")), 16);
+    if mp4 {
+        assert!(
+            is_mp4(&tmp.path().join("brick.mp4")),
+            "brick.mp4 is not an MP4 file"
+        );
+    }
+    // The run's trace is kept beside the animation, and renders again: an orbiting camera
+    // without the overlay draws a different picture of the same record.
+    assert!(tmp.path().join("brick.jsonl").is_file());
+    let out = rigidref(
+        &[
+            "render",
+            "brick.jsonl",
+            "--frames",
+            "orbit",
+            "--frame-every",
+            "50",
+            "--orbit",
+            "60",
+            "--no-overlay",
+            "--show-contacts",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let orbit_last = image::open(tmp.path().join("orbit/frame-00150.png"))
+        .unwrap()
+        .to_rgba8();
+    let differing = orbit_last
+        .pixels()
+        .zip(last.pixels())
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(differing > 10_000, "only {differing} pixels differ");
+}
+
+#[test]
+fn render_refuses_options_of_the_other_system_and_a_missing_output_in_one_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = project_root().join("scenes/sliding_box.json");
+    let image = project_root().join("scenes/blocks/dominoes.png");
+    let cases: [(Vec<&str>, &str); 4] = [
+        (vec!["render", scene.to_str().unwrap()], "nothing to write"),
+        (
+            vec![
+                "render",
+                scene.to_str().unwrap(),
+                "--gif",
+                "a.gif",
+                "--show-discs",
+            ],
+            "--show-discs apply to 2D renders only",
+        ),
+        (
+            vec![
+                "render",
+                image.to_str().unwrap(),
+                "--gif",
+                "a.gif",
+                "--orbit",
+                "10",
+            ],
+            "--orbit apply to 3D renders only",
+        ),
+        (
+            vec![
+                "render",
+                scene.to_str().unwrap(),
+                "--gif",
+                "a.gif",
+                "--width",
+                "5",
+            ],
+            "--width and --height must be in [16, 8192]",
+        ),
+    ];
+    for (args, expected) in cases {
+        let out = rigidref(&args, tmp.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.contains(expected), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn render_of_a_2d_image_writes_an_mp4() {
+    if !common::has_ffmpeg() {
+        eprintln!("SKIPPED: no ffmpeg on the PATH (.ci/run installs it)");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let image = project_root().join("scenes/blocks/dominoes.png");
+    let out = rigidref(
+        &[
+            "render",
+            image.to_str().unwrap(),
+            "--steps",
+            "40",
+            "--mp4",
+            "d.mp4",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(is_mp4(&tmp.path().join("d.mp4")));
+}
+
+#[test]
+fn factory_page_shows_the_bodies_appearing_as_they_are_dropped() {
+    // `factory --view-every K` writes DIR/view.html: the final world's bodies, each frame
+    // saying how many are `present` (bodies are dropped over the run). In a browser the page
+    // loads without errors and without the warning a missing pose would give, and the view
+    // changes as bodies drop in.
+    let tmp = tempfile::tempdir().unwrap();
+    let out = rigidref(
+        &[
+            "factory",
+            "--bodies",
+            "30",
+            "--batch",
+            "10",
+            "--settle",
+            "2",
+            "--out",
+            "f",
+            "--view-every",
+            "5",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = tmp.path().join("f/view.html");
+    let text = std::fs::read_to_string(&page).unwrap();
+    // From the container alone (one pinned body) to every body of the report, never fewer.
+    let present: Vec<usize> = text
+        .split("\"present\":")
+        .skip(1)
+        .map(|s| {
+            s[..s.find(|c: char| !c.is_ascii_digit()).unwrap()]
+                .parse()
+                .unwrap()
+        })
+        .collect();
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(tmp.path().join("f/report.json")).unwrap())
+            .unwrap();
+    assert_eq!(present.first(), Some(&1));
+    assert_eq!(
+        present.last().copied(),
+        report["bodies"].as_u64().map(|b| b as usize)
+    );
+    assert!(present.windows(2).all(|w| w[0] <= w[1]), "{present:?}");
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let (data, dom) = body_data(&browser, &page, "#frame=0");
+    assert_eq!(
+        data.get("status").map(String::as_str),
+        Some("ready"),
+        "{data:?}"
+    );
+    assert!(data.get("errors").is_none_or(|e| e.is_empty()), "{data:?}");
+    assert!(
+        !dom.contains("<div class=\"warning\">"),
+        "absent bodies must not be reported as bad poses (no warning in the banner)"
+    );
+    let (data, _) = body_data(&browser, &page, "#frame=10");
+    assert_eq!(
+        data.get("status").map(String::as_str),
+        Some("ready"),
+        "{data:?}"
+    );
 }
