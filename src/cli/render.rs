@@ -256,6 +256,11 @@ fn render_3d(args: &RenderArgs) -> anyhow::Result<()> {
                 .trace
                 .clone()
                 .unwrap_or_else(|| default_trace_path(args));
+            // The default trace goes into the frames folder, which may not exist yet.
+            if let Some(dir) = trace.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)
+                    .with_context(|| format!("{}: cannot create", dir.display()))?;
+            }
             let ran = super::view::run_to_trace(
                 args.scene.as_deref(),
                 &args.length,
@@ -316,7 +321,7 @@ fn render_3d(args: &RenderArgs) -> anyhow::Result<()> {
                     mesh,
                     x: nalgebra::Vector3::from(s.x),
                     rotation: nalgebra::Matrix3::from_fn(|i, j| s.rotation[i][j]),
-                    colour: body_colour(b),
+                    colour: rigidref::tools::view::palette(b),
                 })
                 .collect();
             let contacts: Vec<ContactMark> = r
@@ -377,19 +382,6 @@ fn default_trace_path(args: &RenderArgs) -> PathBuf {
             .as_ref()
             .map_or_else(|| PathBuf::from("render.jsonl"), |d| d.join("trace.jsonl"))
     }
-}
-
-/// The colour of body `i`: the viewer's palette.
-fn body_colour(i: usize) -> [f64; 3] {
-    const PALETTE: [[f64; 3]; 6] = [
-        [0.85, 0.45, 0.20],
-        [0.25, 0.50, 0.80],
-        [0.35, 0.70, 0.35],
-        [0.80, 0.30, 0.45],
-        [0.60, 0.45, 0.75],
-        [0.85, 0.70, 0.25],
-    ];
-    PALETTE[i % PALETTE.len()]
 }
 
 /// Centre and radius of a sphere holding every body of the drawn records (each body's centre

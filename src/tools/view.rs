@@ -222,8 +222,8 @@ fn plots_json(plots: &[Plot], picked: &[usize]) -> Value {
 }
 
 /// A body's display colour, RGB in [0, 1]: a fixed palette by index, so that a body keeps its
-/// colour from page to page.
-fn palette(i: usize) -> [f64; 3] {
+/// colour from page to page (and in `rigidref render`'s frames).
+pub fn palette(i: usize) -> [f64; 3] {
     const COLOURS: [[f64; 3]; 8] = [
         [0.85, 0.45, 0.25],
         [0.30, 0.55, 0.85],
