@@ -5,7 +5,7 @@
 use super::body::{Body2, cross};
 use super::collide::Contact2;
 use super::params::Params2;
-use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
 use std::collections::HashMap;
 
@@ -80,6 +80,7 @@ pub fn assemble_problem2(
             mu: params.mu,
             compliance: 0.0,
             lambda0,
+            bounds: RowBounds::Contact,
         }
     }));
 }

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 pub struct Energy2 {
     /// ½ m v² + ½ I ω².
     pub kinetic: f64,
-    /// −m g·x.
+    /// −m g·x, plus the springs' elastic energy ½ k (|d| − L)².
     pub potential: f64,
     /// Sum.
     pub total: f64,

@@ -7,6 +7,7 @@
 //! - [`mec`], [`disc_tree`]: minimum enclosing circles and bounding-disc trees;
 //! - [`collide`]: block-disc contacts, tree against tree, sweep-and-prune between bodies;
 //! - [`assemble`]: the shared contact problem with 3 degrees of freedom per body;
+//! - [`joints`]: springs and dampers (forces) and pins (free rows of the same problem);
 //! - [`world`]: the step, [`world::World2::step`]: detect → assemble → solve → post-stabilise →
 //!   integrate;
 //! - [`params`], [`scene`]: parameters, 2D scene files and the one loader of images and scenes;
@@ -18,6 +19,7 @@ pub mod collide;
 pub mod diagnostics;
 pub mod disc_tree;
 pub mod image;
+pub mod joints;
 pub mod mec;
 pub mod params;
 pub mod scene;

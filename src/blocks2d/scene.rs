@@ -4,13 +4,18 @@
 //! {"image": "stack.png",
 //!  "parameters": {"substeps": 4, "iterations": 50, "order": "random"},
 //!  "impulses": [{"time": 20, "body": 0, "impulse": [30, 0]}],
-//!  "shakes": [{"body": 0, "velocity": [3, 0], "angular": 0, "frequency": 1}]}
+//!  "shakes": [{"body": 0, "velocity": [3, 0], "angular": 0, "frequency": 1}],
+//!  "pins": [{"bodies": [2, null], "point": [10, 4.5]}],
+//!  "springs": [{"bodies": [3, 1], "points": [[4, 2], [4, 8]], "stiffness": 5, "damping": 0.5}]}
 //! ```
 //!
-//! `image` is relative to the scene file's folder. Every parameter is optional and defaults as on
+//! `image` is relative to the scene file's folder. Pins and springs name bodies by index (`null`
+//! is the world) and their anchors as world points at t = 0, blocks (pixel centres are integer
+//! points, y down); a spring's `rest_length` defaults to its initial length. Every parameter is optional and defaults as on
 //! the command line; unknown keys are warnings; bad values are errors naming file, line, column.
 
 use super::image::{ImageSettings, load_image};
+use super::joints::{Anchor, Pin2, Spring2};
 use super::params::{ContactModel, Params2, Preset};
 use super::world::{ScriptedImpulse, Shake, World2};
 use crate::common::scene_json::{Overrides, SceneError};
@@ -29,6 +34,27 @@ struct SceneFile2 {
     impulses: Vec<ImpulseFile>,
     #[serde(default)]
     shakes: Vec<ShakeFile>,
+    #[serde(default)]
+    pins: Vec<PinFile>,
+    #[serde(default)]
+    springs: Vec<SpringFile>,
+}
+
+#[derive(Deserialize)]
+struct PinFile {
+    bodies: [Option<usize>; 2],
+    point: [f64; 2],
+}
+
+#[derive(Deserialize)]
+struct SpringFile {
+    bodies: [Option<usize>; 2],
+    points: [[f64; 2]; 2],
+    stiffness: NonNegative,
+    #[serde(default)]
+    damping: Option<NonNegative>,
+    #[serde(default)]
+    rest_length: Option<NonNegative>,
 }
 
 #[derive(Deserialize, Default)]
@@ -482,12 +508,77 @@ pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, Sc
             frequency: s.frequency.0,
         });
     }
+    add_pins_and_springs(&mut world, &file.pins, &file.springs, &source)?;
     Ok(Scene2 {
         image,
         world,
         warnings,
         overrides: overrides.describe(),
     })
+}
+
+/// Adds a scene file's pins and springs, checking that each joins two different bodies (or a
+/// body and the world) that exist, at finite points.
+fn add_pins_and_springs(
+    world: &mut World2,
+    pins: &[PinFile],
+    springs: &[SpringFile],
+    source: &str,
+) -> Result<(), SceneError> {
+    let n = world.bodies.len();
+    let check = |what: String, bodies: [Option<usize>; 2], points: &[[f64; 2]]| {
+        if let Some(b) = bodies.iter().flatten().find(|&&b| b >= n) {
+            return Err(SceneError(format!(
+                "{source}: {what}: body {b} does not exist (the image has {n} bodies, 0 to {})",
+                n - 1
+            )));
+        }
+        if bodies[0] == bodies[1] {
+            return Err(SceneError(format!(
+                "{source}: {what}: joins {} to itself; give two different bodies (null is the world)",
+                bodies[0].map_or("the world".to_string(), |b| format!("body {b}"))
+            )));
+        }
+        if !points.iter().flatten().all(|x| x.is_finite()) {
+            return Err(SceneError(format!(
+                "{source}: {what}: the points must be finite"
+            )));
+        }
+        // End 1 is a body: the world, if named, goes second.
+        Ok(if bodies[0].is_none() {
+            [bodies[1], bodies[0]]
+        } else {
+            bodies
+        })
+    };
+    for (k, p) in pins.iter().enumerate() {
+        let bodies = check(format!("pins[{k}]"), p.bodies, &[p.point])?;
+        let point = Vector2::from(p.point);
+        world.pins.push(Pin2 {
+            ends: bodies.map(|b| Anchor::at(&world.bodies, b, &point)),
+        });
+    }
+    for (k, s) in springs.iter().enumerate() {
+        let swapped = s.bodies[0].is_none();
+        let bodies = check(format!("springs[{k}]"), s.bodies, &s.points)?;
+        let mut points = s.points.map(Vector2::from);
+        if swapped {
+            points.swap(0, 1);
+        }
+        let ends = [
+            Anchor::at(&world.bodies, bodies[0], &points[0]),
+            Anchor::at(&world.bodies, bodies[1], &points[1]),
+        ];
+        world.springs.push(Spring2 {
+            ends,
+            stiffness: s.stiffness.0,
+            damping: s.damping.map_or(0.0, |c| c.0),
+            rest_length: s
+                .rest_length
+                .map_or((points[0] - points[1]).norm(), |l| l.0),
+        });
+    }
+    Ok(())
 }
 
 /// Parses `T:BODY:JX,JY` or `T:BODY:JX,JY:PX,PY`.

@@ -5,11 +5,13 @@
 //!
 //! 1. prescribed motions (shakes) set their bodies' velocities;
 //! 2. detect contacts ([`super::collide`]), at the positions the substep starts from;
-//! 3. forces: gravity m g (nothing on pinned bodies), and with the penalty model its springs;
+//! 3. forces: gravity m g (nothing on pinned bodies), the scene's springs and dampers, and with
+//!    the penalty model its contact springs;
 //! 4. velocities: v += h f/m, ω += h τ/I;
-//! 5. contacts: assemble the shared contact problem with 3 degrees of freedom per body
-//!    ([`assemble_problem2`]) → solve with the same PGS as 3D ([`crate::solve::solve_pgs`]) →
-//!    apply u⁺ = u + M⁻¹Jᵀλ (not with the penalty model);
+//! 5. contacts and pins: assemble the shared contact problem with 3 degrees of freedom per body
+//!    ([`assemble_problem2`], the pins' free rows after the contacts) → solve with the same PGS
+//!    as 3D ([`crate::solve::solve_pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ (with the penalty model, the
+//!    pins alone);
 //! 6. post-stabilisation (Cline and Pai): a second solve of the same problem shape for a
 //!    position-only velocity that removes the penetration beyond the slop;
 //! 7. positions: x += h (v + δv), θ += h (ω + δω);
@@ -21,6 +23,7 @@ use super::body::{Body2, cross};
 use super::collide::{Contact2, detect_contacts};
 use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
+use super::joints::{Pin2, Spring2};
 use super::params::{ContactModel, Params2};
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve, readable};
 use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
@@ -80,6 +83,12 @@ pub struct World2 {
     pub impulses: Vec<ScriptedImpulse>,
     /// Prescribed motions.
     pub shakes: Vec<Shake>,
+    /// Springs and dampers.
+    pub springs: Vec<Spring2>,
+    /// Pin joints.
+    pub pins: Vec<Pin2>,
+    /// The pins' impulses of the last solve (warm start), one (x, y) per pin.
+    pin_warm: Vec<SVector<f64, 2>>,
     /// Solve records of earlier steps, kept for their buffers so that a step does not allocate.
     spare_solves: Vec<Solve2>,
     workspace: PgsWorkspace<3, 2>,
@@ -104,6 +113,9 @@ impl World2 {
             most_contacts_in_step: 0,
             impulses: Vec::new(),
             shakes: Vec::new(),
+            springs: Vec::new(),
+            pins: Vec::new(),
+            pin_warm: Vec::new(),
             spare_solves: Vec::new(),
             workspace: PgsWorkspace::new(params.seed),
             position_problem: empty_problem2(),
@@ -179,6 +191,9 @@ impl World2 {
                 };
                 b.torque = 0.0;
             }
+            for spring in &self.springs {
+                spring.apply(&mut self.bodies);
+            }
             if self.params.contact_model == ContactModel::Penalty {
                 self.add_penalty_forces(&contacts);
             }
@@ -192,8 +207,13 @@ impl World2 {
                 b.step_velocity(h);
             }
             let mut stabilised = false;
-            if self.params.contact_model == ContactModel::Pgs && !contacts.is_empty() {
-                let solve = self.solve_contacts(substep, &contacts, h);
+            // The penalty model's contacts are forces: only the pins enter the problem.
+            let solved: &[Contact2] = match self.params.contact_model {
+                ContactModel::Pgs => &contacts,
+                ContactModel::Penalty => &[],
+            };
+            if !solved.is_empty() || !self.pins.is_empty() {
+                let solve = self.solve_contacts(substep, solved, h);
                 stabilised = self.params.post_stabilization;
                 self.solves.push(solve);
             } else if contacts.is_empty() {
@@ -238,6 +258,7 @@ impl World2 {
             warm,
             &mut solve.problem,
         );
+        self.append_pins(&mut solve.problem);
         let settings = self.pgs_settings();
         let (report, wall, cpu) = crate::common::timing::timed(|| {
             solve_pgs(
@@ -259,15 +280,39 @@ impl World2 {
             let p = c.normal * l[0] + tangent(&c.normal) * l[1];
             self.warm.insert((c.body1, c.body2, c.block1, c.block2), p);
         }
+        self.pin_warm.clear();
+        self.pin_warm
+            .extend_from_slice(&solve.lambda[contacts.len()..]);
         if self.params.post_stabilization {
             self.post_stabilize(contacts, &solve.problem, h);
         }
         solve
     }
 
+    /// Appends the pins' rows to an assembled problem (after the contacts), b = J u, warm-started
+    /// from the last solve's pin impulses. docs/blocks2d.md §"Springs, dampers and pins".
+    fn append_pins(&self, problem: &mut ContactProblem2) {
+        if self.pins.is_empty() {
+            return;
+        }
+        let velocities: Vec<Vector3<f64>> = problem.bodies.iter().map(|b| b.velocity).collect();
+        for (k, pin) in self.pins.iter().enumerate() {
+            let warm = match self.params.warm_start {
+                true => self.pin_warm.get(k).copied().unwrap_or_default(),
+                false => SVector::zeros(),
+            };
+            problem.contacts.push(pin.constraint(
+                &self.bodies,
+                &velocities,
+                &Vector2::zeros(),
+                warm,
+            ));
+        }
+    }
+
     /// Cline and Pai's post-stabilisation: solve the same constraint rows for a velocity that
-    /// would remove the penetration beyond the slop in one substep, normal rows only (μ = 0),
-    /// for the position update alone; the velocity change is left in `position_workspace`.
+    /// would remove the penetration beyond the slop (and the pins' error) in one substep, normal
+    /// rows only (μ = 0), for the position update alone; the velocity change is left in `position_workspace`.
     /// docs/blocks2d.md §"Post-stabilisation".
     fn post_stabilize(
         &mut self,
@@ -282,6 +327,14 @@ impl World2 {
         for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
             pc.b = SVector::<f64, 2>::new(-(c.depth - self.params.slop).max(0.0) / h, 0.0);
             pc.mu = 0.0;
+            pc.lambda0 = SVector::zeros();
+        }
+        // A pin's rows: J δu = −C/h, so that the position update closes the pin's error C.
+        for (pc, pin) in problem.contacts[contacts.len()..]
+            .iter_mut()
+            .zip(&self.pins)
+        {
+            pc.b = pin.error(&self.bodies) / h;
             pc.lambda0 = SVector::zeros();
         }
         let settings = self.pgs_settings();
@@ -354,7 +407,8 @@ impl World2 {
         self.contacts.iter().map(|c| c.depth).fold(0.0, f64::max)
     }
 
-    /// Kinetic energy and gravitational potential −Σ m g·x of the non-pinned bodies.
+    /// Kinetic energy, and potential energy: gravitational −Σ m g·x of the non-pinned bodies
+    /// plus the springs' elastic energy.
     pub fn energy(&self) -> Energy2 {
         let g = self.params.gravity_vector();
         let kinetic: f64 = self.bodies.iter().map(Body2::kinetic_energy).sum();
@@ -363,7 +417,12 @@ impl World2 {
             .iter()
             .filter(|b| !b.pinned)
             .map(|b| -b.mass * g.dot(&b.x))
-            .sum();
+            .sum::<f64>()
+            + self
+                .springs
+                .iter()
+                .map(|s| s.energy(&self.bodies))
+                .sum::<f64>();
         Energy2 {
             kinetic,
             potential,

@@ -234,8 +234,16 @@ impl Summary2<'_> {
             .iter()
             .filter(|b| !b.pinned && b.kinetic_energy() < self.rest_threshold)
             .count();
+        let mut joined = String::new();
+        if !world.pins.is_empty() || !world.springs.is_empty() {
+            joined = format!(
+                "; {} pins, {} springs",
+                world.pins.len(),
+                world.springs.len()
+            );
+        }
         eprintln!(
-            "image          {} ({} bodies, {} pinned)",
+            "image          {} ({} bodies, {} pinned{joined})",
             self.image.display(),
             world.bodies.len(),
             world.bodies.len() - moving

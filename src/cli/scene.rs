@@ -14,6 +14,11 @@ pub struct SceneArgs {
 
 /// Prints the resolved parameters and each body's mass properties and initial state.
 pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
+    if let Some(path) = args.scene.as_deref()
+        && rigidref::blocks2d::scene::is_2d_scene(path)
+    {
+        return scene2(path, &args.sets);
+    }
     let scene = super::common::load_scene_or_default(args.scene.as_deref(), &args.sets)?;
     let p = &scene.params;
     println!("scene            {} ({})", p.name, scene.source);
@@ -76,6 +81,77 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
             r[(2, 0)],
             r[(2, 1)],
             r[(2, 2)]
+        );
+    }
+    Ok(())
+}
+
+/// The 2D version: the resolved parameters, each body's blocks, mass and centre, and the pins and
+/// springs.
+fn scene2(path: &std::path::Path, sets: &super::args::SceneSets) -> anyhow::Result<()> {
+    use rigidref::blocks2d::scene::{CommandLine2, load_2d};
+    let cli = CommandLine2 {
+        overrides: sets.overrides()?,
+        ..CommandLine2::default()
+    };
+    let scene = load_2d(path, &cli).map_err(|e| anyhow::anyhow!("{}", e.0))?;
+    let (world, p) = (&scene.world, &scene.world.params);
+    println!("image            {}", scene.image.display());
+    println!(
+        "step             {} ({} substeps, h = {})",
+        p.dt,
+        p.substeps,
+        p.h()
+    );
+    println!("gravity          {} at {}°", p.gravity, p.gravity_angle);
+    println!("mu               {}", p.mu);
+    println!("restitution      {}", p.restitution);
+    println!("iterations       {}", p.iterations);
+    match p.tolerance {
+        Some(t) => println!("pgs_tolerance    {t}"),
+        None => println!("pgs_tolerance    none (all iterations)"),
+    }
+    println!("order            {:?} (seed {})", p.order, p.seed);
+    println!("pgs_local_solve  {}", p.local_solve.name());
+    println!("warm_start       {}", p.warm_start);
+    println!(
+        "post_stabilization {} (slop {})",
+        p.post_stabilization, p.slop
+    );
+    println!("contact_model    {:?}", p.contact_model);
+    for (i, b) in world.bodies.iter().enumerate() {
+        println!(
+            "body {i}: {} blocks, mass {:.4}, inertia {:.4}, centre [{}, {}]{}",
+            b.blocks.len(),
+            b.mass,
+            b.inertia,
+            b.x.x,
+            b.x.y,
+            if b.pinned { ", pinned" } else { "" }
+        );
+    }
+    let end = |a: &rigidref::blocks2d::joints::Anchor| match a.body {
+        Some(b) => format!("body {b}"),
+        None => "world".to_string(),
+    };
+    for (k, pin) in world.pins.iter().enumerate() {
+        let at = pin.ends[0].point(&world.bodies);
+        println!(
+            "pin {k}: {} to {} at [{}, {}]",
+            end(&pin.ends[0]),
+            end(&pin.ends[1]),
+            at.x,
+            at.y
+        );
+    }
+    for (k, s) in world.springs.iter().enumerate() {
+        println!(
+            "spring {k}: {} to {}, stiffness {}, damping {}, rest length {}",
+            end(&s.ends[0]),
+            end(&s.ends[1]),
+            s.stiffness,
+            s.damping,
+            s.rest_length
         );
     }
     Ok(())

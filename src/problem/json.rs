@@ -1,7 +1,7 @@
 //! The contact problem's JSON file, for external solvers and for `rigidref crosscheck`.
 //! Documented field by field in docs/contact-problem-format.md. Matrices are lists of rows.
 
-use super::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+use super::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
 
@@ -68,7 +68,12 @@ pub struct BodyJson {
     pub velocity: Vec<f64>,
 }
 
-/// One contact.
+/// Whether `bounds` is a contact's (the default, so not written).
+fn is_contact(bounds: &RowBounds) -> bool {
+    *bounds == RowBounds::Contact
+}
+
+/// One contact (or joint).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct ContactJson {
@@ -84,6 +89,10 @@ pub struct ContactJson {
     pub compliance: f64,
     /// Warm-start λ, R, N·s.
     pub lambda0: Vec<f64>,
+    /// How the rows are bounded: `"contact"` (the default, omitted when written) or `"free"`
+    /// (a joint: every row unbounded).
+    #[serde(default, skip_serializing_if = "is_contact")]
+    pub bounds: RowBounds,
     /// Where the contact is, when it came from collision detection (not used by solvers).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometry: Option<GeometryJson>,
@@ -177,6 +186,7 @@ impl ProblemFile {
                     mu: c.mu,
                     compliance: c.compliance,
                     lambda0: c.lambda0.iter().copied().collect(),
+                    bounds: c.bounds,
                     geometry: None,
                 })
                 .collect(),
@@ -270,6 +280,7 @@ impl ProblemFile {
                     mu: c.mu,
                     compliance: c.compliance,
                     lambda0: vector(&c.lambda0, &format!("contacts[{k}].lambda0"))?,
+                    bounds: c.bounds,
                 })
             })
             .collect::<Result<Vec<_>, String>>()?;

@@ -3,8 +3,11 @@
 //! docs/contact-problem-format.md; the mathematics in docs/contact.md §"The contact problem".
 //!
 //! Generic over `D`, the degrees of freedom per body (6 in 3D: v, ω; 3 in 2D: vx, vy, ω), and
-//! `R`, the constraint rows per contact (3 in 3D: n, t1, t2; 2 in 2D: n, t). Row 0 is always the
-//! normal row; rows 1..R are friction rows.
+//! `R`, the constraint rows per contact (3 in 3D: n, t1, t2; 2 in 2D: n, t). For a contact, row 0
+//! is the normal row and rows 1..R are friction rows. A constraint's [`RowBounds`] say how its
+//! rows are bounded: a contact's as below, a joint's (a bilateral constraint, e.g. a 2D pin with
+//! rows x and y) not at all, so that one PGS solves contacts and joints together
+//! (docs/contact.md §"Row bounds").
 //!
 //! With u the bodies' velocities before contact (stacked), J the contact Jacobian (stacked rows)
 //! and M⁻¹ the block-diagonal inverse mass, the problem is: find impulses λ (N·s) with
@@ -45,6 +48,29 @@ impl FrictionModel {
     }
 }
 
+/// How a constraint's rows are bounded. docs/contact.md §"Row bounds".
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RowBounds {
+    /// A contact: the normal row λn ∈ [0, ∞), the friction rows within μ λn (box or disk, the
+    /// problem's [`FrictionModel`]); compliance on the normal row.
+    #[default]
+    Contact,
+    /// A bilateral constraint (a joint): every row λ_r ∈ (−∞, ∞), w_r = 0 wanted; μ unused;
+    /// compliance on every row.
+    Free,
+}
+
+impl RowBounds {
+    /// The problem-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            RowBounds::Contact => "contact",
+            RowBounds::Free => "free",
+        }
+    }
+}
+
 /// One body as the solver sees it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProblemBody<const D: usize> {
@@ -72,6 +98,20 @@ pub struct ProblemContact<const D: usize, const R: usize> {
     pub compliance: f64,
     /// Initial guess for λ (warm start), N·s; zero when cold.
     pub lambda0: SVector<f64, R>,
+    /// How the rows are bounded: a contact's (the default) or free (a joint).
+    pub bounds: RowBounds,
+}
+
+impl<const D: usize, const R: usize> ProblemContact<D, R> {
+    /// The compliance on row `r` (kg⁻¹): a contact's on its normal row only, a joint's on every
+    /// row.
+    pub fn row_compliance(&self, r: usize) -> f64 {
+        if r == 0 || self.bounds == RowBounds::Free {
+            self.compliance
+        } else {
+            0.0
+        }
+    }
 }
 
 /// The whole problem of one substep. Plain data; solvers read it and never change it.
@@ -136,11 +176,14 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
         &j * self.dense_inverse_mass() * j.transpose()
     }
 
-    /// The dense compliance matrix C: diagonal, each contact's compliance on its normal row.
+    /// The dense compliance matrix C: diagonal, each contact's compliance on its normal row
+    /// (a joint's on every row).
     pub fn dense_compliance(&self) -> DMatrix<f64> {
         let mut c = DMatrix::zeros(R * self.contacts.len(), R * self.contacts.len());
         for (k, contact) in self.contacts.iter().enumerate() {
-            c[(R * k, R * k)] = contact.compliance;
+            for r in 0..R {
+                c[(R * k + r, R * k + r)] = contact.row_compliance(r);
+            }
         }
         c
     }
@@ -167,7 +210,9 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
                         w += c.jacobian[side] * delta[body];
                     }
                 }
-                w[0] += c.compliance * l[0];
+                for r in 0..R {
+                    w[r] += c.row_compliance(r) * l[r];
+                }
                 w
             })
             .collect()

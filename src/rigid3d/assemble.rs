@@ -1,7 +1,7 @@
 //! Assembling the 3D contact problem from the contacts that collision detection found.
 //! docs/contact.md §"Contact Jacobian", §"The right-hand side b", §"Stabilisation".
 
-use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
+use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::collide::Contact;
 use crate::rigid3d::contact::{generalized_velocity, inverse_mass_matrix, jacobian_block};
@@ -66,6 +66,7 @@ pub fn assemble_problem(
                 mu: settings.mu,
                 compliance: settings.compliance,
                 lambda0: warm.initial_impulse(c),
+                bounds: RowBounds::Contact,
             }
         })
         .collect();

@@ -239,7 +239,7 @@ fn disk_slides<const R: usize>(
 /// Solves m x = rhs by Gaussian elimination with partial pivoting (R ≤ 3 here: no library
 /// factorisation is generic over the size); `None` when a pivot is zero against the matrix's
 /// largest entry to round-off (the system is singular: the case has no single candidate).
-fn solve_linear<const R: usize>(
+pub(crate) fn solve_linear<const R: usize>(
     m: &SMatrix<f64, R, R>,
     rhs: &SVector<f64, R>,
 ) -> Option<SVector<f64, R>> {

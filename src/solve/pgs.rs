@@ -4,14 +4,16 @@
 //! that the current impulses cause. A row's velocity is then w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂
 //! (+ c λn on the normal row), and a change δ of λ_r costs one update Δu_s += (M_s⁻¹ J_sᵀ)_r δ per
 //! body. One sweep visits every contact once: the normal row first, then its friction rows with
-//! bounds from the λn just computed.
+//! bounds from the λn just computed. A joint's rows (free bounds) are visited in the same sweep,
+//! each unbounded.
 
 use super::local::{LocalSolve, solve_local};
 use super::projection::{project_disk, project_feasible};
 use super::residual::{
-    RowScales, contact_coulomb_residual, contact_residual, coulomb_scale, row_scales,
+    RowScales, constraint_residual, contact_coulomb_residual, coulomb_scale, free_residual,
+    row_scales,
 };
-use crate::problem::{ContactProblem, FrictionModel, SolveReport};
+use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -134,15 +136,19 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         k: usize,
         lambda: &SVector<f64, R>,
     ) -> SVector<f64, R> {
-        let mut w = SVector::<f64, R>::from_fn(|r, _| self.row_velocity(problem, k, r));
-        w[0] += problem.contacts[k].compliance * lambda[0];
-        w
+        let c = &problem.contacts[k];
+        SVector::<f64, R>::from_fn(|r, _| {
+            self.row_velocity(problem, k, r) + c.row_compliance(r) * lambda[r]
+        })
     }
 
     fn coulomb_residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
         (0..problem.contacts.len())
             .map(|k| {
                 let w = self.contact_velocity(problem, k, &lambda[k]);
+                if problem.contacts[k].bounds == RowBounds::Free {
+                    return free_residual(&w);
+                }
                 let rho = coulomb_scale(&self.scales[k]);
                 contact_coulomb_residual(problem.contacts[k].mu, &lambda[k], &w, rho)
             })
@@ -153,8 +159,13 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         (0..problem.contacts.len())
             .map(|k| {
                 let w = self.contact_velocity(problem, k, &lambda[k]);
-                let c = &problem.contacts[k];
-                contact_residual(problem.friction, c.mu, &lambda[k], &w, &self.scales[k])
+                constraint_residual(
+                    problem.friction,
+                    &problem.contacts[k],
+                    &lambda[k],
+                    &w,
+                    &self.scales[k],
+                )
             })
             .fold(0.0, f64::max)
     }
@@ -172,7 +183,10 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     workspace.prepare(problem);
     lambda.clear();
     for (k, c) in problem.contacts.iter().enumerate() {
-        let start = project_feasible(&c.lambda0, c.mu, problem.friction);
+        let start = match c.bounds {
+            RowBounds::Contact => project_feasible(&c.lambda0, c.mu, problem.friction),
+            RowBounds::Free => c.lambda0,
+        };
         lambda.push(SVector::zeros());
         for r in 0..R {
             workspace.apply(problem, k, r, start[r]);
@@ -189,9 +203,19 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
-            match settings.local {
-                LocalSolve::Rows => solve_contact(problem, workspace, k, &mut lambda[k]),
-                LocalSolve::Exact => solve_contact_exactly(problem, workspace, k, &mut lambda[k]),
+            match (problem.contacts[k].bounds, settings.local) {
+                (RowBounds::Free, LocalSolve::Rows) => {
+                    solve_free_rows(problem, workspace, k, &mut lambda[k])
+                }
+                (RowBounds::Free, LocalSolve::Exact) => {
+                    solve_free_exactly(problem, workspace, k, &mut lambda[k])
+                }
+                (RowBounds::Contact, LocalSolve::Rows) => {
+                    solve_contact(problem, workspace, k, &mut lambda[k])
+                }
+                (RowBounds::Contact, LocalSolve::Exact) => {
+                    solve_contact_exactly(problem, workspace, k, &mut lambda[k])
+                }
             }
         }
         iterations += 1;
@@ -228,6 +252,44 @@ fn solve_contact_exactly<const D: usize, const R: usize>(
         workspace.apply(problem, k, r, solution[r] - lambda[r]);
     }
     *lambda = solution;
+}
+
+/// One joint's Gauss–Seidel update: each row in turn, unbounded, λ_r ← λ_r − w_r / a_r
+/// (docs/contact.md §"Row bounds").
+fn solve_free_rows<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    workspace: &mut PgsWorkspace<D, R>,
+    k: usize,
+    lambda: &mut SVector<f64, R>,
+) {
+    let joint = &problem.contacts[k];
+    let diagonal = workspace.scales[k].diagonal;
+    for r in 0..R {
+        if diagonal[r] > 0.0 {
+            let w_r = workspace.row_velocity(problem, k, r) + joint.row_compliance(r) * lambda[r];
+            let delta = -w_r / diagonal[r];
+            workspace.apply(problem, k, r, delta);
+            lambda[r] += delta;
+        }
+    }
+}
+
+/// One joint's exact update: its R × R block solved, (A_kk + C_k) λ = −q, for the others'
+/// current impulses; left as it is when the block is singular (a joint no impulse can move).
+fn solve_free_exactly<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    workspace: &mut PgsWorkspace<D, R>,
+    k: usize,
+    lambda: &mut SVector<f64, R>,
+) {
+    let block = workspace.scales[k].block;
+    let q = workspace.contact_velocity(problem, k, lambda) - block * *lambda;
+    if let Some(solution) = super::local::solve_linear(&block, &(-q)) {
+        for r in 0..R {
+            workspace.apply(problem, k, r, solution[r] - lambda[r]);
+        }
+        *lambda = solution;
+    }
 }
 
 /// One contact's Gauss–Seidel update: normal row, then friction rows.

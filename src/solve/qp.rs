@@ -18,8 +18,11 @@
 //!   relaxation of Coulomb friction, a true convex program with no frozen data. It agrees with
 //!   PGS's disk projection when no contact slides; a sliding contact gets a normal velocity
 //!   w_n = μ ‖w_t‖ > 0 from it (the relaxation's spurious separation) and 0 from PGS.
+//!
+//! A joint's rows ([`RowBounds::Free`]) are in none of these sets: free variables of the same
+//! objective, whose optimality condition is w_r = 0.
 
-use crate::problem::ContactProblem;
+use crate::problem::{ContactProblem, RowBounds};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::SVector;
@@ -168,9 +171,17 @@ pub fn solve_qp<const D: usize, const R: usize>(
 
     // Constraints A x + s = b_c, s in the cones, rows grouped by cone in clarabel's order.
     let mut rows = ConstraintRows::default();
+    // A joint's rows (free bounds) are in no cone: unconstrained variables of the objective.
+    let contacts = || {
+        problem
+            .contacts
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.bounds == RowBounds::Contact)
+    };
     if *formulation == QpFormulation::Frictionless {
         // Zero cone: λt = 0.
-        for k in 0..k_count {
+        for (k, _) in contacts() {
             for r in 1..R {
                 rows.row(&[(R * k + r, 1.0)], 0.0);
             }
@@ -179,12 +190,12 @@ pub fn solve_qp<const D: usize, const R: usize>(
     }
     // Non-negative cone: s = λn ≥ 0 (for the Anitescu cone too: with μ = 0 the cone alone would
     // leave λn free), and for fixed box bounds s = μλ̄n ∓ λt ≥ 0.
-    for k in 0..k_count {
+    for (k, _) in contacts() {
         rows.row(&[(R * k, -1.0)], 0.0);
     }
     if let QpFormulation::BoxFixed(fixed) = formulation {
-        for (k, (contact, fixed_normal)) in problem.contacts.iter().zip(fixed).enumerate() {
-            let bound = contact.mu * fixed_normal.max(0.0);
+        for (k, contact) in contacts() {
+            let bound = contact.mu * fixed[k].max(0.0);
             for r in 1..R {
                 rows.row(&[(R * k + r, 1.0)], bound);
                 rows.row(&[(R * k + r, -1.0)], bound);
@@ -197,12 +208,10 @@ pub fn solve_qp<const D: usize, const R: usize>(
         formulation,
         QpFormulation::ConeFixed(_) | QpFormulation::Cone
     ) {
-        for k in 0..k_count {
+        for (k, contact) in contacts() {
             match formulation {
-                QpFormulation::ConeFixed(fixed) => {
-                    rows.row(&[], problem.contacts[k].mu * fixed[k].max(0.0))
-                }
-                _ => rows.row(&[(R * k, -problem.contacts[k].mu)], 0.0),
+                QpFormulation::ConeFixed(fixed) => rows.row(&[], contact.mu * fixed[k].max(0.0)),
+                _ => rows.row(&[(R * k, -contact.mu)], 0.0),
             }
             for r in 1..R {
                 rows.row(&[(R * k + r, -1.0)], 0.0);

@@ -7,18 +7,20 @@
 //!   complementarity 0 ≤ λn ⊥ w_n ≥ 0 in velocity units;
 //! - box friction row r: a_r |λ_r − clamp(λ_r − w_r / a_r, ±μ λn)|;
 //! - cone friction: ρ ‖λt − proj_disk(λt − w_t / ρ, μ λn)‖, one scalar ρ for the pair (a
-//!   per-row scale would move the fixed point off the disk's true solution).
+//!   per-row scale would move the fixed point off the disk's true solution);
+//! - a joint's (free) row r: |w_r|, the natural map of an unbounded row.
 //!
 //! The residual is the largest of these over all rows, in m/s: "how fast some constraint is still
 //! being violated, or how far from its bound an impulse is, measured as a velocity".
 
-use crate::problem::{ContactProblem, FrictionModel};
+use crate::problem::{ContactProblem, FrictionModel, ProblemContact, RowBounds};
 use nalgebra::{SMatrix, SVector};
 
 /// The scales of one contact's rows that PGS steps with and the residual measures with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowScales<const R: usize> {
-    /// a_r = (A + C)_rr per row, kg⁻¹ (compliance on the normal row only).
+    /// a_r = (A + C)_rr per row, kg⁻¹ (a contact's compliance on its normal row only, a
+    /// joint's on every row).
     pub diagonal: SVector<f64, R>,
     /// ρ = the largest eigenvalue of the friction rows' block A_tt, kg⁻¹; the cone step is 1/ρ.
     /// For one friction row (2D) it is that row's diagonal. An eigenvalue, not a bound such as
@@ -55,7 +57,9 @@ pub fn row_scales<const D: usize, const R: usize>(
     k: usize,
 ) -> RowScales<R> {
     let mut block = problem.delassus_block(k);
-    block[(0, 0)] += problem.contacts[k].compliance;
+    for r in 0..R {
+        block[(r, r)] += problem.contacts[k].row_compliance(r);
+    }
     RowScales {
         diagonal: block.diagonal(),
         tangent_rho: tangent_eigenvalue(&block),
@@ -110,6 +114,27 @@ pub fn contact_residual<const R: usize>(
     normal.max(friction)
 }
 
+/// A free (joint) constraint's residual (m/s): the natural map of an unbounded row is
+/// a_r |λ_r − (λ_r − w_r / a_r)| = |w_r|, so the largest |w_r|.
+pub fn free_residual<const R: usize>(w: &SVector<f64, R>) -> f64 {
+    w.amax()
+}
+
+/// One constraint's residual (m/s): [`contact_residual`] for a contact, [`free_residual`] for a
+/// joint.
+pub fn constraint_residual<const D: usize, const R: usize>(
+    friction: FrictionModel,
+    constraint: &ProblemContact<D, R>,
+    lambda: &SVector<f64, R>,
+    w: &SVector<f64, R>,
+    scales: &RowScales<R>,
+) -> f64 {
+    match constraint.bounds {
+        RowBounds::Contact => contact_residual(friction, constraint.mu, lambda, w, scales),
+        RowBounds::Free => free_residual(w),
+    }
+}
+
 /// The residual of impulses `lambda` for `problem` (m/s): the largest row residual, 0 for a
 /// problem without contacts. Allocates; PGS computes the same number from its workspace.
 pub fn residual<const D: usize, const R: usize>(
@@ -119,9 +144,9 @@ pub fn residual<const D: usize, const R: usize>(
     let w = problem.constraint_velocity(lambda);
     (0..problem.contacts.len())
         .map(|k| {
-            contact_residual(
+            constraint_residual(
                 problem.friction,
-                problem.contacts[k].mu,
+                &problem.contacts[k],
                 &lambda[k],
                 &w[k],
                 &row_scales(problem, k),
@@ -187,6 +212,9 @@ pub fn coulomb_residual<const D: usize, const R: usize>(
     (0..problem.contacts.len())
         .map(|k| {
             let scales = row_scales(problem, k);
+            if problem.contacts[k].bounds == RowBounds::Free {
+                return free_residual(&w[k]);
+            }
             contact_coulomb_residual(
                 problem.contacts[k].mu,
                 &lambda[k],

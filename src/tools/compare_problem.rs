@@ -237,6 +237,12 @@ pub fn compare_problems(
         }
         c.check(|| format!("contact {k}: mu"), ca.mu, cb.mu, 0.0);
         c.check(
+            || format!("contact {k}: bounds (0 contact, 1 free)"),
+            f64::from(u8::from(ca.bounds == crate::problem::RowBounds::Free)),
+            f64::from(u8::from(cb.bounds == crate::problem::RowBounds::Free)),
+            0.0,
+        );
+        c.check(
             || format!("contact {k}: compliance"),
             ca.compliance,
             cb.compliance,

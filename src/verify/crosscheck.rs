@@ -5,7 +5,7 @@
 //! formulation that has the same solution ([`crate::solve::qp`]), and the two answers are
 //! compared: by λ where the solution is unique, by the objective where it is not.
 
-use crate::problem::{ContactProblem, FrictionModel};
+use crate::problem::{ContactProblem, FrictionModel, RowBounds};
 use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::residual::coulomb_residual;
@@ -145,7 +145,11 @@ fn project_feasible<const R: usize>(
     mu: f64,
     k: usize,
     lambda: &SVector<f64, R>,
+    bounds: RowBounds,
 ) -> SVector<f64, R> {
+    if bounds == RowBounds::Free {
+        return *lambda;
+    }
     let mut p = *lambda;
     p[0] = p[0].max(0.0);
     let (bound, friction) = match formulation {
@@ -174,7 +178,7 @@ fn distance_bound<const D: usize, const R: usize>(
     let mut r2 = 0.0;
     for (k, (c, x)) in problem.contacts.iter().zip(lambda).enumerate() {
         let step = x - SVector::<f64, R>::from_fn(|r, _| w[R * k + r] / l);
-        let r = x - project_feasible(formulation, c.mu, k, &step);
+        let r = x - project_feasible(formulation, c.mu, k, &step, c.bounds);
         r2 += r.norm_squared();
     }
     (2.0 + m / l) * (l / m) * r2.sqrt()
@@ -189,7 +193,8 @@ pub fn check_problem<const D: usize, const R: usize>(
     let mut workspace = PgsWorkspace::new(0);
     let mut lambda = Vec::new();
     let report = solve_pgs(problem, &settings.pgs, &mut workspace, &mut lambda);
-    let frictionless = problem.contacts.iter().all(|c| c.mu == 0.0);
+    let frictionless =
+        (problem.contacts.iter()).all(|c| c.mu == 0.0 || c.bounds == RowBounds::Free);
     let fixed: Vec<f64> = lambda.iter().map(|l| l[0]).collect();
     let formulation = match (frictionless, problem.friction) {
         (true, _) => QpFormulation::Frictionless,
@@ -201,9 +206,11 @@ pub fn check_problem<const D: usize, const R: usize>(
     // Free rows: the normal rows, and the friction rows whose bound is not zero.
     let free: Vec<usize> = (0..problem.contacts.len())
         .flat_map(|k| {
-            let bound = problem.contacts[k].mu * lambda[k][0];
+            let c = &problem.contacts[k];
+            let bound = c.mu * lambda[k][0];
+            let joint = c.bounds == RowBounds::Free;
             (0..R)
-                .filter(move |&r| r == 0 || (!frictionless && bound > 0.0))
+                .filter(move |&r| joint || r == 0 || (!frictionless && bound > 0.0))
                 .map(move |r| R * k + r)
         })
         .collect();

@@ -3,5 +3,6 @@
 mod challenges;
 mod commands;
 mod demonstrations;
+mod joints;
 mod physics;
 mod properties;

@@ -520,7 +520,9 @@ fn compare_problem_accepts_another_frictional_solution_by_its_residual() {
     // that slides are both right: compare-problem must not call the second one wrong, and must
     // still name a λ that solves nothing.
     use rigidref::problem::json::{ProblemFile, SolutionJson};
-    use rigidref::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact};
+    use rigidref::problem::{
+        ContactProblem3, FrictionModel, ProblemBody, ProblemContact, RowBounds,
+    };
     use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
     let mut inverse_mass = nalgebra::SMatrix::<f64, 6, 6>::zeros();
     inverse_mass.set_diagonal(&nalgebra::SVector::from([0.1, 0.1, 0.1, 1.0, 1.0, 1.0]));
@@ -543,6 +545,7 @@ fn compare_problem_accepts_another_frictional_solution_by_its_residual() {
             mu: 1.0,
             compliance: 0.0,
             lambda0: nalgebra::SVector::zeros(),
+            bounds: RowBounds::Contact,
         }],
     };
     let with = |lambda: [f64; 3]| {

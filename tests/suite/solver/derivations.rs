@@ -9,7 +9,7 @@ use crate::common;
 use common::problems::{build, spec};
 use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, SVector, Vector3};
 use proptest::prelude::*;
-use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
 use rigidref::solve::residual::coulomb_residual;
 use rigidref::solve::{LocalSolve, residual};
@@ -61,6 +61,7 @@ fn painleve(b: [f64; 2]) -> ContactProblem<3, 2> {
             mu: 1.0,
             compliance: 0.0,
             lambda0: SVector::zeros(),
+            bounds: RowBounds::Contact,
         }],
     }
 }

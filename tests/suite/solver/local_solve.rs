@@ -8,7 +8,7 @@ use crate::common;
 use common::problems::{build, physical_spec};
 use nalgebra::{DMatrix, SMatrix, SVector};
 use proptest::prelude::*;
-use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact};
+use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use rigidref::solve::qp::objective;
 use rigidref::solve::residual::coulomb_residual;
 use rigidref::solve::{LocalSolve, residual};
@@ -35,6 +35,7 @@ fn one_contact<const R: usize>(
             mu,
             compliance: 0.0,
             lambda0: SVector::zeros(),
+            bounds: RowBounds::Contact,
         }],
     }
 }

@@ -14,7 +14,7 @@ fn local_solve_problem(
     mu: f64,
     friction: rigidref::problem::FrictionModel,
 ) -> rigidref::problem::ContactProblem<3, 3> {
-    use rigidref::problem::{ContactProblem, ProblemBody, ProblemContact};
+    use rigidref::problem::{ContactProblem, ProblemBody, ProblemContact, RowBounds};
     ContactProblem {
         friction,
         bodies: vec![ProblemBody {
@@ -28,6 +28,7 @@ fn local_solve_problem(
             mu,
             compliance: 0.0,
             lambda0: nalgebra::SVector::zeros(),
+            bounds: RowBounds::Contact,
         }],
     }
 }

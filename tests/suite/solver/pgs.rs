@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use proptest::strategy::ValueTree;
 use rigidref::problem::json::ProblemFile;
 use rigidref::problem::{
-    ContactProblem, ContactProblem3, FrictionModel, ProblemBody, ProblemContact,
+    ContactProblem, ContactProblem3, FrictionModel, ProblemBody, ProblemContact, RowBounds,
 };
 use rigidref::solve::{ContactOrder, PgsSettings, PgsWorkspace, residual, solve_pgs};
 use std::cell::Cell;
@@ -102,6 +102,7 @@ fn one_contact(b: [f64; 3], mu: f64) -> ContactProblem3 {
             mu,
             compliance: 0.0,
             lambda0: SVector::zeros(),
+            bounds: RowBounds::Contact,
         }],
     }
 }
@@ -286,6 +287,7 @@ fn problem_file_round_trips_exactly() {
             mu: 0.33,
             compliance: 0.0,
             lambda0: nalgebra::Vector2::zeros(),
+            bounds: RowBounds::Contact,
         }],
     };
     let text = serde_json::to_string(&ProblemFile::new(&problem)).unwrap();

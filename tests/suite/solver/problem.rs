@@ -93,7 +93,7 @@ fn pgs_leaves_alone_a_contact_no_impulse_can_move() {
     // bodies, say) has A = 0: no impulse changes its velocity. PGS must leave its impulse where
     // the start put it (projected onto the friction set) rather than divide by a zero diagonal,
     // and the residual must report the violation it cannot remove (|min(λn, w_n)| = 1 m/s here).
-    use rigidref::problem::{ContactProblem3, ProblemBody, ProblemContact};
+    use rigidref::problem::{ContactProblem3, ProblemBody, ProblemContact, RowBounds};
     use rigidref::solve::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
     let still = ProblemBody {
         inverse_mass: nalgebra::SMatrix::zeros(),
@@ -111,6 +111,7 @@ fn pgs_leaves_alone_a_contact_no_impulse_can_move() {
             mu: 0.5,
             compliance: 0.0,
             lambda0: SVector::from([1.0, 0.3, -0.2]),
+            bounds: RowBounds::Contact,
         }],
     };
     let settings = PgsSettings {
@@ -211,4 +212,111 @@ fn the_residuals_are_velocities_on_the_contacts_own_scale() {
         block: nalgebra::SMatrix::zeros(),
     };
     assert_eq!(coulomb_scale(&pinned), 1.0);
+}
+
+#[test]
+fn free_rows_are_solved_to_their_linear_system_and_round_trip() {
+    // Two 2D bodies (D = 3, R = 2): body 0 pinned to the world by a compliant free entry (the
+    // compliance on both its rows), body 0 and body 1 joined by a second free entry, and body 1
+    // pressed onto the world by a contact with μ = 10, so that it sticks. With every row active
+    // the solution is the linear system (A + C) λ = −b, and PGS (row by row and with the exact
+    // local solve) and clarabel must all reach it: a free row clamped at 0 like a normal row, or
+    // projected onto a friction bound, would leave λ off it. 1e-9 relative: converged solves of a
+    // well-conditioned 6 × 6 system.
+    use nalgebra::{Matrix3, SMatrix, Vector3};
+    use rigidref::problem::{ContactProblem, ProblemBody, ProblemContact, RowBounds};
+    use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
+    let arm = |rx: f64, ry: f64| SMatrix::<f64, 2, 3>::new(1.0, 0.0, -ry, 0.0, 1.0, rx);
+    let body = |m: f64, i: f64, v: Vector3<f64>| ProblemBody {
+        inverse_mass: Matrix3::from_diagonal(&Vector3::new(1.0 / m, 1.0 / m, 1.0 / i)),
+        velocity: v,
+    };
+    let entry = |bodies, jacobian: [SMatrix<f64, 2, 3>; 2], b, compliance, bounds| ProblemContact {
+        bodies,
+        jacobian,
+        b,
+        mu: 10.0,
+        compliance,
+        lambda0: SVector::<f64, 2>::zeros(),
+        bounds,
+    };
+    let problem = ContactProblem::<3, 2> {
+        friction: FrictionModel::Box,
+        bodies: vec![
+            body(2.0, 0.7, Vector3::new(0.3, -0.8, 0.2)),
+            body(1.0, 0.4, Vector3::new(-0.5, -1.2, 0.1)),
+        ],
+        contacts: vec![
+            entry(
+                [Some(0), None],
+                [arm(-0.5, 0.2), SMatrix::zeros()],
+                nalgebra::Vector2::new(0.25, -0.7),
+                0.05,
+                RowBounds::Free,
+            ),
+            entry(
+                [Some(0), Some(1)],
+                [arm(0.6, -0.1), -arm(-0.4, 0.3)],
+                nalgebra::Vector2::new(0.4, 0.2),
+                0.0,
+                RowBounds::Free,
+            ),
+            entry(
+                [Some(1), None],
+                [
+                    SMatrix::<f64, 2, 3>::new(0.0, 1.0, 0.3, -1.0, 0.0, 0.1),
+                    SMatrix::zeros(),
+                ],
+                nalgebra::Vector2::new(-1.2, 0.3),
+                0.0,
+                RowBounds::Contact,
+            ),
+        ],
+    };
+    problem.validate().unwrap();
+    let hessian = problem.dense_delassus() + problem.dense_compliance();
+    let compliance = problem.dense_compliance();
+    assert_eq!(
+        (compliance[(0, 0)], compliance[(1, 1)]),
+        (0.05, 0.05),
+        "compliance on rows x, y"
+    );
+    assert_eq!(compliance[(5, 5)], 0.0, "a contact's friction row has none");
+    let exact = hessian.lu().solve(&(-problem.dense_b())).unwrap();
+    assert!(
+        exact[4] > 0.0 && exact[5].abs() < 10.0 * exact[4],
+        "the contact must stick: {exact}"
+    );
+    assert!(
+        exact.rows(0, 4).min() < 0.0,
+        "a free row must be negative: {exact}"
+    );
+    let flat = |l: &[SVector<f64, 2>]| DVector::from_iterator(6, l.iter().flatten().copied());
+    let close = |l: &DVector<f64>, what: &str| {
+        let error = (l - &exact).amax() / exact.amax();
+        assert!(error < 1e-9, "{what}: {l} against {exact} ({error:e})");
+    };
+    for local in [LocalSolve::Rows, LocalSolve::Exact] {
+        let (lambda, report) = super::run_pgs(&problem, local, 10_000, Some(1e-14));
+        assert!(report.converged, "{local:?}: {report:?}");
+        close(&flat(&lambda), &format!("PGS {local:?}"));
+        assert!(rigidref::solve::residual(&problem, &lambda) <= 1e-13);
+    }
+    let fixed = vec![exact[0], exact[2], exact[4]];
+    let qp = solve_qp(
+        &problem,
+        &QpFormulation::BoxFixed(fixed),
+        &QpSettings::default(),
+    )
+    .unwrap();
+    assert!(qp.solved, "{}", qp.status);
+    let error = (flat(&qp.lambda) - &exact).amax() / exact.amax();
+    assert!(error < 1e-6, "clarabel {:?} ({error:e})", qp.lambda);
+
+    // The file writes "bounds": "free" on the joints only and reads back the same problem.
+    let file = rigidref::problem::json::ProblemFile::new(&problem);
+    let text = serde_json::to_string(&file).unwrap();
+    assert_eq!(text.matches(r#""bounds":"free""#).count(), 2, "{text}");
+    let back: rigidref::problem::json::ProblemFile = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.to_problem::<3, 2>().unwrap(), problem);
 }
