@@ -151,6 +151,17 @@ impl Body2 {
         self.theta += (self.omega + correction_omega) * h;
     }
 
+    /// The fastest speed of any point of the body's blocks, |v| + |ω| ρ, with ρ the reach of its
+    /// bounding disc from the centre of mass (|c| + r of the disc tree's root; the root bounds
+    /// the boundary blocks' discs, which hold the body). Blocks per time unit.
+    pub fn fastest_point_speed(&self) -> f64 {
+        let reach = self
+            .tree
+            .root()
+            .map_or(0.0, |root| root.centre.norm() + root.radius);
+        self.v.norm() + self.omega.abs() * reach
+    }
+
     /// Kinetic energy ½ m v² + ½ I ω² (0 for a pinned body).
     pub fn kinetic_energy(&self) -> f64 {
         if self.pinned {

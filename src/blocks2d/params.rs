@@ -64,7 +64,19 @@ pub struct Params2 {
     pub penalty_stiffness: f64,
     /// Penalty damping, per unit approach speed (default 10).
     pub penalty_damping: f64,
+    /// Adaptive substeps (scene key `max_travel`, blocks; default off): when set, each step takes
+    /// enough substeps that the fastest body's fastest block moves at most this far per substep,
+    /// never fewer than `substeps`, at most [`MAX_ADAPTIVE_SUBSTEPS`]. docs/blocks2d.md
+    /// §"Adaptive substeps".
+    pub max_travel: Option<f64>,
+    /// Shock propagation after each velocity solve (scene key `shock_propagation`; default off).
+    /// docs/blocks2d.md §"Shock propagation".
+    pub shock_propagation: bool,
 }
+
+/// The most substeps one step takes with adaptive substeps: a body faster than
+/// `max_travel · 4096 / step` is stepped at that cap (and the run says so).
+pub const MAX_ADAPTIVE_SUBSTEPS: u32 = 4096;
 
 /// A named set of 2D parameters to start from (`--preset`, or `"preset"` in a scene file's
 /// parameters); single options override it.
@@ -130,6 +142,8 @@ impl Params2 {
             contact_model: ContactModel::Pgs,
             penalty_stiffness: 1000.0,
             penalty_damping: 10.0,
+            max_travel: None,
+            shock_propagation: false,
         }
     }
 

@@ -76,6 +76,8 @@ struct ParametersFile2 {
     slop: Option<NonNegative>,
     contact_model: Option<ContactModel>,
     white_threshold: Option<NonNegative>,
+    max_travel: Option<Positive>,
+    shock_propagation: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -155,6 +157,10 @@ pub struct Parameters2 {
     pub contact_model: Option<ContactModel>,
     /// Near-white threshold of the image, in [0, 1).
     pub white_threshold: Option<f64>,
+    /// Adaptive substeps: the most a block may move per substep, blocks.
+    pub max_travel: Option<f64>,
+    /// Shock propagation after each velocity solve.
+    pub shock_propagation: Option<bool>,
 }
 
 /// A parameter out of its range: the key (as in a scene file) and what is wrong.
@@ -187,6 +193,8 @@ impl Parameters2 {
             ("slop", self.slop.is_some()),
             ("contact_model", self.contact_model.is_some()),
             ("white_threshold", self.white_threshold.is_some()),
+            ("max_travel", self.max_travel.is_some()),
+            ("shock_propagation", self.shock_propagation.is_some()),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -214,6 +222,8 @@ impl Parameters2 {
             post_stabilization: self.post_stabilization.unwrap_or(d.post_stabilization),
             slop: self.slop.unwrap_or(d.slop),
             contact_model: self.contact_model.unwrap_or(d.contact_model),
+            max_travel: self.max_travel.or(d.max_travel),
+            shock_propagation: self.shock_propagation.unwrap_or(d.shock_propagation),
             ..d
         };
         let white_threshold = self
@@ -258,6 +268,11 @@ impl Parameters2 {
                 format!("must be a positive number, got {t}"),
             );
         }
+        if let Some(t) = p.max_travel
+            && !positive(t)
+        {
+            return fail("max_travel", format!("must be a positive number, got {t}"));
+        }
         if !(0.0..1.0).contains(&white_threshold) {
             return fail(
                 "white_threshold",
@@ -289,6 +304,8 @@ impl Parameters2 {
             slop: self.slop.or(other.slop),
             contact_model: self.contact_model.or(other.contact_model),
             white_threshold: self.white_threshold.or(other.white_threshold),
+            max_travel: self.max_travel.or(other.max_travel),
+            shock_propagation: self.shock_propagation.or(other.shock_propagation),
         }
     }
 }
@@ -315,6 +332,8 @@ impl ParametersFile2 {
             slop: p.slop.map(|x| x.0),
             contact_model: p.contact_model,
             white_threshold: p.white_threshold.map(|x| x.0),
+            max_travel: p.max_travel.map(|x| x.0),
+            shock_propagation: p.shock_propagation,
         }
     }
 }

@@ -137,7 +137,7 @@ impl Record2 {
         let lambda = world
             .solves
             .last()
-            .filter(|s| s.substep + 1 == world.params.substeps)
+            .filter(|s| s.substep + 1 == world.substeps_in_step)
             .map_or(&[][..], |s| &s.lambda[..]);
         Record2 {
             step: world.step,

@@ -12,6 +12,8 @@
 //!    ([`assemble_problem2`], the pins' free rows after the contacts) → solve with the same PGS
 //!    as 3D ([`crate::solve::solve_pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ (with the penalty model, the
 //!    pins alone);
+//!    With shock propagation on, a layer-by-layer pass follows the solve
+//!    ([`crate::solve::shock::propagate_shock`]);
 //! 6. post-stabilisation (Cline and Pai): a second solve of the same problem shape for a
 //!    position-only velocity that removes the penetration beyond the slop;
 //! 7. positions: x += h (v + δv), θ += h (ω + δω);
@@ -24,8 +26,9 @@ use super::collide::{Contact2, detect_contacts};
 use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
 use super::joints::{Pin2, Spring2};
-use super::params::{ContactModel, Params2};
+use super::params::{ContactModel, MAX_ADAPTIVE_SUBSTEPS, Params2};
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve, readable};
+use crate::solve::shock::propagate_shock;
 use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use nalgebra::{SVector, Vector2, Vector3};
 use std::collections::HashMap;
@@ -79,6 +82,15 @@ pub struct World2 {
     pub contacts_in_step: usize,
     /// The most contacts detected in one substep of the last step.
     pub most_contacts_in_step: usize,
+    /// Substeps the last step took: `params.substeps`, or more with adaptive substeps.
+    pub substeps_in_step: u32,
+    /// With shock propagation: the most layers a pass has met so far.
+    pub shock_layers: u32,
+    /// The most substeps any step took so far.
+    pub most_substeps: u32,
+    /// Steps whose adaptive substep count hit [`MAX_ADAPTIVE_SUBSTEPS`] (a body moved further
+    /// than `max_travel` per substep in them).
+    pub capped_steps: u64,
     /// Scripted impulses not yet applied.
     pub impulses: Vec<ScriptedImpulse>,
     /// Prescribed motions.
@@ -99,6 +111,8 @@ pub struct World2 {
     /// Each body's (vx, vy, ω) before the current substep's forces: restitution's approach speed.
     before_kick: Vec<Vector3<f64>>,
     warm: WarmStart2,
+    /// Shock propagation's impulses, a scratch copy of the solve's.
+    shock_lambda: Vec<SVector<f64, 2>>,
 }
 
 impl World2 {
@@ -111,6 +125,10 @@ impl World2 {
             solves: Vec::new(),
             contacts_in_step: 0,
             most_contacts_in_step: 0,
+            substeps_in_step: params.substeps,
+            most_substeps: params.substeps,
+            shock_layers: 0,
+            capped_steps: 0,
             impulses: Vec::new(),
             shakes: Vec::new(),
             springs: Vec::new(),
@@ -123,6 +141,7 @@ impl World2 {
             position_workspace: PgsWorkspace::new(params.seed),
             before_kick: Vec::new(),
             warm: HashMap::new(),
+            shock_lambda: Vec::new(),
             params,
         }
     }
@@ -150,7 +169,6 @@ impl World2 {
 
     /// Advances one step; fails at the end of a step whose state (or energy) is not finite.
     pub fn step(&mut self) -> Result<(), NonFinite> {
-        let h = self.params.h();
         let g = self.params.gravity_vector();
         let now = self.time();
         // Last step's records go back to the pool: their buffers are reused below.
@@ -170,7 +188,11 @@ impl World2 {
                 b.apply_impulse_at(&i.impulse, &point);
             }
         }
-        for substep in 0..self.params.substeps {
+        let substeps = self.substeps_for_step();
+        self.substeps_in_step = substeps;
+        self.most_substeps = self.most_substeps.max(substeps);
+        let h = self.params.dt / f64::from(substeps);
+        for substep in 0..substeps {
             let t = now + f64::from(substep) * h;
             for s in &self.shakes {
                 if let Some(b) = self.bodies.get_mut(s.body) {
@@ -233,6 +255,31 @@ impl World2 {
         self.check_finite()
     }
 
+    /// The substeps of the step about to run: `params.substeps`, or with adaptive substeps
+    /// (`max_travel` set) enough that the fastest body's fastest point, moving at the speed it
+    /// starts the step with, travels at most `max_travel` per substep:
+    /// n = max(substeps, ⌈s_max · dt / max_travel⌉), at most [`MAX_ADAPTIVE_SUBSTEPS`].
+    /// docs/blocks2d.md §"Adaptive substeps".
+    pub fn substeps_for_step(&mut self) -> u32 {
+        let fixed = self.params.substeps;
+        let Some(travel) = self.params.max_travel else {
+            return fixed;
+        };
+        let fastest = self
+            .bodies
+            .iter()
+            .filter(|b| !b.pinned)
+            .map(Body2::fastest_point_speed)
+            .fold(0.0, f64::max);
+        let wanted = (fastest * self.params.dt / travel).ceil();
+        if wanted > f64::from(MAX_ADAPTIVE_SUBSTEPS) {
+            self.capped_steps += 1;
+            return MAX_ADAPTIVE_SUBSTEPS.max(fixed);
+        }
+        // Here 0 ≤ wanted ≤ the cap (a NaN speed compares false above and gives 0 here).
+        (wanted as u32).max(fixed)
+    }
+
     /// The velocity-level contact solve of one substep: assemble → solve (timed) → apply
     /// u⁺ = u + M⁻¹Jᵀλ → keep λ for the warm start → post-stabilise. Returns the record, its
     /// buffers taken from the pool of earlier steps'.
@@ -270,6 +317,20 @@ impl World2 {
         });
         solve.report = report;
         (solve.solve_seconds, solve.solve_cpu_seconds) = (wall, cpu.unwrap_or(0.0));
+        if self.params.shock_propagation {
+            // On a copy of λ: the record and the next warm start keep PGS's λ, which gives the
+            // velocities through u⁺ = u + M⁻¹Jᵀλ; the pass's own impulses do not (its supports
+            // feel no reaction), and warm-starting from them pushed each support down by the
+            // load the pass had hidden from it (tower100 at 5–7 sweeps fell).
+            self.shock_lambda.clone_from(&solve.lambda);
+            let shock = propagate_shock(
+                &solve.problem,
+                &settings,
+                &mut self.workspace,
+                &mut self.shock_lambda,
+            );
+            self.shock_layers = self.shock_layers.max(shock.layers);
+        }
         for (i, b) in self.bodies.iter_mut().enumerate() {
             let du = self.workspace.delta_velocity(i);
             b.v += Vector2::new(du[0], du[1]);
@@ -463,7 +524,7 @@ impl Simulation<3, 2> for World2 {
         self.params.dt
     }
     fn h(&self) -> f64 {
-        self.params.h()
+        self.params.dt / f64::from(self.substeps_in_step)
     }
     fn solves(&self) -> &[Solve2] {
         &self.solves

@@ -151,6 +151,16 @@ pub struct Blocks2dOptions {
     /// 2D: near-white threshold: a pixel is empty when every channel is ≥ 1 − this [default: 0.05].
     #[arg(long, allow_negative_numbers = true)]
     pub white_threshold: Option<f64>,
+    /// 2D: adaptive substeps: take enough substeps each step that no block moves more than this
+    /// many blocks per substep (fast bodies then cannot pass through a one-block wall; at most
+    /// 4096 substeps) [default: off, the fixed --substeps].
+    #[arg(long, allow_negative_numbers = true)]
+    pub max_travel: Option<f64>,
+    /// 2D: shock propagation after each velocity solve: bodies re-solved layer by layer from the
+    /// pinned ones up, each layer's supports treated as fixed (stiffer stacks; docs/blocks2d.md
+    /// §"Shock propagation") [default: off].
+    #[arg(long)]
+    pub shock_propagation: bool,
     /// 2D: apply an impulse TIME:BODY:JX,JY[:PX,PY] (at the body's centre of mass unless a world
     /// point is given); repeatable.
     #[arg(long)]
@@ -217,6 +227,8 @@ impl Blocks2dOptions {
             slop: self.slop,
             contact_model: self.contact_model,
             white_threshold: self.white_threshold,
+            max_travel: self.max_travel,
+            shock_propagation: self.shock_propagation.then_some(true),
         }
     }
 }

@@ -25,7 +25,9 @@ comparison.
 
 Writes DIR/scaling.csv (per step: step, t, bodies, contacts, PGS wall and thread CPU seconds),
 DIR/retimed.csv (contacts, median CPU seconds per re-timed problem), DIR/scaling.svg (re-timed
-points in blue with the least-squares line and R², in-run points in grey) and DIR/report.json.
+points in blue with the least-squares line and R², in-run points in grey), DIR/scaling.png (the
+same plot drawn one pixel per block for the 2D system: blue axes, black points, the red line;
+`rigidref run DIR/scaling.png` drops the graph onto its axes) and DIR/report.json.
 Timing figures are measurements of this machine; the report states them, no test asserts them.
 
 The scaling demonstration (at least 2 000 bodies and 10 000 contacts; docs/blocks2d.md):
@@ -192,9 +194,9 @@ fn print_report(report: &FactoryReport, out: &Path) {
         "report         {}/scaling.csv, retimed.csv, {}report.json",
         out.display(),
         if report.fit.is_some() {
-            "scaling.svg, "
+            "scaling.svg, scaling.png (the plot as a 2D scene: rigidref run it), "
         } else {
-            "(no scaling.svg: too few steps with contacts for a fit), "
+            "(no scaling.svg or .png: too few steps with contacts for a fit), "
         }
     );
 }

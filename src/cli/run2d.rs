@@ -4,6 +4,7 @@
 use super::progress::{Progress, Stopped};
 use super::run_args::RunArgs;
 use anyhow::bail;
+use rigidref::blocks2d::params::MAX_ADAPTIVE_SUBSTEPS;
 use rigidref::blocks2d::scene::{Scene2, load_2d};
 use rigidref::blocks2d::trace::{Record2, TraceHeader2};
 use rigidref::blocks2d::world::World2;
@@ -73,7 +74,13 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         most_contacts = most_contacts.max(w.most_contacts_in_step);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
-                super::common::dump_problem(dir, &name, k, w.params.h(), solve)?;
+                super::common::dump_problem(
+                    dir,
+                    &name,
+                    k,
+                    w.params.dt / f64::from(w.substeps_in_step),
+                    solve,
+                )?;
             }
         }
         reports.scaling(w, k, &totals)?;
@@ -257,8 +264,20 @@ impl Summary2<'_> {
             p.gravity,
             p.gravity_angle
         );
+        if let Some(travel) = p.max_travel {
+            eprintln!(
+                "adaptive       at most {travel} blocks per substep: up to {} substeps in a step{}",
+                world.most_substeps,
+                match world.capped_steps {
+                    0 => String::new(),
+                    n => format!(
+                        "; warning: {n} steps at the cap of {MAX_ADAPTIVE_SUBSTEPS} substeps moved further"
+                    ),
+                }
+            );
+        }
         eprintln!(
-            "solver         {:?}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {})",
+            "solver         {:?}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {}){}",
             p.contact_model,
             p.iterations,
             p.tolerance
@@ -269,7 +288,12 @@ impl Summary2<'_> {
             p.restitution,
             p.warm_start,
             p.post_stabilization,
-            p.slop
+            p.slop,
+            if p.shock_propagation {
+                ", shock propagation"
+            } else {
+                ""
+            }
         );
         if !self.overrides.is_empty() {
             eprintln!("overrides      {}", self.overrides.join(", "));

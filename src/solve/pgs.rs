@@ -59,13 +59,14 @@ pub struct PgsSettings {
 pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Δu per body: the velocity change the current λ causes.
     delta_velocity: Vec<SVector<f64, D>>,
-    /// M_s⁻¹ J_sᵀ per contact and side (D × R), zero for the static world.
-    inverse_mass_jacobian_t: Vec<[SMatrix<f64, D, R>; 2]>,
+    /// M_s⁻¹ J_sᵀ per contact and side (D × R), zero for the static world (and, during shock
+    /// propagation, for a side held fixed).
+    pub(super) inverse_mass_jacobian_t: Vec<[SMatrix<f64, D, R>; 2]>,
     /// Row scales per contact.
-    scales: Vec<RowScales<R>>,
+    pub(super) scales: Vec<RowScales<R>>,
     /// The visiting order.
     order: Vec<usize>,
-    rng: ChaCha8Rng,
+    pub(super) rng: ChaCha8Rng,
 }
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
@@ -203,20 +204,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
-            match (problem.contacts[k].bounds, settings.local) {
-                (RowBounds::Free, LocalSolve::Rows) => {
-                    solve_free_rows(problem, workspace, k, &mut lambda[k])
-                }
-                (RowBounds::Free, LocalSolve::Exact) => {
-                    solve_free_exactly(problem, workspace, k, &mut lambda[k])
-                }
-                (RowBounds::Contact, LocalSolve::Rows) => {
-                    solve_contact(problem, workspace, k, &mut lambda[k])
-                }
-                (RowBounds::Contact, LocalSolve::Exact) => {
-                    solve_contact_exactly(problem, workspace, k, &mut lambda[k])
-                }
-            }
+            visit(problem, settings.local, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
@@ -232,6 +220,24 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         converged,
         coulomb_residual: (problem.friction == FrictionModel::Cone)
             .then(|| workspace.coulomb_residual(problem, lambda)),
+    }
+}
+
+/// One visit of entry `k`: the update its bounds and the local-solve setting call for.
+pub(super) fn visit<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    local: LocalSolve,
+    workspace: &mut PgsWorkspace<D, R>,
+    k: usize,
+    lambda: &mut SVector<f64, R>,
+) {
+    match (problem.contacts[k].bounds, local) {
+        (RowBounds::Free, LocalSolve::Rows) => solve_free_rows(problem, workspace, k, lambda),
+        (RowBounds::Free, LocalSolve::Exact) => solve_free_exactly(problem, workspace, k, lambda),
+        (RowBounds::Contact, LocalSolve::Rows) => solve_contact(problem, workspace, k, lambda),
+        (RowBounds::Contact, LocalSolve::Exact) => {
+            solve_contact_exactly(problem, workspace, k, lambda)
+        }
     }
 }
 

@@ -745,7 +745,8 @@ impl SolveLog {
         Ok(contacts)
     }
 
-    /// Re-times the kept problems side by side, writes retimed.csv and scaling.svg, and returns
+    /// Re-times the kept problems side by side, writes retimed.csv, scaling.svg and scaling.png
+    /// (the plot as a 2D scene image), and returns
     /// the fit and how many problems were re-timed.
     fn write_fit(
         &mut self,
@@ -768,17 +769,22 @@ impl SolveLog {
         retimed_csv.flush().map_err(retimed_err)?;
         let fit = linear_fit(&retimed);
         let svg = out.join("scaling.svg");
+        let png = out.join("scaling.png");
         match &fit {
-            Some(f) => plot(
-                &retimed,
-                &self.in_run_cpu,
-                f,
-                &svg,
-                "PGS solve CPU time (re-timed)",
-            )?,
+            Some(f) => {
+                plot(
+                    &retimed,
+                    &self.in_run_cpu,
+                    f,
+                    &svg,
+                    "PGS solve CPU time (re-timed)",
+                )?;
+                crate::tools::scaling::scene_png(&retimed, f, &png)?;
+            }
             // No line to draw: do not leave an earlier run's plot looking like this one's.
             None => {
                 let _ = std::fs::remove_file(&svg);
+                let _ = std::fs::remove_file(&png);
             }
         }
         Ok((fit, retimed.len()))
@@ -787,7 +793,8 @@ impl SolveLog {
 
 /// Runs the factory: drops `bodies` in batches every `interval` into the container until all are
 /// dropped or the container is full, lets them settle, and writes the scaling report into `out`
-/// (scaling.csv, retimed.csv, scaling.svg, report.json; docs/blocks2d.md §"Scaling").
+/// (scaling.csv, retimed.csv, scaling.svg, scaling.png, report.json; docs/blocks2d.md
+/// §"Scaling").
 /// `progress` is told where the run is after every step. A note on a full container is returned
 /// with the report.
 pub fn run_factory(

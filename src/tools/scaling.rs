@@ -164,3 +164,62 @@ pub fn plot(
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }
+
+/// Size of the scaling plot drawn as a 2D scene image ([`scene_png`]), pixels = blocks.
+pub const SCENE_SIZE: (u32, u32) = (160, 100);
+
+/// Draws the scaling plot as an image for the 2D system to run ("use your graph as a test
+/// image in your simulation"): one pixel per block, no anti-aliasing, so that every drawn pixel
+/// is a whole block. The axes are blue (pinned: the ground and a wall), each measurement a black
+/// 2 × 2 dot (dots that touch are one body), the fitted line red and 8-connected (one rigid
+/// body). It falls onto the axes when run. docs/blocks2d.md §"Scaling".
+pub fn scene_png(points: &[(f64, f64)], fit: &LinearFit, path: &Path) -> Result<(), String> {
+    let (w, h) = SCENE_SIZE;
+    let mut img = image::RgbImage::from_pixel(w, h, image::Rgb([255, 255, 255]));
+    // Plot area: x in [left, right], y in [top, bottom], y up on the page.
+    let (left, right, top, bottom) = (4u32, w - 4, 4u32, h - 5);
+    for x in left..=right {
+        img.put_pixel(x, bottom + 1, image::Rgb([0, 0, 163]));
+    }
+    for y in top..=bottom + 1 {
+        img.put_pixel(left - 1, y, image::Rgb([0, 0, 163]));
+    }
+    let x_max = points.iter().map(|p| p.0).fold(1.0, f64::max);
+    let y_max = points.iter().map(|p| p.1).fold(f64::MIN_POSITIVE, f64::max) * 1.1;
+    let to_pixel = |x: f64, y: f64| -> (i64, i64) {
+        let px = f64::from(left + 1) + x / x_max * f64::from(right - left - 2);
+        let py = f64::from(bottom - 1) - y / y_max * f64::from(bottom - top - 2);
+        (px.round() as i64, py.round() as i64)
+    };
+    let inside = |x: i64, y: i64| {
+        (i64::from(left)..=i64::from(right)).contains(&x)
+            && (i64::from(top)..=i64::from(bottom)).contains(&y)
+    };
+    for &(x, y) in points {
+        let (px, py) = to_pixel(x, y);
+        for (dx, dy) in [(0, 0), (1, 0), (0, -1), (1, -1)] {
+            if inside(px + dx, py + dy) {
+                img.put_pixel((px + dx) as u32, (py + dy) as u32, image::Rgb([0, 0, 0]));
+            }
+        }
+    }
+    // The line, one pixel per column (8-connected: adjacent columns differ by one row at most
+    // where the slope is below one pixel per pixel; steeper parts fill the rows between).
+    let mut previous: Option<i64> = None;
+    for px in i64::from(left + 1)..=i64::from(right - 1) {
+        let x = (px as f64 - f64::from(left + 1)) / f64::from(right - left - 2) * x_max;
+        let (_, py) = to_pixel(x, fit.slope * x + fit.intercept);
+        let rows = match previous {
+            Some(p) if (py - p).abs() > 1 => (p.min(py)..=p.max(py)).collect::<Vec<_>>(),
+            _ => vec![py],
+        };
+        for y in rows {
+            if inside(px, y) {
+                img.put_pixel(px as u32, y as u32, image::Rgb([200, 0, 0]));
+            }
+        }
+        previous = Some(py);
+    }
+    img.save(path)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}

@@ -339,3 +339,55 @@ fn nut_bag_search_reproduces_the_documented_result() {
         "a protocol segregated the nuts ({best}): update docs/blocks2d.md"
     );
 }
+
+/// "Use your graph as a test image in your simulation": the factory's scaling plot is also
+/// written as DIR/scaling.png, one pixel per block (blue axes, black points, red line), and
+/// `rigidref run` loads it as an image scene: the axes are the one pinned body, the graph falls
+/// onto them (no block through the x axis where the axis is, none through the y axis; the tilted
+/// line may slide off the axis's open right end).
+#[test]
+fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = rigidref(&["factory", "--bodies", "150", "--out", "fac"], tmp.path());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let png = tmp.path().join("fac/scaling.png");
+    let groups = rigidref::blocks2d::image::load_image(&png, &Default::default()).unwrap();
+    let pinned = groups.iter().filter(|g| g.pinned).count();
+    let blocks: usize = groups.iter().map(|g| g.blocks.len()).sum();
+    println!(
+        "scaling.png: {} bodies, {pinned} pinned, {blocks} blocks",
+        groups.len()
+    );
+    assert_eq!(pinned, 1, "the axes are one pinned body");
+    assert!(
+        groups.len() >= 2 && blocks > 200,
+        "{} bodies, {blocks} blocks",
+        groups.len()
+    );
+    let mut world = rigidref::blocks2d::world::World2::new(&groups, Default::default());
+    let axis = groups.iter().find(|g| g.pinned).unwrap();
+    let axis_row = axis.blocks.iter().map(|b| b.pixel.y).fold(0.0, f64::max);
+    let axis_column = axis
+        .blocks
+        .iter()
+        .map(|b| b.pixel.x)
+        .fold(f64::MAX, f64::min);
+    let axis_end = axis.blocks.iter().map(|b| b.pixel.x).fold(0.0, f64::max);
+    let start: Vec<f64> = world.bodies.iter().map(|b| b.x.y).collect();
+    common::run(&mut world, 400, |_, _| {});
+    for (b, y0) in world.bodies.iter().zip(&start).filter(|(b, _)| !b.pinned) {
+        assert!(b.x.y > y0 + 5.0, "the graph fell: from {y0} to {}", b.x.y);
+        for block in &b.blocks {
+            let p = b.to_world(&block.local);
+            let through_x_axis = p.y >= axis_row && p.x <= axis_end;
+            assert!(
+                !through_x_axis && p.x > axis_column,
+                "a block went through an axis: {p}"
+            );
+        }
+    }
+}

@@ -4,5 +4,6 @@ mod challenges;
 mod commands;
 mod demonstrations;
 mod joints;
+mod options;
 mod physics;
 mod properties;

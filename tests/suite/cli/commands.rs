@@ -666,6 +666,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--slop") => &["0.01"],
             (_, "--contact-model") => &["penalty"],
             (_, "--white-threshold") => &["0.05"],
+            (_, "--max-travel") => &["0.25"],
             (_, "--impulse") => &["0:0:1,0"],
             (_, "--shake") => &["0:1,0:0:1"],
             (_, "--rest-threshold") => &["0.001"],
@@ -703,6 +704,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 | "--no-collisions"
                 | "--no-warm-start"
                 | "--no-post-stabilization"
+                | "--shock-propagation"
                 | "--show-contacts"
                 | "--no-overlay"
                 | "--show-discs"
