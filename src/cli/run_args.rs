@@ -45,6 +45,9 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
                       crossings and face contacts, from the contact manifolds of
                       the meshes' convex pieces: equal boxes stack); either way the
                       run measures interpenetration and warns when contacts were missed
+    culling           \"bvh\" (a vertex is tested against the other mesh when inside
+                      its bounding box; default) or \"sphere_tree\" (and inside one of
+                      the leaf spheres covering its solid): the same contacts either way
   Any other key is reported as a warning and ignored.
   bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
     assignment root = parent of the scene's folder, then the scene's folder, then the

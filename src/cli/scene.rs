@@ -49,6 +49,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     println!("pgs_order        {:?} (seed {})", p.pgs_order, p.pgs_seed);
     println!("pgs_local_solve  {}", p.pgs_local_solve.name());
     println!("collision        {}", p.collision.name());
+    println!("culling          {}", p.culling.name());
     for (i, b) in scene.bodies.iter().enumerate() {
         let moments = b.inertia.symmetric_eigenvalues();
         println!("body {i}: {} ({})", b.name, b.source);

@@ -18,7 +18,8 @@ use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::collide::detect::Detector;
 use crate::rigid3d::collide::penetration::Penetration;
 use crate::rigid3d::collide::pieces::ConvexPieces;
-use crate::rigid3d::collide::{Contact, MeshCollider};
+use crate::rigid3d::collide::sphere_tree::{self, SphereTree};
+use crate::rigid3d::collide::{Contact, Culling, MeshCollider};
 use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
@@ -89,6 +90,22 @@ impl World {
                 MeshCollider::with_pieces(d.mesh.clone(), shared)
                     .map_err(|e| format!("{}: body {:?}: {e}", d.source, d.name))?,
             );
+        }
+        if scene.params.culling == Culling::SphereTree {
+            // One tree per distinct mesh, shared by the bodies that use it.
+            let mut trees: Vec<(Arc<crate::rigid3d::mesh::TriMesh>, Arc<SphereTree>)> = Vec::new();
+            for (d, collider) in scene.bodies.iter().zip(colliders.iter_mut()) {
+                let known = trees
+                    .iter()
+                    .find(|(mesh, _)| Arc::ptr_eq(mesh, &d.mesh) || **mesh == *d.mesh)
+                    .map(|(_, t)| t.clone());
+                let tree = known.unwrap_or_else(|| {
+                    let t = Arc::new(collider.build_sphere_tree(sphere_tree::DEFAULT_DEPTH));
+                    trees.push((d.mesh.clone(), t.clone()));
+                    t
+                });
+                collider.sphere_tree = Some(tree);
+            }
         }
         let mut world = World {
             params: scene.params.clone(),

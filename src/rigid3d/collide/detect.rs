@@ -43,6 +43,39 @@ impl CollisionMethod {
     }
 }
 
+/// How the vertices of one mesh are culled before the signed-distance query against another
+/// (the scene's `culling`). Both find exactly the same contacts. docs/contact.md §"Sphere trees".
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum Culling {
+    /// The other mesh's bounding box, then parry's bounding-volume hierarchy (default).
+    #[default]
+    Bvh,
+    /// The bounding box, then the other mesh's sphere tree ([`super::sphere_tree`]): a vertex in
+    /// none of its leaf spheres is outside it and is not queried.
+    SphereTree,
+}
+
+impl Culling {
+    /// The scene-file value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Culling::Bvh => "bvh",
+            Culling::SphereTree => "sphere_tree",
+        }
+    }
+}
+
 /// Collision detection's reusable buffers: the bodies' world boxes and parry's contact
 /// manifold, kept from call to call so that detection allocates nothing once warmed up.
 #[derive(Clone, Debug, Default)]

@@ -3,6 +3,7 @@
 
 use super::closest_point::SignedDistance;
 use super::pieces::ConvexPieces;
+use super::sphere_tree::SphereTree;
 use super::vertex_contact::{Contact, Feature};
 use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
@@ -28,6 +29,9 @@ pub struct MeshCollider {
     mesh: std::sync::Arc<TriMesh>,
     /// The mesh's convex pieces (`collision: complete` and the penetration measure).
     pub pieces: std::sync::Arc<ConvexPieces>,
+    /// The mesh's sphere tree, with `culling: sphere_tree` ([`Self::with_sphere_tree`]); `None`
+    /// culls by the bounding box alone before the BVH query.
+    pub sphere_tree: Option<std::sync::Arc<SphereTree>>,
 }
 
 impl std::fmt::Debug for MeshCollider {
@@ -72,7 +76,20 @@ impl MeshCollider {
             radius: mesh.bounding_radius(),
             mesh,
             pieces,
+            sphere_tree: None,
         })
+    }
+
+    /// This collider with a sphere tree for culling (bodies sharing a mesh share it).
+    pub fn with_sphere_tree(mut self, tree: std::sync::Arc<SphereTree>) -> MeshCollider {
+        self.sphere_tree = Some(tree);
+        self
+    }
+
+    /// Builds the mesh's sphere tree to `depth` octree levels with this collider's signed
+    /// distance (the BVH's). docs/contact.md §"Sphere trees".
+    pub fn build_sphere_tree(&self, depth: u32) -> SphereTree {
+        SphereTree::build(&self.mesh, depth, &|p| self.signed_distance(p).distance)
     }
 
     /// The body's world bounding box (of its transformed vertices).
@@ -107,6 +124,11 @@ impl MeshCollider {
         )
     }
 
+    /// Bytes parry's bounding-volume hierarchy takes (its nodes; for the culling comparison).
+    pub fn bvh_memory_bytes(&self) -> usize {
+        self.shape.bvh().total_memory_size()
+    }
+
     /// The mesh's bounding radius (largest vertex distance from the body origin), m.
     pub fn radius(&self) -> f64 {
         self.radius
@@ -139,6 +161,12 @@ pub fn vertex_contacts(
         let point = body_i.x + body_i.rotation * local;
         let in_j = body_j.rotation.transpose() * (point - body_j.x);
         if !collider_j.may_contain(&in_j) {
+            continue;
+        }
+        // In no leaf sphere: outside j's solid, so no contact (docs/contact.md §"Sphere trees").
+        if let Some(tree) = &collider_j.sphere_tree
+            && !tree.may_contain(&in_j)
+        {
             continue;
         }
         let sd = collider_j.signed_distance(&in_j);

@@ -8,6 +8,8 @@
 //!   worth testing;
 //! - [`mesh`]: the vertices of each body of a pair against the other body's surface (signed
 //!   distance through parry3d's bounding-volume hierarchy), both directions;
+//! - [`sphere_tree`]: with `culling: sphere_tree`, a tree of spheres covering each mesh's solid
+//!   culls the vertices that cannot be inside it before the BVH query;
 //! - [`closest_point`]: the brute-force oracle that tests hold [`mesh`] against;
 //! - [`pieces`]: each mesh as convex pieces (itself when convex, else a convex decomposition);
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
@@ -26,8 +28,9 @@ pub mod mesh;
 pub mod penetration;
 pub mod pieces;
 pub mod sat;
+pub mod sphere_tree;
 pub mod vertex_contact;
 
-pub use detect::{CollisionMethod, detect_contacts};
+pub use detect::{CollisionMethod, Culling, detect_contacts};
 pub use mesh::MeshCollider;
 pub use vertex_contact::{Contact, Feature};

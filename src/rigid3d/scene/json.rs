@@ -7,7 +7,7 @@ use crate::common::scene_json::SceneError;
 use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
-use crate::rigid3d::collide::CollisionMethod;
+use crate::rigid3d::collide::{CollisionMethod, Culling};
 use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
@@ -46,6 +46,7 @@ pub(super) struct SimParametersJson {
     pgs_seed: Option<u64>,
     pgs_local_solve: Option<LocalSolve>,
     collision: Option<CollisionMethod>,
+    culling: Option<Culling>,
 }
 
 impl SimParametersJson {
@@ -74,6 +75,7 @@ impl SimParametersJson {
             pgs_seed: self.pgs_seed.unwrap_or(0),
             pgs_local_solve: self.pgs_local_solve.unwrap_or_default(),
             collision: self.collision.unwrap_or_default(),
+            culling: self.culling.unwrap_or_default(),
         }
     }
 }

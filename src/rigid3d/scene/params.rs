@@ -2,7 +2,7 @@
 
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
-use crate::rigid3d::collide::CollisionMethod;
+use crate::rigid3d::collide::{CollisionMethod, Culling};
 use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::Vector3;
 
@@ -52,6 +52,9 @@ pub struct SimParameters {
     pub pgs_local_solve: LocalSolve,
     /// `collision`: `vertices` (default, the assignment's) or `complete`.
     pub collision: CollisionMethod,
+    /// `culling`: `bvh` (default) or `sphere_tree`: how a mesh's vertices are culled before the
+    /// signed-distance query against another mesh (the same contacts either way).
+    pub culling: Culling,
 }
 
 /// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough

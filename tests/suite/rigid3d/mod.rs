@@ -11,3 +11,4 @@ mod integrators;
 mod massprops;
 mod projectile;
 mod rotation;
+mod sphere_tree;
