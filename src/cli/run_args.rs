@@ -52,7 +52,10 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
   bodies[i]: name, file_root (ROOT.json + ROOT.obj, looked up relative to the
     assignment root = parent of the scene's folder, then the scene's folder, then the
     working directory), x0 (m), R0 (rows; default identity), v0 (m/s), omega0 (rad/s,
-    world frame); missing R0 is the identity, missing v0/omega0 are zero.
+    world frame); missing R0 is the identity, missing v0/omega0 are zero. This project adds
+    ellipsoid ({\"semi_axes\": [a, b, c], \"centre\": [x, y, z]}, body frame, m: an analytic
+    contact shape in place of the mesh, e.g. scenes/rattleback.json) and off_centre_mesh (true:
+    the mesh is not centred on the centre of mass on purpose; its warning becomes a note).
 
 TRACE (docs/trace-format.md): JSON Lines, a header line then one line per recorded step
 with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the same.";

@@ -76,6 +76,10 @@ pub struct RigidBody {
     pub inertia_world_inv: Matrix3<f64>,
     /// The shape in the body frame (centre of mass at the origin), m.
     pub mesh: Arc<TriMesh>,
+    /// An analytic ellipsoid contact shape, when the scene gives one (`ellipsoid`): it replaces
+    /// the mesh in collision (ground contact at its lowest point; other meshes' vertices against
+    /// its implicit surface). The mesh is then for drawing only.
+    pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
 }
 
 impl RigidBody {
@@ -98,6 +102,7 @@ impl RigidBody {
             inertia_world: inertia_body,
             inertia_world_inv: inertia_body_inv,
             mesh,
+            ellipsoid: None,
         };
         body.update_world_inertia();
         body

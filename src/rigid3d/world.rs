@@ -63,6 +63,7 @@ impl World {
                 b.rotation = d.r0;
                 b.v = d.v0;
                 b.omega = d.omega0;
+                b.ellipsoid = d.ellipsoid;
                 b.update_world_inertia();
                 b
             })

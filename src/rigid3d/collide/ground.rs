@@ -6,8 +6,14 @@ use crate::rigid3d::contact::ContactFrame;
 use nalgebra::Vector3;
 
 /// Appends a contact for every vertex of `body` strictly below y = 0: normal +y, point the
-/// vertex, depth −y. Body `index` is body 1; the ground is body 2.
+/// vertex, depth −y (for a body with an analytic ellipsoid, its lowest point instead). Body
+/// `index` is body 1; the ground is body 2.
 pub fn ground_contacts(index: usize, body: &RigidBody, out: &mut Vec<Contact>) {
+    // A body with an analytic ellipsoid touches the ground at its one lowest point.
+    if let Some(shape) = &body.ellipsoid {
+        super::ellipsoid::ellipsoid_ground_contact(index, body, shape, out);
+        return;
+    }
     let frame = ContactFrame::from_normal(&Vector3::y());
     for (vertex, local) in body.mesh.vertices.iter().enumerate() {
         let point = body.x + body.rotation * local;

@@ -157,6 +157,11 @@ pub fn vertex_contacts(
     collider_j: &MeshCollider,
     out: &mut Vec<Contact>,
 ) {
+    // Against an analytic ellipsoid, its exact implicit surface instead of its mesh.
+    if let Some(shape) = &body_j.ellipsoid {
+        super::ellipsoid::vertices_in_ellipsoid(i, body_i, j, body_j, shape, out);
+        return;
+    }
     for (vertex, local) in body_i.mesh.vertices.iter().enumerate() {
         let point = body_i.x + body_i.rotation * local;
         let in_j = body_j.rotation.transpose() * (point - body_j.x);

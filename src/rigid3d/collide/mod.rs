@@ -4,6 +4,8 @@
 //! - [`detect`]: every contact of a world, in a fixed order ([`detect_contacts`]);
 //! - [`vertex_contact`]: what a contact is ([`Contact`]);
 //! - [`ground`]: every vertex below the plane y = 0 is a contact with normal +y;
+//! - [`ellipsoid`]: a body's analytic ellipsoid (the rattleback): its lowest point on the
+//!   ground, other meshes' vertices against its implicit surface;
 //! - [`crate::common::broad`]: sweep-and-prune on world bounding boxes picks the body pairs
 //!   worth testing;
 //! - [`mesh`]: the vertices of each body of a pair against the other body's surface (signed
@@ -22,6 +24,7 @@
 
 pub mod closest_point;
 pub mod detect;
+pub mod ellipsoid;
 pub mod ground;
 pub mod manifold;
 pub mod mesh;

@@ -9,6 +9,9 @@ use nalgebra::Vector3;
 pub enum Feature {
     /// A vertex of body 1's mesh inside body 2 or the ground (the assignment's rule).
     Vertex(usize),
+    /// The lowest point of body 1's analytic ellipsoid on the ground (one per body;
+    /// [`super::ellipsoid`]).
+    Surface,
     /// A point of a convex pieces' contact manifold (`collision: complete` only): piece indices
     /// of body 1 and body 2 and parry's packed feature ids on each (0 for the manifold's deepest
     /// point, whose features parry does not name).
@@ -48,7 +51,7 @@ impl Contact {
     pub fn vertex(&self) -> Option<usize> {
         match self.feature {
             Feature::Vertex(v) => Some(v),
-            Feature::Manifold { .. } => None,
+            Feature::Manifold { .. } | Feature::Surface => None,
         }
     }
 }

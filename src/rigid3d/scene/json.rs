@@ -90,6 +90,20 @@ pub(super) struct BodyJson {
     pub r0: Option<Orientation>,
     pub v0: Option<Vec3>,
     pub omega0: Option<Vec3>,
+    /// An analytic ellipsoid contact shape (docs/scene-format.md §"Bodies").
+    pub ellipsoid: Option<EllipsoidJson>,
+    /// `true` declares that the mesh is not centred on the centre of mass on purpose (mass
+    /// distributed differently inside, as in a rattleback): the warning becomes a note.
+    #[serde(default)]
+    pub off_centre_mesh: bool,
+}
+
+/// `ellipsoid`: `{"semi_axes": [a, b, c], "centre": [x, y, z]}`, body frame, m.
+#[derive(Deserialize, Clone, Copy)]
+pub(super) struct EllipsoidJson {
+    pub semi_axes: [Positive; 3],
+    #[serde(default)]
+    pub centre: Option<Vec3>,
 }
 
 /// A body file: `{"mesh_file", "mass", "J"}`.

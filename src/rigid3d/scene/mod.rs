@@ -35,6 +35,9 @@ pub struct BodyDescription {
     pub v0: Vector3<f64>,
     /// `omega0`, rad/s, world frame (default zero).
     pub omega0: Vector3<f64>,
+    /// `ellipsoid`: an analytic contact shape in place of the mesh (docs/contact.md
+    /// §"Ellipsoid contact").
+    pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
 }
 
 /// A loaded scene.
@@ -207,7 +210,12 @@ pub fn parse_scene(
         })?;
         let (mass, inertia) =
             json::parse_body_file(&texts.json.0, &texts.json.1, &body.file_root, &mut warnings)?;
-        let mesh = load_body_mesh(&texts.obj.0, &texts.obj.1, &mut warnings)?;
+        let mesh = load_body_mesh(
+            &texts.obj.0,
+            &texts.obj.1,
+            body.off_centre_mesh,
+            &mut warnings,
+        )?;
         let r0 = match body.r0 {
             None => Matrix3::identity(),
             Some(o) if o.proper => o.matrix,
@@ -237,6 +245,12 @@ pub fn parse_scene(
             r0,
             v0: body.v0.map_or(Vector3::zeros(), |v| v.0),
             omega0: body.omega0.map_or(Vector3::zeros(), |v| v.0),
+            ellipsoid: body
+                .ellipsoid
+                .map(|e| crate::rigid3d::collide::ellipsoid::Ellipsoid {
+                    centre: e.centre.map_or(Vector3::zeros(), |c| c.0),
+                    semi_axes: Vector3::from(e.semi_axes.map(|a| a.0)),
+                }),
         });
     }
     Ok(Scene {
@@ -298,6 +312,7 @@ fn sorted(mut t: [usize; 3]) -> [usize; 3] {
 fn load_body_mesh(
     text: &str,
     source: &str,
+    off_centre_on_purpose: bool,
     warnings: &mut Vec<String>,
 ) -> Result<TriMesh, SceneError> {
     let mesh = TriMesh::parse_obj(text, source).map_err(|e| SceneError(e.0))?;
@@ -305,7 +320,12 @@ fn load_body_mesh(
     let com = crate::rigid3d::massprops::mass_properties(&mesh, 1.0).center_of_mass;
     // 1e-3 of the body's size: far above the round-off of a mesh written with 15 digits, far
     // below an offset that would visibly change contact or rotation.
-    if com.norm() > 1e-3 * mesh.bounding_radius() {
+    if com.norm() > 1e-3 * mesh.bounding_radius() && off_centre_on_purpose {
+        warnings.push(format!(
+            "note: {source}: the mesh's centre of mass (uniform density) is at ({:.4}, {:.4}, {:.4}), not at its origin, as the scene declares (`off_centre_mesh`): the body's mass and inertia are the body file's",
+            com.x, com.y, com.z
+        ));
+    } else if com.norm() > 1e-3 * mesh.bounding_radius() {
         warnings.push(format!(
             "{source}: the mesh's centre of mass is at ({:.4}, {:.4}, {:.4}), not at its origin; the body rotates about the origin (make a centred mesh with `rigidref massprops`)",
             com.x, com.y, com.z

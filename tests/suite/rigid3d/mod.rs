@@ -10,5 +10,6 @@ mod dzhanibekov;
 mod integrators;
 mod massprops;
 mod projectile;
+mod rattleback;
 mod rotation;
 mod sphere_tree;

@@ -45,7 +45,7 @@ fn assignment_scene_summaries_are_unchanged() {
 #[test]
 fn blocks_scene_summaries_are_unchanged() {
     let dir = common::project_root().join("scenes/blocks");
-    for name in ["stack", "pyramid", "dominoes"] {
+    for name in ["stack", "pyramid", "dominoes", "seesaw", "pendulum"] {
         let scene =
             rigidref::blocks2d::scene::load_scene2(&dir.join(format!("{name}.json"))).unwrap();
         let text = summary2(scene.world, 4.0, 20.0).unwrap();
