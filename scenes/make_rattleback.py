@@ -3,10 +3,11 @@
 drawing) and scenes/data/rattleback.json (mass 1 kg and the inertia about the centre of mass:
 principal moments A = 2e-4 about the long axis x, C = 1.7e-3 about the vertical y, B = 1.6e-3
 about z, the principal axes turned by delta = 0.8 degrees about +y: the shape's "slightly
-rotated" inertia). The numbers are those of the classic rattleback model of the literature
-(a = 0.20, b = 0.03, c = 0.02 m, h = 0.01 m, m = 1 kg, A = 2e-4, B = 1.6e-3, C = 1.7e-3 kg m^2, as
-quoted in studies following Kane and Levinson 1982 and Garcia and Hubbard 1988), with the
-vertical semi-axis 0.02 m; see docs/contact.md section "The rattleback".
+rotated" inertia). The numbers are Kane and Levinson's rattleback (1982) as given in the
+Autolev/MotionGenesis rattleback example: semi-diameters 2 cm (vertical), 20 cm, 3 cm, h = 1 cm,
+m = 1 kg, central moments 17 (vertical), 2 (long axis), 16 kg cm^2, product of inertia of the two
+horizontal axes 0.2 kg cm^2; turning the principal axes by 0.8 degrees gives 0.195 kg cm^2. See
+docs/contact.md section "The rattleback".
 
     python3 scenes/src/rattleback.py          # from the project root
 """
