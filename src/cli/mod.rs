@@ -2,6 +2,7 @@
 //! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1.
 
 mod args;
+mod bench;
 mod common;
 mod compare;
 mod contacts;
@@ -52,6 +53,8 @@ enum Command {
     Crosscheck(crosscheck::CrosscheckArgs),
     /// Compare fresh runs of the canonical scenes with golden/ (or regenerate it with --update).
     Golden(golden::GoldenArgs),
+    /// Time rigidref against the rapier3d mirror on the same scenes, side by side.
+    Bench(bench::BenchArgs),
     /// Draw a run as PNG frames, a GIF and an MP4 video: a 2D image scene, a 3D scene or trace.
     Render(render::RenderArgs),
     /// Drop random bodies into a container (2D stress test), with the scaling report.
@@ -86,6 +89,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         },
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
         Some(Command::Golden(args)) => golden::golden(args),
+        Some(Command::Bench(args)) => bench::bench(args),
         Some(Command::Render(args)) => render::render_command(args),
         Some(Command::Factory(args)) => factory::factory(args).map(|_| ()),
         Some(Command::Compare(args)) => compare::compare(args),

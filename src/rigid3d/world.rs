@@ -26,6 +26,7 @@ use crate::rigid3d::warm_start::WarmStart;
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve};
 use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
 use std::sync::Arc;
+use std::time::Instant;
 
 /// The contact solve of one substep (the shared record, with 3D contacts and 6 × 3 problems).
 pub type Solve3 = SubstepSolve<Contact, 6, 3>;
@@ -48,6 +49,25 @@ pub struct World {
     warm_start: WarmStart,
     workspace: PgsWorkspace<6, 3>,
     contact_buffer: Vec<Contact>,
+    /// Wall time spent in each phase of the step since the world was made (`rigidref bench`).
+    pub phase_times: PhaseTimes,
+}
+
+/// Wall time per phase of the 3D step, summed over steps, s (docs/performance.md).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Collision detection (ground, broad phase, vertex and manifold contacts).
+    pub detect: f64,
+    /// Assembling the contact problem (Jacobians, Delassus diagonals, b, warm start).
+    pub assemble: f64,
+    /// PGS.
+    pub solve: f64,
+    /// Applying the impulses, storing the warm start and the record.
+    pub apply: f64,
+    /// Forces, velocity and position updates.
+    pub integrate: f64,
+    /// The penetration measure after each step.
+    pub measure: f64,
 }
 
 impl World {
@@ -119,6 +139,7 @@ impl World {
             warm_start: WarmStart::new(scene.params.warm_start),
             workspace: PgsWorkspace::new(scene.params.pgs_seed),
             contact_buffer: Vec::new(),
+            phase_times: PhaseTimes::default(),
         };
         world.measure_penetration();
         Ok(world)
@@ -170,28 +191,34 @@ impl World {
     /// only. Records the solve in `solves` when there were contacts.
     fn process_contacts(&mut self, substep: u32) {
         let mut contacts = std::mem::take(&mut self.contact_buffer);
+        let clock = Instant::now();
         self.detector.detect(
             &self.bodies,
             &self.colliders,
             self.params.collision,
             &mut contacts,
         );
+        self.phase_times.detect += clock.elapsed().as_secs_f64();
         if contacts.is_empty() {
             self.warm_start.clear();
             self.contact_buffer = contacts;
             return;
         }
+        let clock = Instant::now();
         let problem = assemble_problem(
             &self.bodies,
             &contacts,
             &self.problem_settings(),
             &self.warm_start,
         );
+        self.phase_times.assemble += clock.elapsed().as_secs_f64();
         let mut lambda = Vec::with_capacity(contacts.len());
         let settings = self.pgs_settings();
         let (report, solve_seconds, cpu) = crate::common::timing::timed(|| {
             solve_pgs(&problem, &settings, &mut self.workspace, &mut lambda)
         });
+        self.phase_times.solve += solve_seconds;
+        let clock = Instant::now();
         for (i, body) in self.bodies.iter_mut().enumerate() {
             let du = self.workspace.delta_velocity(i);
             body.v += du.fixed_rows::<3>(0);
@@ -208,6 +235,7 @@ impl World {
             solve_cpu_seconds: cpu.unwrap_or(0.0),
         });
         self.contact_buffer = contacts;
+        self.phase_times.apply += clock.elapsed().as_secs_f64();
     }
 
     /// Simulated time, s: `step · dt` (not a running sum, so it has no round-off drift).
@@ -222,6 +250,7 @@ impl World {
         let integrator = self.params.integrator;
         self.solves.clear();
         for substep in 0..self.params.substeps {
+            let clock = Instant::now();
             for body in &mut self.bodies {
                 body.zero_forces();
                 body.force += gravity * body.mass;
@@ -229,16 +258,21 @@ impl World {
             for body in &mut self.bodies {
                 body.step_velocity(h, integrator);
             }
+            self.phase_times.integrate += clock.elapsed().as_secs_f64();
             if self.params.check_collisions {
                 self.process_contacts(substep);
             }
+            let clock = Instant::now();
             for body in &mut self.bodies {
                 body.step_position(h, integrator);
             }
+            self.phase_times.integrate += clock.elapsed().as_secs_f64();
             self.check_finite_at(Some(substep))?;
         }
         self.step += 1;
+        let clock = Instant::now();
         self.measure_penetration();
+        self.phase_times.measure += clock.elapsed().as_secs_f64();
         Ok(())
     }
 

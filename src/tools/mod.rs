@@ -7,9 +7,11 @@
 //!   video through ffmpeg;
 //! - [`series`], [`view`], [`plot`]: the quantities of a run over time, the self-contained HTML
 //!   viewer and the plot files, SVG or PNG through [`pixmap_backend`] (docs/viewing.md);
+//! - [`bench`]: rigidref and the rapier3d mirror timed side by side (docs/performance.md);
 //! - [`compare`], [`compare_problem`], [`grade`]: another simulator's traces and contact
 //!   problems against the reference's, one submission or a batch (docs/grading.md).
 
+pub mod bench;
 pub mod compare;
 pub mod compare_problem;
 pub mod factory;

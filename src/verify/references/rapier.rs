@@ -128,6 +128,11 @@ impl RapierMirror {
         Ok(RapierMirror { world, handles })
     }
 
+    /// Sets rapier's solver iterations (matched to PGS sweeps by `rigidref bench`).
+    pub fn set_solver_iterations(&mut self, n: usize) {
+        self.world.integration_parameters.num_solver_iterations = n.max(1);
+    }
+
     /// Advances one frame of dt.
     pub fn step(&mut self) {
         self.world.step();

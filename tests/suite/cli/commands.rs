@@ -648,6 +648,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--steps") => &["2"],
             (_, "--set") => &["mu=0.1"],
             ("factory", "--out") | ("massprops", "--out") => &["outdir/x"],
+            ("bench", "--out") => &["benchdir"],
             (_, "--out") => &["t.jsonl"],
             (_, "--every") | (_, "--frame-every") => &["2"],
             (_, "--format") => &["jsonl"],
@@ -705,6 +706,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 | "--no-warm-start"
                 | "--no-post-stabilization"
                 | "--shock-propagation"
+                | "--quick"
                 | "--show-contacts"
                 | "--no-overlay"
                 | "--show-discs"
@@ -725,7 +727,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
     // Each subcommand's inputs (the option may fit only one of them), and how long to run.
     // (subcommand, its inputs, the run length added unless the option replaces it)
     type Command<'a> = (&'a str, Vec<Vec<String>>, Vec<&'a str>);
-    let commands: [Command; 8] = [
+    let commands: [Command; 9] = [
         (
             "run",
             vec![vec![box3.clone()], vec![stack2.clone()]],
@@ -761,6 +763,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             vec![vec!["--out".into(), "f".into()]],
             vec!["--bodies", "5", "--settle", "0"],
         ),
+        ("bench", vec![vec!["--quick".into()]], vec![]),
     ];
     let mut tried = 0;
     for (command, inputs, length) in &commands {
@@ -890,4 +893,57 @@ fn version_1_traces_are_still_read() {
         err.starts_with("new.jsonl:1:") && err.contains("version 1 to 2"),
         "{err}"
     );
+}
+
+/// `rigidref bench --quick` (docs/performance.md) runs the smallest sizes of both families in
+/// rigidref and the rapier mirror and prints the table: one row per case with every column a
+/// number (times are not checked: this machine is shared), the fitted exponents of both
+/// families, the peak memory; and writes the same table to DIR/bench.md.
+#[test]
+fn bench_quick_prints_the_side_by_side_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let root = common::project_root();
+    let out = rigidref(
+        &[
+            "bench",
+            "--quick",
+            "--out",
+            "b",
+            "--root",
+            root.to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("| stack grid") || l.starts_with("| cube pyramid"))
+        .collect();
+    assert_eq!(rows.len(), 4 + 2, "{stdout}");
+    for row in &rows[..4] {
+        let cells: Vec<&str> = row.trim_matches('|').split('|').map(str::trim).collect();
+        assert_eq!(cells.len(), 13, "{row}");
+        for cell in &cells[1..] {
+            let x: f64 = cell.parse().unwrap_or_else(|_| panic!("{row}: {cell:?}"));
+            assert!(x.is_finite() && x >= 0.0, "{row}");
+        }
+        // Both engines ran: positive times, and contacts (the stacks rest on the ground).
+        assert!(cells[2].parse::<f64>().unwrap() > 0.0 && cells[4].parse::<f64>().unwrap() > 0.0);
+    }
+    assert!(stdout.contains("Fitted exponents") && stdout.contains("Peak resident memory"));
+    let written = std::fs::read_to_string(tmp.path().join("b/bench.md")).unwrap();
+    assert!(written.contains("| stack grid 2×2 |"), "{written}");
+    // And outside the project, a one-line error naming what is missing.
+    let out = rigidref(&["bench", "--quick"], tmp.path());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("box_stack.json") && stderr.contains("--root"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }

@@ -1,0 +1,103 @@
+//! `rigidref bench`: rigidref against the rapier3d mirror on the same scenes, side by side.
+
+use anyhow::Context;
+use clap::Args;
+use rigidref::rigid3d::scene::load_scene;
+use rigidref::tools::bench::{
+    BenchSettings, cube_pyramid, markdown, peak_memory_bytes, run_case, stack_grid,
+};
+use std::path::PathBuf;
+
+/// Arguments of `rigidref bench`.
+#[derive(Args)]
+#[command(after_long_help = "\
+Scenes, each at several sizes: grids of the tapered five-cube stack of scenes/box_stack.json
+(the vertex rule) and pyramids of the equal 0.5 m boxes of scenes/cube_stack.json (collision:
+complete). For each, after warm-up steps, rounds of N steps in rigidref then N steps in the
+rapier3d-f64 mirror of the same scene (same bodies, dt, gravity, μ; rapier's solver iterations =
+the PGS sweeps; sleeping off; one thread), interleaved so that both see the machine's slow and fast
+spells; the medians are reported. rigidref's step is split into detection, assembly, PGS and the
+rest, and PGS's cost per contact per sweep is given. Fitted exponents say how the cost grows
+with the bodies. Timings are this machine's: compare ratios from one run (docs/performance.md).
+
+  rigidref bench --quick            # the smallest sizes, seconds
+  rigidref bench --out bench/       # the full table, minutes; bench/bench.md")]
+pub struct BenchArgs {
+    /// Only the smallest sizes and short rounds (a check that it runs, not a measurement).
+    #[arg(long)]
+    pub quick: bool,
+    /// Write the table to DIR/bench.md as well.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// PGS sweeps (and rapier solver iterations) [default: 20].
+    #[arg(long, default_value_t = 20)]
+    pub iterations: u32,
+    /// The project root (holding scenes/).
+    #[arg(long, default_value = ".")]
+    pub root: PathBuf,
+}
+
+/// Runs the benchmark and prints the table.
+pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
+    if args.iterations == 0 {
+        anyhow::bail!("--iterations must be at least 1");
+    }
+    let scenes = args.root.join("scenes");
+    let stack = load_scene(&scenes.join("box_stack.json"))
+        .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
+    let cubes = load_scene(&scenes.join("cube_stack.json"))
+        .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
+    let (grids, pyramids, settings): (&[usize], &[usize], _) = if args.quick {
+        (
+            &[1, 2],
+            &[2, 3],
+            BenchSettings {
+                warmup: 10,
+                steps: 10,
+                rounds: 3,
+                iterations: args.iterations,
+            },
+        )
+    } else {
+        (
+            &[1, 2, 4, 8, 12],
+            &[3, 5, 8, 12],
+            BenchSettings {
+                warmup: 100,
+                steps: 30,
+                rounds: 5,
+                iterations: args.iterations,
+            },
+        )
+    };
+    let mut cases: Vec<_> = grids.iter().map(|&n| stack_grid(&stack, n, 1.0)).collect();
+    cases.extend(pyramids.iter().map(|&n| cube_pyramid(&cubes, n)));
+    let mut rows = Vec::new();
+    for (k, case) in cases.iter().enumerate() {
+        eprintln!(
+            "[{}/{}] {} ({} bodies)",
+            k + 1,
+            cases.len(),
+            case.name,
+            case.scene.bodies.len()
+        );
+        rows.push(run_case(case, &settings).map_err(|e| anyhow::anyhow!("{}: {e}", case.name))?);
+    }
+    let mut table = markdown(&rows, &settings);
+    if let Some(bytes) = peak_memory_bytes() {
+        table.push_str(&format!(
+            "\nPeak resident memory of the process: {:.1} MB.\n",
+            bytes as f64 / 1e6
+        ));
+    }
+    println!("{table}");
+    if let Some(dir) = &args.out {
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("{}: cannot create", dir.display()))?;
+        let path = dir.join("bench.md");
+        std::fs::write(&path, &table)
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        eprintln!("table          {}", path.display());
+    }
+    Ok(())
+}
