@@ -4,7 +4,8 @@ use anyhow::Context;
 use clap::Args;
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::tools::bench::{
-    BenchSettings, cube_pyramid, markdown, peak_memory_bytes, run_case, stack_grid,
+    BenchSettings, assignment_scene, cube_pyramid, markdown, peak_memory_bytes, run_case,
+    sphere_rain, stack_grid,
 };
 use std::path::PathBuf;
 
@@ -47,10 +48,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
     let cubes = load_scene(&scenes.join("cube_stack.json"))
         .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
-    let (grids, pyramids, settings): (&[usize], &[usize], _) = if args.quick {
+    let ball = load_scene(&scenes.join("sphere_drop.json"))
+        .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
+    let (grids, pyramids, rains, settings): (&[usize], &[usize], &[usize], _) = if args.quick {
         (
             &[1, 2],
             &[2, 3],
+            &[],
             BenchSettings {
                 warmup: 10,
                 steps: 10,
@@ -62,6 +66,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         (
             &[1, 2, 4, 8, 12],
             &[3, 5, 8, 12],
+            &[2, 4, 8],
             BenchSettings {
                 warmup: 100,
                 steps: 30,
@@ -72,6 +77,25 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     };
     let mut cases: Vec<_> = grids.iter().map(|&n| stack_grid(&stack, n, 1.0)).collect();
     cases.extend(pyramids.iter().map(|&n| cube_pyramid(&cubes, n)));
+    cases.extend(rains.iter().map(|&n| sphere_rain(&ball, n, 2, 1.2)));
+    // The assignment's scenes, where ../shared is there (full runs only).
+    let shared = args.root.join("../shared/assignments/rigid3d/scenes");
+    if !args.quick {
+        for k in 1..=7 {
+            let path = shared.join(format!("scene{k}.json"));
+            match load_scene(&path) {
+                Ok(scene) => cases.push(assignment_scene(&format!("scene{k}"), scene)),
+                Err(_) if k == 1 => {
+                    eprintln!(
+                        "note: {} not found: the assignment's scenes are left out",
+                        path.display()
+                    );
+                    break;
+                }
+                Err(e) => anyhow::bail!("{}", e.0),
+            }
+        }
+    }
     let mut rows = Vec::new();
     for (k, case) in cases.iter().enumerate() {
         eprintln!(

@@ -88,6 +88,49 @@ pub fn cube_pyramid(cube: &Scene, levels: usize) -> BenchCase {
     }
 }
 
+/// Spheres raining: an `n × n × layers` lattice of copies of `ball` (a scene of one ball),
+/// `spacing` m apart, the lowest layer 1.5 radii above the ground, falling onto it and each
+/// other (the vertex rule).
+pub fn sphere_rain(ball: &Scene, n: usize, layers: usize, spacing: f64) -> BenchCase {
+    let mut scene = ball.clone();
+    let template = ball.bodies[0].clone();
+    let radius = template.mesh.bounding_radius();
+    scene.bodies.clear();
+    let half = (n as f64 - 1.0) / 2.0;
+    for layer in 0..layers {
+        for i in 0..n {
+            for k in 0..n {
+                let mut b = template.clone();
+                // Alternate layers shifted by a quarter spacing, so that the balls do not
+                // land exactly on top of each other.
+                let shift = if layer % 2 == 1 { 0.25 * spacing } else { 0.0 };
+                b.x0 = Vector3::new(
+                    (i as f64 - half) * spacing + shift,
+                    1.5 * radius + layer as f64 * spacing,
+                    (k as f64 - half) * spacing + shift,
+                );
+                b.name = format!("ball {layer}.{i}.{k}");
+                scene.bodies.push(b);
+            }
+        }
+    }
+    scene.params.name = format!("{} balls raining", scene.bodies.len());
+    BenchCase {
+        name: format!("sphere rain {n}×{n}×{layers}"),
+        family: "sphere rain",
+        scene,
+    }
+}
+
+/// One of the assignment's scenes as it is (its own parameters).
+pub fn assignment_scene(name: &str, scene: Scene) -> BenchCase {
+    BenchCase {
+        name: format!("assignment {name}"),
+        family: "assignment",
+        scene,
+    }
+}
+
 /// How long to measure.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BenchSettings {
@@ -238,7 +281,12 @@ pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
             r.ns_per_contact_sweep
         ));
     }
-    let mut families: Vec<&str> = rows.iter().map(|r| r.family).collect();
+    // The assignment's scenes are not sizes of one scene: no exponent for them.
+    let mut families: Vec<&str> = rows
+        .iter()
+        .map(|r| r.family)
+        .filter(|f| *f != "assignment")
+        .collect();
     families.dedup();
     out.push_str("\nFitted exponents p of cost ∝ bodiesᵖ (least squares in log–log):\n\n");
     out.push_str("| family | rigidref step | rapier step | detection | PGS per contact-sweep |\n|---|---|---|---|---|\n");

@@ -139,9 +139,12 @@ impl MeshCollider {
         self.local_box.smallest_side()
     }
 
-    /// Whether a body-frame point is inside this mesh's bounding box (a cheap first test).
+    /// Whether a body-frame point is inside this mesh's bounding box and bounding sphere (two
+    /// cheap first tests). Both are exact culls: every point of the solid is a convex combination
+    /// of vertices, so it lies in the vertices' box and within the largest vertex distance of the
+    /// origin.
     pub fn may_contain(&self, p: &Vector3<f64>) -> bool {
-        self.local_box.contains(p)
+        self.local_box.contains(p) && p.norm_squared() <= self.radius * self.radius
     }
 }
 

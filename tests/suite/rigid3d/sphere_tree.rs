@@ -147,11 +147,11 @@ fn sphere_tree_culling_finds_exactly_the_contacts_of_the_default_culling() {
     let (cases, with_contacts, total) = (cases.get(), with_contacts.get(), total.get());
     let pruned = pruned.get();
     println!(
-        "{cases} configurations, {with_contacts} with contacts, {total} contacts; {pruned} vertex queries culled by the trees beyond the boxes"
+        "{cases} configurations, {with_contacts} with contacts, {total} contacts; {pruned} vertex queries culled by the trees beyond the boxes and bounding spheres"
     );
     assert!(
-        pruned > 100,
-        "the trees culled only {pruned} vertices the boxes let through"
+        pruned > 10,
+        "the trees culled only {pruned} vertices the boxes and bounding spheres let through"
     );
     assert!(
         with_contacts >= 40,
