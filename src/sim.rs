@@ -51,6 +51,39 @@ pub trait ContactGeometry {
     fn depth(&self) -> f64;
 }
 
+/// Wall time per phase of a step, summed over the steps since the world was made, s
+/// (`rigidref bench`, docs/performance.md). Both systems fill the phases they have.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseTimes {
+    /// Collision detection (3D: ground, broad phase, vertex and manifold contacts; 2D: broad
+    /// phase and disc trees).
+    pub detect: f64,
+    /// Assembling the contact problem (Jacobians, Delassus diagonals, b, warm start).
+    pub assemble: f64,
+    /// PGS (2D: with shock propagation when it is on).
+    pub solve: f64,
+    /// Applying the impulses, storing the warm start and the record.
+    pub apply: f64,
+    /// Forces, velocity and position updates.
+    pub integrate: f64,
+    /// 3D: the penetration measure after each step. 2D: post-stabilisation's solve.
+    pub measure: f64,
+}
+
+impl PhaseTimes {
+    /// The phases in table order: detect, assemble, solve, apply, integrate, measure.
+    pub fn as_array(&self) -> [f64; 6] {
+        [
+            self.detect,
+            self.assemble,
+            self.solve,
+            self.apply,
+            self.integrate,
+            self.measure,
+        ]
+    }
+}
+
 /// One substep's contact solve: the contacts found, the problem assembled from them, the
 /// impulses PGS returned, its report and how long it took. Kept for the trace,
 /// `--dump-problems`, `rigidref contacts`, the crosscheck and the scaling report.

@@ -5,12 +5,12 @@
 use super::body::{Body2, cross};
 use super::collide::Contact2;
 use super::params::Params2;
+use crate::common::hash::FastMap;
 use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
-use std::collections::HashMap;
 
 /// Warm-start impulses by contact: (body 1, body 2, block 1, block 2) → world impulse.
-pub type WarmStart2 = HashMap<(usize, usize, usize, usize), Vector2<f64>>;
+pub type WarmStart2 = FastMap<(usize, usize, usize, usize), Vector2<f64>>;
 
 /// The 2D problem: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
 pub type ContactProblem2 = ContactProblem<3, 2>;

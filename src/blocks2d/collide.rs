@@ -38,9 +38,39 @@ fn root_box(body: &Body2) -> Option<Aabb> {
 }
 
 /// The contact of two blocks if their discs overlap.
+/// A body with its rotation matrix computed once (a pair's traversal places many points; the
+/// same arithmetic as [`Body2::to_world`], so the same bits).
+struct Placed<'a> {
+    body: &'a Body2,
+    rotation: nalgebra::Matrix2<f64>,
+}
+
+impl<'a> Placed<'a> {
+    fn new(body: &'a Body2) -> Placed<'a> {
+        Placed {
+            body,
+            rotation: body.rotation(),
+        }
+    }
+
+    fn to_world(&self, local: &Vector2<f64>) -> Vector2<f64> {
+        self.body.x + self.rotation * local
+    }
+}
+
 fn block_contact(bodies: &[Body2], i: usize, a: usize, j: usize, b: usize) -> Option<Contact2> {
-    let pa = bodies[i].to_world(&bodies[i].blocks[a].local);
-    let pb = bodies[j].to_world(&bodies[j].blocks[b].local);
+    let (bi, bj) = (Placed::new(&bodies[i]), Placed::new(&bodies[j]));
+    placed_block_contact((i, &bi), a, (j, &bj), b)
+}
+
+fn placed_block_contact(
+    (i, bi): (usize, &Placed),
+    a: usize,
+    (j, bj): (usize, &Placed),
+    b: usize,
+) -> Option<Contact2> {
+    let pa = bi.to_world(&bi.body.blocks[a].local);
+    let pb = bj.to_world(&bj.body.blocks[b].local);
     let d = pa - pb;
     let distance = d.norm();
     let depth = 2.0 * BLOCK_RADIUS - distance;
@@ -70,18 +100,19 @@ pub fn tree_contacts(
     if ti.nodes.is_empty() || tj.nodes.is_empty() {
         return;
     }
+    let (bi, bj) = (Placed::new(&bodies[i]), Placed::new(&bodies[j]));
     stack.clear();
     stack.push((0, 0));
     while let Some((a, b)) = stack.pop() {
         let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
-        let ca = bodies[i].to_world(&na.centre);
-        let cb = bodies[j].to_world(&nb.centre);
+        let ca = bi.to_world(&na.centre);
+        let cb = bj.to_world(&nb.centre);
         if (ca - cb).norm() >= na.radius + nb.radius {
             continue;
         }
         match (na.kind, nb.kind) {
             (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => {
-                if let Some(c) = block_contact(bodies, i, ba, j, bb) {
+                if let Some(c) = placed_block_contact((i, &bi), ba, (j, &bj), bb) {
                     out.push(c);
                 }
             }

@@ -27,11 +27,13 @@ use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
 use super::joints::{Pin2, Spring2};
 use super::params::{ContactModel, MAX_ADAPTIVE_SUBSTEPS, Params2};
-use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve, readable};
+use crate::sim::{
+    BodyId, ContactGeometry, NonFinite, PhaseTimes, Simulation, SubstepSolve, readable,
+};
 use crate::solve::shock::propagate_shock;
 use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
 use nalgebra::{SVector, Vector2, Vector3};
-use std::collections::HashMap;
+use std::time::Instant;
 
 /// The contact solve of one substep (the shared record, with 2D contacts and 3 × 2 problems).
 pub type Solve2 = SubstepSolve<Contact2, 3, 2>;
@@ -113,6 +115,9 @@ pub struct World2 {
     warm: WarmStart2,
     /// Shock propagation's impulses, a scratch copy of the solve's.
     shock_lambda: Vec<SVector<f64, 2>>,
+    /// Wall time spent in each phase of the step since the world was made (`rigidref bench`;
+    /// `measure` is post-stabilisation here).
+    pub phase_times: PhaseTimes,
 }
 
 impl World2 {
@@ -140,8 +145,9 @@ impl World2 {
             position_lambda: Vec::new(),
             position_workspace: PgsWorkspace::new(params.seed),
             before_kick: Vec::new(),
-            warm: HashMap::new(),
+            warm: WarmStart2::default(),
             shock_lambda: Vec::new(),
+            phase_times: PhaseTimes::default(),
             params,
         }
     }
@@ -202,7 +208,10 @@ impl World2 {
                 }
             }
             let mut contacts = std::mem::take(&mut self.contacts);
+            let clock = Instant::now();
             detect_contacts(&self.bodies, &mut contacts);
+            self.phase_times.detect += clock.elapsed().as_secs_f64();
+            let clock = Instant::now();
             self.contacts_in_step += contacts.len();
             self.most_contacts_in_step = self.most_contacts_in_step.max(contacts.len());
             for b in &mut self.bodies {
@@ -228,6 +237,7 @@ impl World2 {
             for b in &mut self.bodies {
                 b.step_velocity(h);
             }
+            self.phase_times.integrate += clock.elapsed().as_secs_f64();
             let mut stabilised = false;
             // The penalty model's contacts are forces: only the pins enter the problem.
             let solved: &[Contact2] = match self.params.contact_model {
@@ -241,6 +251,7 @@ impl World2 {
             } else if contacts.is_empty() {
                 self.warm.clear();
             }
+            let clock = Instant::now();
             for (i, b) in self.bodies.iter_mut().enumerate() {
                 if stabilised {
                     let du = self.position_workspace.delta_velocity(i);
@@ -249,6 +260,7 @@ impl World2 {
                     b.step_position(h, &Vector2::zeros(), 0.0);
                 }
             }
+            self.phase_times.integrate += clock.elapsed().as_secs_f64();
             self.contacts = contacts;
         }
         self.step += 1;
@@ -284,6 +296,7 @@ impl World2 {
     /// u⁺ = u + M⁻¹Jᵀλ → keep λ for the warm start → post-stabilise. Returns the record, its
     /// buffers taken from the pool of earlier steps'.
     fn solve_contacts(&mut self, substep: u32, contacts: &[Contact2], h: f64) -> Solve2 {
+        let clock = Instant::now();
         let mut solve = self.spare_solves.pop().unwrap_or_else(|| SubstepSolve {
             substep,
             contacts: Vec::new(),
@@ -306,6 +319,8 @@ impl World2 {
             &mut solve.problem,
         );
         self.append_pins(&mut solve.problem);
+        self.phase_times.assemble += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         let settings = self.pgs_settings();
         let (report, wall, cpu) = crate::common::timing::timed(|| {
             solve_pgs(
@@ -331,6 +346,8 @@ impl World2 {
             );
             self.shock_layers = self.shock_layers.max(shock.layers);
         }
+        self.phase_times.solve += clock.elapsed().as_secs_f64();
+        let clock = Instant::now();
         for (i, b) in self.bodies.iter_mut().enumerate() {
             let du = self.workspace.delta_velocity(i);
             b.v += Vector2::new(du[0], du[1]);
@@ -344,8 +361,11 @@ impl World2 {
         self.pin_warm.clear();
         self.pin_warm
             .extend_from_slice(&solve.lambda[contacts.len()..]);
+        self.phase_times.apply += clock.elapsed().as_secs_f64();
         if self.params.post_stabilization {
+            let clock = Instant::now();
             self.post_stabilize(contacts, &solve.problem, h);
+            self.phase_times.measure += clock.elapsed().as_secs_f64();
         }
         solve
     }

@@ -4,35 +4,47 @@ use anyhow::Context;
 use clap::Args;
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::tools::bench::{
-    BenchSettings, assignment_scene, cube_pyramid, markdown, peak_memory_bytes, run_case,
-    sphere_rain, stack_grid,
+    BenchSettings, assignment_scene, cube_pyramid, factory_pile, markdown, peak_memory_bytes,
+    pyramid_grid, run_case, sphere_rain, stack_grid, svg,
 };
+use rigidref::tools::factory::Pieces;
 use std::path::PathBuf;
 
 /// Arguments of `rigidref bench`.
 #[derive(Args)]
 #[command(after_long_help = "\
 Scenes, each at several sizes: grids of the tapered five-cube stack of scenes/box_stack.json
-(the vertex rule) and pyramids of the equal 0.5 m boxes of scenes/cube_stack.json (collision:
-complete). For each, after warm-up steps, rounds of N steps in rigidref then N steps in the
+(the vertex rule, 5 to 10 125 bodies), pyramids of the equal 0.5 m boxes of
+scenes/cube_stack.json (collision: complete) alone and in grids (to 10 140 bodies), spheres
+raining onto the ground (scenes/sphere_drop.json's ball), the assignment's seven scenes (when
+../shared is beside the project), and the 2D factory's pile of random polyominoes at 1 000,
+10 000 and 30 000 bodies and of bricks at 10 000 (rigidref only: there is no 2D rapier mirror). For each 3D scene, after warm-up steps, rounds of N steps in rigidref then N steps in the
 rapier3d-f64 mirror of the same scene (same bodies, dt, gravity, μ; rapier's solver iterations =
 the PGS sweeps; sleeping off; one thread), interleaved so that both see the machine's slow and fast
-spells; the medians are reported. rigidref's step is split into detection, assembly, PGS and the
-rest, and PGS's cost per contact per sweep is given. Fitted exponents say how the cost grows
-with the bodies. Timings are this machine's: compare ratios from one run (docs/performance.md).
+spells; the medians are reported. rigidref's step is split into detection, assembly, PGS,
+applying, integration and the penetration measure (2D: post-stabilisation), rapier's by its own
+timers (collision detection, constraint setup, velocity iterations), and PGS's cost per contact
+per sweep is given. Fitted exponents say how the cost grows with the bodies, and the issue's
+speed targets are read off the table. Timings are this machine's: compare ratios from one run
+(docs/performance.md).
 
-  rigidref bench --quick            # the smallest sizes, seconds
-  rigidref bench --out bench/       # the full table, minutes; bench/bench.md")]
+  rigidref bench --quick                 # the smallest sizes, seconds
+  rigidref bench --out bench/            # the full table, about 15 minutes; bench/bench.md and
+                                         # bench/bench.svg (ms per step against bodies, log-log)
+  rigidref bench --only \"2D factory\"     # only the scenes whose name contains the text")]
 pub struct BenchArgs {
     /// Only the smallest sizes and short rounds (a check that it runs, not a measurement).
     #[arg(long)]
     pub quick: bool,
-    /// Write the table to DIR/bench.md as well.
+    /// Write the table to DIR/bench.md and the plot to DIR/bench.svg as well.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// PGS sweeps (and rapier solver iterations) [default: 20].
     #[arg(long, default_value_t = 20)]
     pub iterations: u32,
+    /// Only the scenes whose name contains this text (e.g. "grid 8", "pyramid"); an error when none does.
+    #[arg(long, value_name = "TEXT")]
+    pub only: Option<String>,
     /// The project root (holding scenes/).
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
@@ -50,11 +62,21 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
     let ball = load_scene(&scenes.join("sphere_drop.json"))
         .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
-    let (grids, pyramids, rains, settings): (&[usize], &[usize], &[usize], _) = if args.quick {
+    type Sizes = &'static [usize];
+    let (grids, pyramids, pyramid_grids, rains, piles, settings): (
+        Sizes,
+        Sizes,
+        Sizes,
+        Sizes,
+        Sizes,
+        _,
+    ) = if args.quick {
         (
             &[1, 2],
             &[2, 3],
             &[],
+            &[],
+            &[100],
             BenchSettings {
                 warmup: 10,
                 steps: 10,
@@ -64,9 +86,11 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         )
     } else {
         (
-            &[1, 2, 4, 8, 12],
+            &[1, 2, 4, 8, 12, 20, 32, 45],
             &[3, 5, 8, 12],
+            &[2, 4, 8, 16, 26],
             &[2, 4, 8],
+            &[1000, 10_000, 30_000],
             BenchSettings {
                 warmup: 100,
                 steps: 30,
@@ -77,7 +101,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     };
     let mut cases: Vec<_> = grids.iter().map(|&n| stack_grid(&stack, n, 1.0)).collect();
     cases.extend(pyramids.iter().map(|&n| cube_pyramid(&cubes, n)));
+    cases.extend(pyramid_grids.iter().map(|&k| pyramid_grid(&cubes, 5, k)));
     cases.extend(rains.iter().map(|&n| sphere_rain(&ball, n, 2, 1.2)));
+    cases.extend(piles.iter().map(|&n| factory_pile(n, Pieces::Random)));
+    if !args.quick {
+        // The issue's own measurement was of bricks (more contacts per body).
+        cases.push(factory_pile(10_000, Pieces::Bricks));
+    }
     // The assignment's scenes, where ../shared is there (full runs only).
     let shared = args.root.join("../shared/assignments/rigid3d/scenes");
     if !args.quick {
@@ -96,6 +126,16 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
             }
         }
     }
+    if let Some(only) = &args.only {
+        let names: Vec<String> = cases.iter().map(|c| c.name.clone()).collect();
+        cases.retain(|c| c.name.contains(only.as_str()));
+        if cases.is_empty() {
+            anyhow::bail!(
+                "--only {only:?}: no scene's name contains it (the scenes: {})",
+                names.join(", ")
+            );
+        }
+    }
     let mut rows = Vec::new();
     for (k, case) in cases.iter().enumerate() {
         eprintln!(
@@ -103,7 +143,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
             k + 1,
             cases.len(),
             case.name,
-            case.scene.bodies.len()
+            case.scene.bodies()
         );
         rows.push(run_case(case, &settings).map_err(|e| anyhow::anyhow!("{}: {e}", case.name))?);
     }
@@ -122,6 +162,17 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         std::fs::write(&path, &table)
             .with_context(|| format!("{}: cannot write", path.display()))?;
         eprintln!("table          {}", path.display());
+        let plot = dir.join("bench.svg");
+        svg(
+            &rows,
+            &plot,
+            &format!(
+                "ms per step against bodies, {} sweeps: rigidref (solid) and rapier3d (dashed)",
+                settings.iterations
+            ),
+        )
+        .map_err(|e| anyhow::anyhow!(e))?;
+        eprintln!("plot           {}", plot.display());
     }
     Ok(())
 }

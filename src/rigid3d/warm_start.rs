@@ -6,9 +6,9 @@
 //! pieces). Its frame may have turned since, so the impulse is kept as a world
 //! vector P = λn n + λt1 t1 + λt2 t2 and re-expressed in the new frame: λ₀ = (n·P, t1·P, t2·P).
 
+use crate::common::hash::FastMap;
 use crate::rigid3d::collide::{Contact, Feature};
 use nalgebra::{SVector, Vector3};
-use std::collections::HashMap;
 
 /// Identifies a contact across substeps: (body 1, body 2 or ground, the features it comes from).
 pub type ContactKey = (usize, Option<usize>, Feature);
@@ -18,7 +18,7 @@ pub type ContactKey = (usize, Option<usize>, Feature);
 pub struct WarmStart {
     /// Whether to use them (the scene's `warm_start`); when false every λ₀ is zero.
     pub enabled: bool,
-    impulses: HashMap<ContactKey, Vector3<f64>>,
+    impulses: FastMap<ContactKey, Vector3<f64>>,
 }
 
 impl WarmStart {
@@ -26,7 +26,7 @@ impl WarmStart {
     pub fn new(enabled: bool) -> WarmStart {
         WarmStart {
             enabled,
-            impulses: HashMap::new(),
+            impulses: FastMap::default(),
         }
     }
 

@@ -23,6 +23,7 @@ use crate::rigid3d::collide::{Contact, Culling, MeshCollider};
 use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
 use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
+pub use crate::sim::PhaseTimes;
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve};
 use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
 use std::sync::Arc;
@@ -51,23 +52,6 @@ pub struct World {
     contact_buffer: Vec<Contact>,
     /// Wall time spent in each phase of the step since the world was made (`rigidref bench`).
     pub phase_times: PhaseTimes,
-}
-
-/// Wall time per phase of the 3D step, summed over steps, s (docs/performance.md).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PhaseTimes {
-    /// Collision detection (ground, broad phase, vertex and manifold contacts).
-    pub detect: f64,
-    /// Assembling the contact problem (Jacobians, Delassus diagonals, b, warm start).
-    pub assemble: f64,
-    /// PGS.
-    pub solve: f64,
-    /// Applying the impulses, storing the warm start and the record.
-    pub apply: f64,
-    /// Forces, velocity and position updates.
-    pub integrate: f64,
-    /// The penetration measure after each step.
-    pub measure: f64,
 }
 
 impl World {

@@ -59,14 +59,62 @@ pub struct PgsSettings {
 pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Δu per body: the velocity change the current λ causes.
     delta_velocity: Vec<SVector<f64, D>>,
-    /// M_s⁻¹ J_sᵀ per contact and side (D × R), zero for the static world (and, during shock
-    /// propagation, for a side held fixed).
-    pub(super) inverse_mass_jacobian_t: Vec<[SMatrix<f64, D, R>; 2]>,
-    /// Row scales per contact.
+    /// Per contact, what a sweep reads, in problem order.
+    pub(super) entries: Vec<Entry<D, R>>,
+    /// Row scales per contact (the full block, for the exact local solve and the residuals).
     pub(super) scales: Vec<RowScales<R>>,
     /// The visiting order.
     order: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
+}
+
+/// Contact `k` as a sweep reads it, gathered in one place (Box2D's "constraint" struct): one
+/// stretch of memory per visit, wherever the order jumps, and borrowed apart from the bodies' Δu
+/// that a visit changes, so that the compiler knows the one is not written through the other.
+#[derive(Clone, Debug)]
+pub(super) struct Entry<const D: usize, const R: usize> {
+    /// The problem's bodies of its two sides (`None`: the static world).
+    pub bodies: [Option<usize>; 2],
+    /// J_sᵀ per side (D × R): row r of J_s is column r here, contiguous in memory.
+    pub jacobian_t: [SMatrix<f64, D, R>; 2],
+    /// M_s⁻¹ J_sᵀ per side (D × R), zero for the static world (and, during shock propagation,
+    /// for a side held fixed).
+    pub inverse_mass_jacobian_t: [SMatrix<f64, D, R>; 2],
+    /// b, m/s.
+    pub b: SVector<f64, R>,
+    /// a_r = (A + C)_rr, the rows' diagonal ([`RowScales::diagonal`]).
+    pub diagonal: SVector<f64, R>,
+    /// ρ, the cone step's scale ([`RowScales::tangent_rho`]).
+    pub tangent_rho: f64,
+    /// μ.
+    pub mu: f64,
+    /// Compliance on the normal row (a joint's on every row).
+    pub compliance: f64,
+}
+
+impl<const D: usize, const R: usize> Entry<D, R> {
+    /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ (without compliance).
+    #[inline(always)]
+    fn velocity(&self, delta_velocity: &[SVector<f64, D>], r: usize) -> f64 {
+        let mut w = self.b[r];
+        for s in 0..2 {
+            if let Some(b) = self.bodies[s] {
+                w += self.jacobian_t[s].column(r).dot(&delta_velocity[b]);
+            }
+        }
+        w
+    }
+
+    /// λ_r changes by `delta`: Δu_s += (M_s⁻¹ J_sᵀ)_r δ for each body.
+    #[inline(always)]
+    fn apply(&self, delta_velocity: &mut [SVector<f64, D>], r: usize, delta: f64) {
+        for s in 0..2 {
+            if let Some(b) = self.bodies[s] {
+                let column = self.inverse_mass_jacobian_t[s].column(r);
+                delta_velocity[b].axpy(delta, &column, 1.0);
+            }
+        }
+    }
 }
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
@@ -74,7 +122,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub fn new(seed: u64) -> Self {
         PgsWorkspace {
             delta_velocity: Vec::new(),
-            inverse_mass_jacobian_t: Vec::new(),
+            entries: Vec::new(),
             scales: Vec::new(),
             order: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
@@ -90,7 +138,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.delta_velocity.clear();
         self.delta_velocity
             .resize(problem.bodies.len(), SVector::zeros());
-        self.inverse_mass_jacobian_t.clear();
+        self.entries.clear();
         self.scales.clear();
         self.order.clear();
         for (k, c) in problem.contacts.iter().enumerate() {
@@ -98,36 +146,57 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
                 None => SMatrix::zeros(),
             };
-            self.inverse_mass_jacobian_t.push([side(0), side(1)]);
-            self.scales.push(row_scales(problem, k));
+            let scales = row_scales(problem, k);
+            self.entries.push(Entry {
+                bodies: c.bodies,
+                jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
+                inverse_mass_jacobian_t: [side(0), side(1)],
+                b: c.b,
+                diagonal: scales.diagonal,
+                tangent_rho: scales.tangent_rho,
+                mu: c.mu,
+                compliance: c.compliance,
+            });
+            self.scales.push(scales);
             self.order.push(k);
         }
     }
 
-    /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
-    fn row_velocity(&self, problem: &ContactProblem<D, R>, k: usize, r: usize) -> f64 {
-        let c = &problem.contacts[k];
-        let mut w = c.b[r];
-        for s in 0..2 {
-            if let Some(b) = c.bodies[s] {
-                w += c.jacobian[s]
-                    .row(r)
-                    .transpose()
-                    .dot(&self.delta_velocity[b]);
+    /// Asks the processor to start loading the entry of contact `k` (a visit two ahead, in a
+    /// random order that its own prefetcher cannot guess). Only a hint: it changes no value.
+    #[inline(always)]
+    fn prefetch(&self, k: usize) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let entry = &self.entries[k] as *const Entry<D, R> as *const i8;
+            let bytes = std::mem::size_of::<Entry<D, R>>();
+            for offset in (0..bytes).step_by(64) {
+                // SAFETY: a prefetch never faults and reads nothing into the program; the
+                // addresses are inside `self.entries[k]` anyway.
+                unsafe {
+                    std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                        entry.add(offset),
+                    )
+                };
             }
         }
-        w
+    }
+
+    /// The entry of contact `k` and the bodies' Δu, borrowed apart.
+    #[inline(always)]
+    fn entry(&mut self, k: usize) -> (&Entry<D, R>, &mut [SVector<f64, D>]) {
+        (&self.entries[k], &mut self.delta_velocity)
+    }
+
+    /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
+    fn row_velocity(&self, k: usize, r: usize) -> f64 {
+        self.entries[k].velocity(&self.delta_velocity, r)
     }
 
     /// Changes λ_r of contact `k` by `delta` and updates the bodies' Δu to match.
-    fn apply(&mut self, problem: &ContactProblem<D, R>, k: usize, r: usize, delta: f64) {
-        let c = &problem.contacts[k];
-        for s in 0..2 {
-            if let Some(b) = c.bodies[s] {
-                let column = self.inverse_mass_jacobian_t[k][s].column(r);
-                self.delta_velocity[b].axpy(delta, &column, 1.0);
-            }
-        }
+    fn apply(&mut self, k: usize, r: usize, delta: f64) {
+        let (entry, delta_velocity) = self.entry(k);
+        entry.apply(delta_velocity, r, delta);
     }
 
     /// The full constraint velocity w of contact `k`, compliance included.
@@ -138,9 +207,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         lambda: &SVector<f64, R>,
     ) -> SVector<f64, R> {
         let c = &problem.contacts[k];
-        SVector::<f64, R>::from_fn(|r, _| {
-            self.row_velocity(problem, k, r) + c.row_compliance(r) * lambda[r]
-        })
+        SVector::<f64, R>::from_fn(|r, _| self.row_velocity(k, r) + c.row_compliance(r) * lambda[r])
     }
 
     fn coulomb_residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
@@ -190,7 +257,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         };
         lambda.push(SVector::zeros());
         for r in 0..R {
-            workspace.apply(problem, k, r, start[r]);
+            workspace.apply(k, r, start[r]);
         }
         lambda[k] = start;
     }
@@ -204,6 +271,9 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         }
         for i in 0..problem.contacts.len() {
             let k = workspace.order[i];
+            if let Some(&next) = workspace.order.get(i + 2) {
+                workspace.prefetch(next);
+            }
             visit(problem, settings.local, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
@@ -255,7 +325,7 @@ fn solve_contact_exactly<const D: usize, const R: usize>(
     let q = workspace.contact_velocity(problem, k, lambda) - scales.block * *lambda;
     let solution = solve_local(&scales.block, &q, contact.mu, problem.friction, scales);
     for r in 0..R {
-        workspace.apply(problem, k, r, solution[r] - lambda[r]);
+        workspace.apply(k, r, solution[r] - lambda[r]);
     }
     *lambda = solution;
 }
@@ -272,9 +342,9 @@ fn solve_free_rows<const D: usize, const R: usize>(
     let diagonal = workspace.scales[k].diagonal;
     for r in 0..R {
         if diagonal[r] > 0.0 {
-            let w_r = workspace.row_velocity(problem, k, r) + joint.row_compliance(r) * lambda[r];
+            let w_r = workspace.row_velocity(k, r) + joint.row_compliance(r) * lambda[r];
             let delta = -w_r / diagonal[r];
-            workspace.apply(problem, k, r, delta);
+            workspace.apply(k, r, delta);
             lambda[r] += delta;
         }
     }
@@ -292,7 +362,7 @@ fn solve_free_exactly<const D: usize, const R: usize>(
     let q = workspace.contact_velocity(problem, k, lambda) - block * *lambda;
     if let Some(solution) = super::local::solve_linear(&block, &(-q)) {
         for r in 0..R {
-            workspace.apply(problem, k, r, solution[r] - lambda[r]);
+            workspace.apply(k, r, solution[r] - lambda[r]);
         }
         *lambda = solution;
     }
@@ -305,31 +375,43 @@ fn solve_contact<const D: usize, const R: usize>(
     k: usize,
     lambda: &mut SVector<f64, R>,
 ) {
-    let contact = &problem.contacts[k];
-    let diagonal = workspace.scales[k].diagonal;
+    let (e, du) = workspace.entry(k);
+    let diagonal = &e.diagonal;
 
     // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
     if diagonal[0] > 0.0 {
-        let w_n = workspace.row_velocity(problem, k, 0) + contact.compliance * lambda[0];
+        let w_n = e.velocity(du, 0) + e.compliance * lambda[0];
         let lambda_n = (lambda[0] - w_n / diagonal[0]).max(0.0);
-        workspace.apply(problem, k, 0, lambda_n - lambda[0]);
+        e.apply(du, 0, lambda_n - lambda[0]);
         lambda[0] = lambda_n;
     }
 
     // Friction rows, bounded by μ times the normal impulse just computed.
     let bound = if crate::common::faults::fault!(stale_friction_bound) {
         // The deliberate bug: the bound from the starting λn instead of the one just computed.
+        let contact = &problem.contacts[k];
         contact.mu * project_feasible(&contact.lambda0, contact.mu, problem.friction)[0]
     } else {
-        contact.mu * lambda[0]
+        e.mu * lambda[0]
     };
+    if bound == 0.0 {
+        // μ λn = 0 (no friction, or no normal impulse): the friction rows' bounds are [0, 0] and
+        // their projection is 0, whatever their velocities.
+        for r in 1..R {
+            if lambda[r] != 0.0 {
+                e.apply(du, r, -lambda[r]);
+                lambda[r] = 0.0;
+            }
+        }
+        return;
+    }
     match problem.friction {
         FrictionModel::Box => {
             for r in 1..R {
                 if diagonal[r] > 0.0 {
-                    let w_r = workspace.row_velocity(problem, k, r);
+                    let w_r = e.velocity(du, r);
                     let lambda_r = (lambda[r] - w_r / diagonal[r]).clamp(-bound, bound);
-                    workspace.apply(problem, k, r, lambda_r - lambda[r]);
+                    e.apply(du, r, lambda_r - lambda[r]);
                     lambda[r] = lambda_r;
                 } else {
                     lambda[r] = lambda[r].clamp(-bound, bound);
@@ -339,16 +421,16 @@ fn solve_contact<const D: usize, const R: usize>(
         FrictionModel::Cone => {
             // One projected-gradient step on the pair with the scalar step 1/ρ, then onto the
             // disk: a per-row step would converge to a point that is not the disk's solution.
-            let rho = workspace.scales[k].tangent_rho;
+            let rho = e.tangent_rho;
             let mut trial = *lambda;
             if rho > 0.0 {
                 for r in 1..R {
-                    trial[r] = lambda[r] - workspace.row_velocity(problem, k, r) / rho;
+                    trial[r] = lambda[r] - e.velocity(du, r) / rho;
                 }
             }
             let projected = project_disk(&trial, bound);
             for r in 1..R {
-                workspace.apply(problem, k, r, projected[r] - lambda[r]);
+                e.apply(du, r, projected[r] - lambda[r]);
                 lambda[r] = projected[r];
             }
         }

@@ -138,18 +138,21 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
     for s in 0..2 {
         let Some(b) = c.bodies[s] else { continue };
         if layer[b].is_some_and(|l| l < current) {
-            workspace.inverse_mass_jacobian_t[k][s] = SMatrix::zeros();
+            workspace.entries[k].inverse_mass_jacobian_t[s] = SMatrix::zeros();
         } else {
-            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t[k][s];
+            block += c.jacobian[s] * workspace.entries[k].inverse_mass_jacobian_t[s];
         }
     }
     let mut block = (block + block.transpose()) * 0.5;
     for r in 0..R {
         block[(r, r)] += c.row_compliance(r);
     }
-    workspace.scales[k] = RowScales {
+    let scales = RowScales {
         diagonal: block.diagonal(),
         tangent_rho: super::residual::tangent_eigenvalue(&block),
         block,
     };
+    workspace.entries[k].diagonal = scales.diagonal;
+    workspace.entries[k].tangent_rho = scales.tangent_rho;
+    workspace.scales[k] = scales;
 }

@@ -930,3 +930,83 @@ pub fn run_factory(
         .map_err(|e| format!("{}: cannot write: {e}", report_path.display()))?;
     Ok((report, note))
 }
+
+/// A factory pile made at once, for timing the factory's step at a size without the hours of
+/// drops that reach it (`rigidref bench`, docs/performance.md): `bodies` pieces from
+/// `Factory::new(seed, pieces)`, set down one after another across the container a factory run
+/// of `bodies` would make (deeper where the pile needs it), each as low as it goes on the pile's
+/// skyline, left to right and then again from the left: a block straight above another √2 −
+/// 0.001 blocks higher, one in the next column at least 0.999 higher (their discs, of diameter
+/// √2, overlap by at most a thousandth of a block, less than the slop), so that the pile is in
+/// contact from its first step. At rest, with the factory's default settings (10 sweeps in
+/// seeded random order, 1 substep, the rest [`Params2::default`]).
+pub fn packed_pile(bodies: usize, pieces: Pieces, seed: u64) -> World2 {
+    let above = std::f64::consts::SQRT_2 - 1e-3;
+    let beside = 1.0 - 1e-3;
+    let (width, depth) = container_size(bodies, pieces, 1);
+    // Lattice columns c = 0 … width − 2 at x = c + above − 1, so that a block in the outermost
+    // ones is `above` from the walls' blocks (x = −1 and x = width); the floor's top row is y = 0
+    // here (y grows downward) and the skyline is the highest block centre per column.
+    let columns = width - 1;
+    let mut skyline = vec![0.0_f64; columns];
+    let mut factory = Factory::new(seed, pieces);
+    let mut cursor = 0;
+    let mut made = Vec::with_capacity(bodies);
+    for _ in 0..bodies {
+        let mut body = factory.make(Vector2::zeros());
+        // The blocks' offsets from the first, whole blocks (the piece is turned by 90°s).
+        let first = body.to_world(&body.blocks[0].local);
+        let cells: Vec<(i64, i64)> = body
+            .blocks
+            .iter()
+            .map(|b| {
+                let d = body.to_world(&b.local) - first;
+                (d.x.round() as i64, d.y.round() as i64)
+            })
+            .collect();
+        let (lo, hi) = cells
+            .iter()
+            .fold((i64::MAX, i64::MIN), |(l, h), c| (l.min(c.0), h.max(c.0)));
+        let span = (hi - lo) as usize;
+        if cursor + span >= columns {
+            cursor = 0;
+        }
+        let column = |dx: i64| (cursor as i64 + dx - lo) as usize;
+        // The reference block's y: as low as every block's constraints allow.
+        let mut y = f64::INFINITY;
+        for &(dx, dy) in &cells {
+            let c = column(dx);
+            y = y.min(skyline[c] - above - dy as f64);
+            for n in [c.wrapping_sub(1), c + 1] {
+                if n < columns {
+                    y = y.min(skyline[n] - beside - dy as f64);
+                }
+            }
+        }
+        for &(dx, dy) in &cells {
+            let c = column(dx);
+            skyline[c] = skyline[c].min(y + dy as f64);
+        }
+        let target = Vector2::new(column(0) as f64 + above - 1.0, y);
+        body.x += target - first;
+        made.push(body);
+        // One column left free: a piece beside another would sit a block higher.
+        cursor += span + 2;
+    }
+    // The container deep enough for the pile, its floor's top row at y = depth.
+    let top = skyline.iter().copied().fold(0.0, f64::min);
+    let depth = depth.max((-top + above).ceil() as usize + 2);
+    let params = Params2 {
+        iterations: 10,
+        substeps: 1,
+        order: crate::solve::ContactOrder::Random,
+        seed,
+        ..Params2::default()
+    };
+    let mut world = World2::new(&[container(width, depth)], params);
+    for mut body in made {
+        body.x.y += depth as f64;
+        world.add_body(body);
+    }
+    world
+}

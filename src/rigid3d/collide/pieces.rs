@@ -34,6 +34,118 @@ pub struct Piece {
     pub normals: Vec<Vector3<f64>>,
     /// Its edges as vertex index pairs.
     pub edges: Vec<[usize; 2]>,
+    /// The piece as a box, when it is one (the penetration measure's exact shortcut).
+    pub cuboid: Option<Cuboid>,
+}
+
+/// A piece that is a rectangular box, body frame: centre, unit edge directions, half extents.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cuboid {
+    /// Centre, m.
+    pub centre: Vector3<f64>,
+    /// Unit directions of its three edges (orthogonal).
+    pub axes: [Vector3<f64>; 3],
+    /// Half the edge lengths along `axes`, m.
+    pub half: Vector3<f64>,
+}
+
+impl Cuboid {
+    /// `vertices` as a box: eight points that are a corner plus every sum of three orthogonal
+    /// edge vectors from it, to 1e-9 of the box's size; `None` otherwise.
+    pub fn of(vertices: &[Vector3<f64>]) -> Option<Cuboid> {
+        if vertices.len() != 8 {
+            return None;
+        }
+        let corner = vertices[0];
+        // The corner's edges: the nearest other vertex, then the nearest at right angles to it,
+        // then the nearest at right angles to both (a face diagonal can be nearer than the
+        // longest edge).
+        let mut others: Vec<Vector3<f64>> = vertices[1..].iter().map(|v| v - corner).collect();
+        others.sort_by(|a, b| a.norm_squared().total_cmp(&b.norm_squared()));
+        let size = others.last().map_or(0.0, |d| d.norm());
+        let tolerance = 1e-9 * size;
+        if size == 0.0 || others[0].norm() <= tolerance {
+            return None;
+        }
+        let square = |a: &Vector3<f64>, b: &Vector3<f64>| a.dot(b).abs() <= tolerance * size;
+        let e1 = others[0];
+        let e2 = *others.iter().find(|d| square(d, &e1))?;
+        let e3 = *others
+            .iter()
+            .find(|d| square(d, &e1) && square(d, &e2) && **d != e2)?;
+        let edges = [e1, e2, e3];
+        // Every vertex is the corner plus some of the edges, and every such sum is a vertex.
+        let mut seen = [false; 8];
+        for v in vertices {
+            let d = v - corner;
+            let bits = [0, 1, 2].map(|k| d.dot(&edges[k]) / edges[k].norm_squared());
+            let mut index = 0;
+            let mut rebuilt = Vector3::zeros();
+            for k in 0..3 {
+                let bit = bits[k].round();
+                if !(bit == 0.0 || bit == 1.0) {
+                    return None;
+                }
+                if bit == 1.0 {
+                    index |= 1 << k;
+                    rebuilt += edges[k];
+                }
+            }
+            if (rebuilt - d).norm() > tolerance || seen[index] {
+                return None;
+            }
+            seen[index] = true;
+        }
+        Some(Cuboid {
+            centre: corner + (edges[0] + edges[1] + edges[2]) / 2.0,
+            axes: edges.map(|e| e.normalize()),
+            half: Vector3::new(edges[0].norm(), edges[1].norm(), edges[2].norm()) / 2.0,
+        })
+    }
+
+    /// The penetration depth of boxes `a` and `b` placed by `pose_a` and `pose_b`, m: the
+    /// smallest overlap of their projections over the 15 separating-axis candidates (3 + 3 face
+    /// normals, 9 edge cross products; parallel edges give none), 0 when one separates them.
+    /// For two convex polyhedra the minimum translation distance lies along one of these, so
+    /// this is the exact depth. docs/contact.md §"Penetration measure".
+    pub fn depth(a: &Cuboid, pose_a: &Pose, b: &Cuboid, pose_b: &Pose) -> f64 {
+        let place = |c: &Cuboid, pose: &Pose| {
+            (
+                world_point(pose, to_parry(&c.centre)),
+                c.axes.map(|u| world_vector(pose, to_parry(&u))),
+            )
+        };
+        let (ca, ua) = place(a, pose_a);
+        let (cb, ub) = place(b, pose_b);
+        let t = cb - ca;
+        let mut depth = f64::INFINITY;
+        let mut test = |axis: Vector3<f64>| -> bool {
+            let length = axis.norm();
+            if length <= 1e-9 {
+                return true; // parallel edges: no axis of its own
+            }
+            let l = axis / length;
+            let reach = |u: &[Vector3<f64>; 3], half: &Vector3<f64>| {
+                (0..3).map(|k| half[k] * u[k].dot(&l).abs()).sum::<f64>()
+            };
+            let overlap = reach(&ua, &a.half) + reach(&ub, &b.half) - t.dot(&l).abs();
+            depth = depth.min(overlap);
+            overlap > 0.0
+        };
+        for k in 0..3 {
+            if !test(ua[k]) || !test(ub[k]) {
+                return 0.0;
+            }
+        }
+        for a_edge in &ua {
+            for b_edge in &ub {
+                if !test(a_edge.cross(b_edge)) {
+                    return 0.0;
+                }
+            }
+        }
+        depth
+    }
 }
 
 /// A body's convex pieces.
@@ -103,11 +215,13 @@ impl Piece {
                 }
             }
         }
+        let cuboid = Cuboid::of(&vertices);
         Some(Piece {
             shape,
             vertices,
             normals,
             edges,
+            cuboid,
         })
     }
 

@@ -28,6 +28,21 @@ pub struct Snapshot {
     pub omega: Vector3<f64>,
 }
 
+/// rapier's own timers for one step, ms (its `profiler` feature; [`RapierMirror::enable_timers`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RapierPhases {
+    /// Collision detection: broad and narrow phase (contact manifolds).
+    pub collision: f64,
+    /// Of which the narrow phase.
+    pub narrow_phase: f64,
+    /// Constraint setup: the solver's velocity assembly.
+    pub setup: f64,
+    /// The velocity iterations (its substepped solve).
+    pub iterations: f64,
+    /// The whole step.
+    pub step: f64,
+}
+
 /// The rapier world built from a scene.
 pub struct RapierMirror {
     world: PhysicsWorld,
@@ -136,6 +151,24 @@ impl RapierMirror {
     /// Advances one frame of dt.
     pub fn step(&mut self) {
         self.world.step();
+    }
+
+    /// Turns on rapier's phase timers, read by [`RapierMirror::last_step_phases`] (they cost a
+    /// clock read per phase).
+    pub fn enable_timers(&mut self) {
+        self.world.physics_pipeline.counters.enable();
+    }
+
+    /// rapier's phase times of the last step, ms (zero unless [`RapierMirror::enable_timers`]).
+    pub fn last_step_phases(&self) -> RapierPhases {
+        let c = &self.world.physics_pipeline.counters;
+        RapierPhases {
+            collision: c.stages.collision_detection_time.time_ms(),
+            narrow_phase: c.cd.narrow_phase_time.time_ms(),
+            setup: c.solver.velocity_assembly_time.time_ms(),
+            iterations: c.solver.velocity_resolution_time.time_ms(),
+            step: c.step_time.time_ms(),
+        }
     }
 
     /// Every body's state.

@@ -391,3 +391,60 @@ fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
         }
     }
 }
+
+/// The benchmark's factory pile (`tools::factory::packed_pile`, docs/performance.md) is a pile
+/// like the factory's, made at once: every piece inside the container, no two block discs of
+/// different bodies overlapping by more than the thousandth of a block it is laid with (none
+/// would be pushed apart), in contact from its first step (about a contact per body, the
+/// skyline's), and after 20 time units a sound pile by the factory's own measures: at least one
+/// and a half contacts per body, no body outside the container, no overlap deeper than 0.141 (a
+/// tenth of a disc's diameter), and almost at rest. Also the same pile for the same seed, bit
+/// for bit.
+#[test]
+fn packed_factory_pile_starts_in_contact_and_settles_soundly() {
+    use rigidref::blocks2d::collide::brute_force_contacts;
+    use rigidref::tools::factory::{DropZone, Pieces, packed_pile};
+    let mut world = packed_pile(300, Pieces::Random, 3);
+    assert_eq!(world.bodies.len(), 301);
+    let zone = DropZone::above_pinned(&world).unwrap();
+    assert!(world.bodies.iter().all(|b| b.pinned || !zone.is_outside(b)));
+    let start = brute_force_contacts(&world.bodies);
+    let deepest = start.iter().map(|c| c.depth).fold(0.0, f64::max);
+    assert!(deepest <= 1.001e-3, "laid {deepest} deep");
+    assert!(start.len() >= 250, "{} contacts at the start", start.len());
+    let again = packed_pile(300, Pieces::Random, 3);
+    for (a, b) in world.bodies.iter().zip(&again.bodies) {
+        assert_eq!((a.x, a.theta), (b.x, b.theta));
+    }
+    // 20 time units, the factory's own settling time after its last drop.
+    for _ in 0..400 {
+        world.step().unwrap();
+    }
+    // A settled factory pile of polyominoes has about three contacts per body (the factory's
+    // docs); this one has at least one and a half.
+    assert!(
+        world.contacts.len() >= 450,
+        "{} contacts after settling",
+        world.contacts.len()
+    );
+    assert!(world.bodies.iter().all(|b| b.pinned || !zone.is_outside(b)));
+    // The factory's own soundness bound at the end of a run: a tenth of a disc's diameter.
+    assert!(
+        world.deepest_overlap() <= 0.141,
+        "{}",
+        world.deepest_overlap()
+    );
+    // Falling into place: at most the pile's height (a few hundred blocks) under gravity 1.
+    let kinetic: f64 = world
+        .bodies
+        .iter()
+        .map(|b| 0.5 * b.mass * b.v.norm_squared() + 0.5 * b.inertia * b.omega * b.omega)
+        .sum();
+    let mass: f64 = world
+        .bodies
+        .iter()
+        .filter(|b| !b.pinned)
+        .map(|b| b.mass)
+        .sum();
+    assert!(kinetic < mass * 0.05, "kinetic {kinetic} for mass {mass}");
+}

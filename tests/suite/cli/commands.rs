@@ -649,6 +649,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--set") => &["mu=0.1"],
             ("factory", "--out") | ("massprops", "--out") => &["outdir/x"],
             ("bench", "--out") => &["benchdir"],
+            ("bench", "--only") => &["grid"],
             (_, "--out") => &["t.jsonl"],
             (_, "--every") | (_, "--frame-every") => &["2"],
             (_, "--format") => &["jsonl"],
@@ -895,10 +896,11 @@ fn version_1_traces_are_still_read() {
     );
 }
 
-/// `rigidref bench --quick` (docs/performance.md) runs the smallest sizes of both families in
-/// rigidref and the rapier mirror and prints the table: one row per case with every column a
-/// number (times are not checked: this machine is shared), the fitted exponents of both
-/// families, the peak memory; and writes the same table to DIR/bench.md.
+/// `rigidref bench --quick` (docs/performance.md) runs the smallest sizes of both 3D families in
+/// rigidref and the rapier mirror and the smallest 2D factory pile, and prints the table: one
+/// row per case with every column a number (times are not checked: this machine is shared;
+/// the 2D row has no rapier columns), the fitted exponents, the targets read off the rows, the
+/// peak memory; and writes the same table to DIR/bench.md and the plot to DIR/bench.svg.
 #[test]
 fn bench_quick_prints_the_side_by_side_table() {
     let tmp = tempfile::tempdir().unwrap();
@@ -920,14 +922,22 @@ fn bench_quick_prints_the_side_by_side_table() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let cells_of = |row: &str| -> Vec<String> {
+        row.trim_matches('|')
+            .split('|')
+            .map(|c| c.trim().to_string())
+            .collect()
+    };
+    // The main table's rows (the exponents' table has rows named for the families alone).
     let rows: Vec<&str> = stdout
         .lines()
-        .filter(|l| l.starts_with("| stack grid") || l.starts_with("| cube pyramid"))
+        .filter(|l| l.starts_with("| stack grid ") || l.starts_with("| cube pyramid "))
+        .filter(|l| l.contains('×') || l.contains(" rows |"))
         .collect();
-    assert_eq!(rows.len(), 4 + 2, "{stdout}");
-    for row in &rows[..4] {
-        let cells: Vec<&str> = row.trim_matches('|').split('|').map(str::trim).collect();
-        assert_eq!(cells.len(), 13, "{row}");
+    assert_eq!(rows.len(), 4, "{stdout}");
+    for row in &rows {
+        let cells = cells_of(row);
+        assert_eq!(cells.len(), 17, "{row}");
         for cell in &cells[1..] {
             let x: f64 = cell.parse().unwrap_or_else(|_| panic!("{row}: {cell:?}"));
             assert!(x.is_finite() && x >= 0.0, "{row}");
@@ -935,9 +945,76 @@ fn bench_quick_prints_the_side_by_side_table() {
         // Both engines ran: positive times, and contacts (the stacks rest on the ground).
         assert!(cells[2].parse::<f64>().unwrap() > 0.0 && cells[4].parse::<f64>().unwrap() > 0.0);
     }
+    // The 2D factory's pile: rigidref's columns are numbers, rapier's are "–"; in contact.
+    let pile = stdout
+        .lines()
+        .find(|l| l.starts_with("| 2D factory 100 |"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let cells = cells_of(pile);
+    assert_eq!(cells.len(), 17, "{pile}");
+    assert!(cells[2].parse::<f64>().unwrap() > 50.0, "{pile}");
+    assert!(cells[3].parse::<f64>().unwrap() > 0.0, "{pile}");
+    assert_eq!(&cells[4], "–", "{pile}");
+    assert_eq!(&cells[16], "–", "{pile}");
     assert!(stdout.contains("Fitted exponents") && stdout.contains("Peak resident memory"));
+    // The targets are read off the rows, each said to be met or not.
+    assert!(stdout.contains("Targets, from the rows above"), "{stdout}");
+    let whole_step = stdout
+        .lines()
+        .find(|l| l.starts_with("| whole step ≤ 1.0× rapier's"))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    assert!(
+        whole_step.ends_with("| yes |") || whole_step.ends_with("| no |"),
+        "{whole_step}"
+    );
     let written = std::fs::read_to_string(tmp.path().join("b/bench.md")).unwrap();
     assert!(written.contains("| stack grid 2×2 |"), "{written}");
+    let plot = std::fs::read_to_string(tmp.path().join("b/bench.svg")).unwrap();
+    assert!(
+        plot.starts_with("<svg")
+            && plot.contains("rigidref: stack grid")
+            && plot.contains("rapier3d: cube pyramid"),
+        "{}",
+        &plot[..plot.len().min(400)]
+    );
+    // --only keeps the scenes whose name holds the text, and says so when none does.
+    let out = rigidref(
+        &[
+            "bench",
+            "--quick",
+            "--only",
+            "grid 2",
+            "--root",
+            root.to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success() && stdout.contains("| stack grid 2×2 |"),
+        "{stdout}"
+    );
+    assert!(
+        !stdout.contains("| stack grid 1×1 |") && !stdout.contains("| cube pyramid"),
+        "{stdout}"
+    );
+    let out = rigidref(
+        &[
+            "bench",
+            "--quick",
+            "--only",
+            "nothing",
+            "--root",
+            root.to_str().unwrap(),
+        ],
+        tmp.path(),
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("--only") && stderr.contains("stack grid 1×1"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     // And outside the project, a one-line error naming what is missing.
     let out = rigidref(&["bench", "--quick"], tmp.path());
     let stderr = String::from_utf8_lossy(&out.stderr);

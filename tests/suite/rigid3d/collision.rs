@@ -6,7 +6,7 @@ use crate::common;
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use rigidref::common::broad::{Aabb, overlapping_pairs};
+use rigidref::common::broad::{Aabb, overlapping_pairs, sweep_and_prune_pairs};
 use rigidref::rigid3d::body::RigidBody;
 use rigidref::rigid3d::collide::closest_point::brute_force_signed_distance;
 use rigidref::rigid3d::collide::ground::ground_contacts;
@@ -103,16 +103,26 @@ fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
     });
 }
 
+/// The grid broad phase and the sweep and prune both give exactly the pairs that testing all
+/// pairs gives: random boxes of mixed sizes, some wide enough (up to 40 m against cells of about
+/// 1 m) to be tested against every box instead of entered in the grid, some degenerate (a point)
+/// and some empty (min beyond max), which overlap nothing.
 #[test]
 fn broad_phase_finds_exactly_the_overlapping_pairs() {
     proptest!(common::seeded(300), |(
         boxes in proptest::collection::vec(
-            ((-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64), (0.0..2.0f64, 0.0..2.0f64, 0.0..2.0f64)),
-            0..40)
+            ((-5.0..5.0f64, -5.0..5.0f64, -5.0..5.0f64), (0.0..2.0f64, 0.0..2.0f64, 0.0..2.0f64), 0..10u8),
+            0..60)
     )| {
-        let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size)| {
+        let boxes: Vec<Aabb> = boxes.iter().map(|(lo, size, kind)| {
             let min = Vector3::new(lo.0, lo.1, lo.2);
-            Aabb { min, max: min + Vector3::new(size.0, size.1, size.2) }
+            let size = Vector3::new(size.0, size.1, size.2);
+            match kind {
+                0 => Aabb { min, max: min + size * 20.0 },     // wide
+                1 => Aabb { min, max: min },                   // a point
+                2 => Aabb { min: min + size, max: min - size }, // empty unless size is 0
+                _ => Aabb { min, max: min + size },
+            }
         }).collect();
         let mut all_pairs = Vec::new();
         for i in 0..boxes.len() {
@@ -122,8 +132,33 @@ fn broad_phase_finds_exactly_the_overlapping_pairs() {
                 }
             }
         }
-        prop_assert_eq!(overlapping_pairs(&boxes), all_pairs);
+        prop_assert_eq!(&overlapping_pairs(&boxes), &all_pairs);
+        prop_assert_eq!(&sweep_and_prune_pairs(&boxes), &all_pairs);
     });
+}
+
+/// A grid of 30 × 30 equal boxes just touching their neighbours (and a floor box under them
+/// all): every touching pair is found once, by the grid as by the sweep.
+#[test]
+fn broad_phase_finds_touching_neighbours_once_on_a_regular_grid() {
+    let mut boxes = vec![Aabb {
+        min: Vector3::new(-1.0, -1.0, -1.0),
+        max: Vector3::new(31.0, 0.0, 31.0),
+    }];
+    for i in 0..30 {
+        for k in 0..30 {
+            let min = Vector3::new(i as f64, 0.0, k as f64);
+            boxes.push(Aabb {
+                min,
+                max: min + Vector3::repeat(1.0),
+            });
+        }
+    }
+    let grid = overlapping_pairs(&boxes);
+    assert_eq!(grid, sweep_and_prune_pairs(&boxes));
+    // Each box touches the floor, its 4 side neighbours and 4 diagonal ones (corners touch):
+    // 900 floor pairs + 2·30·29 side + 2·29·29 diagonal.
+    assert_eq!(grid.len(), 900 + 2 * 30 * 29 + 2 * 29 * 29);
 }
 
 #[test]
