@@ -4,8 +4,8 @@ use anyhow::Context;
 use clap::Args;
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::tools::bench::{
-    BenchSettings, assignment_scene, cube_pyramid, factory_pile, markdown, peak_memory_bytes,
-    pyramid_grid, run_case, sphere_rain, stack_grid, svg,
+    BenchSettings, assignment_scene, cube_pyramid, cube_stack_grid, factory_pile, markdown,
+    peak_memory_bytes, pyramid_grid, run_case, sphere_rain, stack_grid, svg,
 };
 use rigidref::tools::factory::Pieces;
 use std::path::PathBuf;
@@ -14,8 +14,9 @@ use std::path::PathBuf;
 #[derive(Args)]
 #[command(after_long_help = "\
 Scenes, each at several sizes: grids of the tapered five-cube stack of scenes/box_stack.json
-(the vertex rule, 5 to 10 125 bodies), pyramids of the equal 0.5 m boxes of
-scenes/cube_stack.json (collision: complete) alone and in grids (to 10 140 bodies), spheres
+(the vertex rule, 5 to 10 125 bodies), the stack of four equal 0.5 m cubes of
+scenes/cube_stack.json (collision: complete) in grids (4 to 10 000 bodies), pyramids of those
+cubes alone and in grids (to 10 140 bodies), spheres
 raining onto the ground (scenes/sphere_drop.json's ball), the assignment's seven scenes (when
 ../shared is beside the project), and the 2D factory's pile of random polyominoes at 1 000,
 10 000 and 30 000 bodies and of bricks at 10 000 (rigidref only: there is no 2D rapier mirror). For each 3D scene, after warm-up steps, rounds of N steps in rigidref then N steps in the
@@ -63,7 +64,8 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     let ball = load_scene(&scenes.join("sphere_drop.json"))
         .map_err(|e| anyhow::anyhow!("{} (give --root the project folder)", e.0))?;
     type Sizes = &'static [usize];
-    let (grids, pyramids, pyramid_grids, rains, piles, settings): (
+    let (grids, cube_grids, pyramids, pyramid_grids, rains, piles, settings): (
+        Sizes,
         Sizes,
         Sizes,
         Sizes,
@@ -73,6 +75,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     ) = if args.quick {
         (
             &[1, 2],
+            &[],
             &[2, 3],
             &[],
             &[],
@@ -87,6 +90,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     } else {
         (
             &[1, 2, 4, 8, 12, 20, 32, 45],
+            &[1, 4, 8, 16, 32, 50],
             &[3, 5, 8, 12],
             &[2, 4, 8, 16, 26],
             &[2, 4, 8],
@@ -100,6 +104,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         )
     };
     let mut cases: Vec<_> = grids.iter().map(|&n| stack_grid(&stack, n, 1.0)).collect();
+    cases.extend(cube_grids.iter().map(|&n| cube_stack_grid(&cubes, n)));
     cases.extend(pyramids.iter().map(|&n| cube_pyramid(&cubes, n)));
     cases.extend(pyramid_grids.iter().map(|&k| pyramid_grid(&cubes, 5, k)));
     cases.extend(rains.iter().map(|&n| sphere_rain(&ball, n, 2, 1.2)));
@@ -148,6 +153,13 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         rows.push(run_case(case, &settings).map_err(|e| anyhow::anyhow!("{}: {e}", case.name))?);
     }
     let mut table = markdown(&rows, &settings);
+    if args.quick {
+        table.insert_str(
+            0,
+            "Quick run: the smallest sizes and short rounds, a check that the benchmark runs; its \
+             ratios and targets are not measurements (run without --quick for those).\n\n",
+        );
+    }
     if let Some(bytes) = peak_memory_bytes() {
         table.push_str(&format!(
             "\nPeak resident memory of the process: {:.1} MB.\n",

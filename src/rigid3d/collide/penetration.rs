@@ -8,10 +8,12 @@
 //! For convex bodies this is exactly the distance one body must move to separate them.
 
 use super::mesh::MeshCollider;
-use super::pieces::{Cuboid, pose};
+use super::pieces::{ClimbingSupport, Cuboid, pose};
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
+use parry3d_f64::math::Pose;
+use parry3d_f64::query::details::contact_support_map_support_map;
 
 /// Interpenetration deeper than this fraction of the smaller body's size (the smallest side of
 /// its bounding box in its own frame) means contacts were missed: a quarter.
@@ -66,22 +68,50 @@ pub fn pair_depth(
     body_j: &RigidBody,
     collider_j: &MeshCollider,
 ) -> f64 {
-    let (pose_i, pose_j) = (pose(body_i), pose(body_j));
+    let placed = |body: &RigidBody, collider: &MeshCollider| {
+        let pose = pose(body);
+        let boxes: Vec<Aabb> = collider
+            .pieces
+            .pieces
+            .iter()
+            .map(|p| p.world_aabb(&pose))
+            .collect();
+        (pose, boxes)
+    };
+    let (pose_i, boxes_i) = placed(body_i, collider_i);
+    let (pose_j, boxes_j) = placed(body_j, collider_j);
+    placed_pair_depth(
+        (collider_i, &pose_i, &boxes_i),
+        (collider_j, &pose_j, &boxes_j),
+    )
+}
+
+/// [`pair_depth`] for bodies whose pose and pieces' world boxes are already computed (once per
+/// body per measure, however many pairs it is in).
+fn placed_pair_depth(
+    (collider_i, pose_i, boxes_i): (&MeshCollider, &Pose, &[Aabb]),
+    (collider_j, pose_j, boxes_j): (&MeshCollider, &Pose, &[Aabb]),
+) -> f64 {
     let mut deepest = 0.0_f64;
-    for a in &collider_i.pieces.pieces {
-        let box_a = a.world_aabb(&pose_i);
-        for b in &collider_j.pieces.pieces {
-            if !box_a.overlaps(&b.world_aabb(&pose_j)) {
+    for (a, box_a) in collider_i.pieces.pieces.iter().zip(boxes_i) {
+        for (b, box_b) in collider_j.pieces.pieces.iter().zip(boxes_j) {
+            if !box_a.overlaps(box_b) {
                 continue;
             }
             // Two boxes: the exact separating-axis depth, a tenth of GJK/EPA's cost.
             if let (Some(ca), Some(cb)) = (&a.cuboid, &b.cuboid) {
-                deepest = deepest.max(Cuboid::depth(ca, &pose_i, cb, &pose_j));
+                deepest = deepest.max(Cuboid::depth(ca, pose_i, cb, pose_j));
                 continue;
             }
-            if let Ok(Some(contact)) =
-                parry3d_f64::query::contact(&pose_i, &a.shape, &pose_j, &b.shape, 0.0)
-            {
+            // Otherwise parry's GJK/EPA (what `parry3d_f64::query::contact` runs for two
+            // convex polyhedra) with supports found by climbing the hulls' vertex graphs.
+            let pos12 = pose_i.inv_mul(pose_j);
+            if let Some(contact) = contact_support_map_support_map(
+                &pos12,
+                &ClimbingSupport::new(a),
+                &ClimbingSupport::new(b),
+                0.0,
+            ) {
                 deepest = deepest.max(-contact.dist);
             }
         }
@@ -121,8 +151,10 @@ pub fn penetrations_in(
     out: &mut Vec<Penetration>,
 ) {
     out.clear();
-    for (i, body) in bodies.iter().enumerate() {
-        let depth = ground_depth(body);
+    for i in 0..bodies.len() {
+        // The lowest vertex is the bottom of the body's world box (the same numbers as
+        // `ground_depth`, without transforming the vertices a second time).
+        let depth = (-boxes[i].min.y).max(0.0);
         if depth > 0.0 {
             out.push(Penetration {
                 body1: i,
@@ -132,8 +164,32 @@ pub fn penetrations_in(
             });
         }
     }
-    for (i, j) in overlapping_pairs(boxes) {
-        let depth = pair_depth(&bodies[i], &colliders[i], &bodies[j], &colliders[j]);
+    let pairs = overlapping_pairs(boxes);
+    // Each body's pose and pieces' world boxes, once (a body is in several pairs).
+    let mut placed: Vec<Option<(Pose, std::ops::Range<usize>)>> = vec![None; bodies.len()];
+    let mut piece_boxes = Vec::new();
+    for &(i, j) in &pairs {
+        for k in [i, j] {
+            if placed[k].is_none() {
+                let pose = pose(&bodies[k]);
+                let start = piece_boxes.len();
+                piece_boxes.extend(
+                    colliders[k]
+                        .pieces
+                        .pieces
+                        .iter()
+                        .map(|p| p.world_aabb(&pose)),
+                );
+                placed[k] = Some((pose, start..piece_boxes.len()));
+            }
+        }
+    }
+    for (i, j) in pairs {
+        let side = |k: usize| {
+            let (pose, range) = placed[k].as_ref().expect("placed above");
+            (&colliders[k], pose, &piece_boxes[range.clone()])
+        };
+        let depth = placed_pair_depth(side(i), side(j));
         if depth > 0.0 {
             out.push(Penetration {
                 body1: i,
