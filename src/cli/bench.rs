@@ -30,7 +30,7 @@ speed targets are read off the table. Timings are this machine's: compare ratios
 (docs/performance.md).
 
   rigidref bench --quick                 # the smallest sizes, seconds
-  rigidref bench --out bench/            # the full table, about 15 minutes; bench/bench.md and
+  rigidref bench --out bench/            # the full table, about 5 minutes (20 sweeps); bench.md and
                                          # bench/bench.svg (ms per step against bodies, log-log)
   rigidref bench --only \"2D factory\"     # only the scenes whose name contains the text")]
 pub struct BenchArgs {
