@@ -14,24 +14,27 @@ use std::path::PathBuf;
 #[derive(Args)]
 #[command(after_long_help = "\
 Scenes, each at several sizes: grids of the tapered five-cube stack of scenes/box_stack.json
-(the vertex rule, 5 to 10 125 bodies), the stack of four equal 0.5 m cubes of
-scenes/cube_stack.json (collision: complete) in grids (4 to 10 000 bodies), pyramids of those
-cubes alone and in grids (to 10 140 bodies), spheres
-raining onto the ground (scenes/sphere_drop.json's ball), the assignment's seven scenes (when
-../shared is beside the project), and the 2D factory's pile of random polyominoes at 1 000,
-10 000 and 30 000 bodies and of bricks at 10 000 (rigidref only: there is no 2D rapier mirror). For each 3D scene, after warm-up steps, rounds of N steps in rigidref then N steps in the
+(the vertex rule, 5 to 10 125 bodies); grids of the stack of four equal 0.5 m cubes of
+scenes/cube_stack.json (collision: complete, 4 to 10 000 bodies); pyramids of those cubes,
+alone and in grids (to 10 140 bodies); balls raining onto the ground (scenes/sphere_drop.json's
+ball); the assignment's seven scenes (when ../shared is beside the project); and the 2D
+factory's pile of random polyominoes at 1 000, 10 000 and 30 000 bodies and of bricks at 10 000
+(rigidref only: there is no 2D rapier mirror).
+
+Each 3D scene runs, after warm-up steps, in rounds of N steps in rigidref then N steps in the
 rapier3d-f64 mirror of the same scene (same bodies, dt, gravity, μ; rapier's solver iterations =
-the PGS sweeps; sleeping off; one thread), interleaved so that both see the machine's slow and fast
-spells; the medians are reported. rigidref's step is split into detection, assembly, PGS,
+the PGS sweeps; sleeping off; one thread), interleaved so that both see the machine's slow and
+fast spells; the medians are reported. rigidref's step is split into detection, assembly, PGS,
 applying, integration and the penetration measure (2D: post-stabilisation), rapier's by its own
 timers (collision detection, constraint setup, velocity iterations), and PGS's cost per contact
-per sweep is given. Fitted exponents say how the cost grows with the bodies, and the issue's
-speed targets are read off the table. Timings are this machine's: compare ratios from one run
-(docs/performance.md).
+per sweep is given. Fitted exponents say how the cost grows with the bodies, and the speed
+targets of docs/performance.md are read off the table. Timings are this machine's: compare
+ratios from one run.
 
   rigidref bench --quick                 # the smallest sizes, seconds
-  rigidref bench --out bench/            # the full table, about 5 minutes (20 sweeps); bench.md and
-                                         # bench/bench.svg (ms per step against bodies, log-log)
+  rigidref bench --out bench/            # the full table, about 5 minutes (20 sweeps);
+                                         # bench/bench.md and bench/bench.svg (ms per step
+                                         # against bodies, log-log)
   rigidref bench --only \"2D factory\"     # only the scenes whose name contains the text")]
 pub struct BenchArgs {
     /// Only the smallest sizes and short rounds (a check that it runs, not a measurement).
@@ -40,7 +43,7 @@ pub struct BenchArgs {
     /// Write the table to DIR/bench.md and the plot to DIR/bench.svg as well.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// PGS sweeps (and rapier solver iterations) [default: 20].
+    /// PGS sweeps in 3D (and rapier's solver iterations); the 2D factory keeps its 10.
     #[arg(long, default_value_t = 20)]
     pub iterations: u32,
     /// Only the scenes whose name contains this text (e.g. "grid 8", "pyramid"); an error when none does.
