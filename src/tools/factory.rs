@@ -389,6 +389,12 @@ fn write_view_page(
     std::fs::write(path, html(&data)).map_err(|e| format!("{}: cannot write: {e}", path.display()))
 }
 
+/// Block discs of different bodies overlapping by more than this at the end of a factory run, in
+/// blocks, mean the pile did not hold (a tenth of a disc's diameter √2; a sound pile ends near
+/// the post-stabilisation slop, 0.01): a 10 000-brick run with the default 10 sweeps ends with
+/// discs through each other (docs/performance.md §"Targets of issue 20").
+pub const CRUSHED_OVERLAP: f64 = 0.1 * std::f64::consts::SQRT_2;
+
 /// Rounds of re-timing: each problem's time is the median of this many solves.
 pub const RETIME_ROUNDS: usize = 5;
 
@@ -528,7 +534,8 @@ pub struct FactoryReport {
 }
 
 impl FactoryReport {
-    /// What makes the run unsound, one line each: bodies outside the container, or a kinetic
+    /// What makes the run unsound, one line each: bodies outside the container, a pile that did
+    /// not hold (discs overlapping by more than [`CRUSHED_OVERLAP`] at the end), or a kinetic
     /// energy beyond what falling could give (the run blew up). Empty for a sound run.
     pub fn problems(&self) -> Vec<String> {
         let mut out = Vec::new();
@@ -550,6 +557,12 @@ impl FactoryReport {
                 "{} bodies ended outside the container (escaped or spilled), e.g. {}",
                 self.outside_container_at_end,
                 first.join(", ")
+            ));
+        }
+        if self.deepest_overlap_at_end > CRUSHED_OVERLAP {
+            out.push(format!(
+                "the pile did not hold: block discs of different bodies overlap by {:.3} blocks at the end, more than {CRUSHED_OVERLAP:.3} (a tenth of their diameter); the solver's sweeps do not carry a pile this deep (more --iterations or --substeps, docs/performance.md)",
+                self.deepest_overlap_at_end
             ));
         }
         if self.kinetic_energy_at_end > self.kinetic_energy_bound {

@@ -267,6 +267,60 @@ fn a_factory_run_that_loses_bodies_warns_and_fails() {
     assert!(tmp.path().join("f/report.json").is_file());
 }
 
+/// A pile the solver cannot carry (300 polyominoes with 2 sweeps instead of the default 10)
+/// ends with block discs through each other: the factory says the pile did not hold, naming the
+/// overlap, the bound and the options that help, and exits with status 1 after writing its
+/// report. The default 10 sweeps on the same pile end sound (overlap about the slop).
+#[test]
+fn a_factory_pile_that_does_not_hold_warns_and_fails() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |iterations: &str, dir: &str| {
+        rigidref(
+            &[
+                "factory",
+                "--bodies",
+                "300",
+                "--iterations",
+                iterations,
+                "--out",
+                tmp.path().join(dir).to_str().unwrap(),
+            ],
+            tmp.path(),
+        )
+    };
+    let out = run("2", "weak");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("warning: the pile did not hold")
+            && stderr.contains("0.141")
+            && stderr.contains("--iterations"),
+        "{stderr}"
+    );
+    // Only that warning: nothing escaped.
+    assert!(
+        !stderr
+            .lines()
+            .any(|l| l.starts_with("warning:") && l.contains("outside the container")),
+        "{stderr}"
+    );
+    assert!(tmp.path().join("weak/report.json").is_file());
+    let out = run("10", "default");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("default/report.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        report["deepest_overlap_at_end"].as_f64().unwrap() < 0.05,
+        "{report}"
+    );
+}
+
 /// The nut-bag search of docs/blocks2d.md §"Challenges" (ignored: about 15 minutes): nuts3.png
 /// shaken vertically with amplitude A ∈ {5, 15, 40} blocks and dimensionless acceleration
 /// Γ = A ω² / g ∈ {1.5, 3, 6}, 400 time units each, the defaults otherwise. The documented result
