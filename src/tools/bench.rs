@@ -11,6 +11,7 @@ use crate::blocks2d::world::World2;
 use crate::rigid3d::collide::CollisionMethod;
 use crate::rigid3d::scene::{BodyDescription, Scene};
 use crate::rigid3d::world::{PhaseTimes, World};
+use crate::sim::Simulation;
 use crate::tools::factory::{Pieces, packed_pile};
 use crate::verify::references::rapier::RapierMirror;
 use nalgebra::Vector3;
@@ -320,27 +321,27 @@ struct Rounds {
 }
 
 impl Rounds {
-    /// Times `steps` steps of `step`; `phases` reads the world's phase clocks and `solves` the
-    /// (contacts × sweeps, PGS seconds) of the step just run.
-    fn round(
+    /// Times `steps` steps of `world`; `phases` reads its phase clocks. Counts the contacts ×
+    /// sweeps and PGS seconds of every solve of the steps, for PGS's cost per contact-sweep.
+    fn round<S: Simulation<D, R>, const D: usize, const R: usize>(
         &mut self,
         steps: u64,
-        mut step: impl FnMut() -> Result<(), String>,
-        phases: impl Fn() -> PhaseTimes,
-        solves: impl Fn() -> (f64, f64),
+        world: &mut S,
+        phases: impl Fn(&S) -> PhaseTimes,
     ) -> Result<(), String> {
-        let before = phases();
+        let before = phases(world);
         let (mut contact_sweeps, mut solve_seconds) = (0.0, 0.0);
         let clock = Instant::now();
         for _ in 0..steps {
-            step()?;
-            let (cs, ss) = solves();
-            contact_sweeps += cs;
-            solve_seconds += ss;
+            world.step().map_err(|e| e.to_string())?;
+            for solve in world.solves() {
+                contact_sweeps += solve.contacts.len() as f64 * f64::from(solve.report.iterations);
+                solve_seconds += solve.solve_seconds;
+            }
         }
         self.step_ms
             .push(clock.elapsed().as_secs_f64() * 1e3 / steps as f64);
-        let p = phase_delta(&phases(), &before);
+        let p = phase_delta(&phases(world), &before);
         self.phases.push(p.map(|x| x * 1e3 / steps as f64));
         self.per_contact.push(if contact_sweeps > 0.0 {
             solve_seconds * 1e9 / contact_sweeps
@@ -367,31 +368,18 @@ pub fn run_case(case: &BenchCase, s: &BenchSettings) -> Result<BenchRow, String>
 fn run_3d(case: &BenchCase, scene: &Scene, s: &BenchSettings) -> Result<BenchRow, String> {
     let mut scene = scene.clone();
     scene.params.pgs_iterations = s.iterations;
-    let ours = std::cell::RefCell::new(World::new(&scene)?);
+    let mut ours = World::new(&scene)?;
     let mut mirror = RapierMirror::new(&scene)?;
     mirror.set_solver_iterations(s.iterations as usize);
     mirror.enable_timers();
     for _ in 0..s.warmup {
-        ours.borrow_mut().step().map_err(|e| e.to_string())?;
+        ours.step().map_err(|e| e.to_string())?;
         mirror.step();
     }
     let mut rounds = Rounds::default();
     let (mut rapier_ms, mut rapier_phases) = (Vec::new(), Vec::new());
     for _ in 0..s.rounds {
-        rounds.round(
-            s.steps,
-            || ours.borrow_mut().step().map_err(|e| e.to_string()),
-            || ours.borrow().phase_times,
-            || {
-                let w = ours.borrow();
-                w.solves.iter().fold((0.0, 0.0), |(cs, ss), solve| {
-                    (
-                        cs + solve.contacts.len() as f64 * f64::from(solve.report.iterations),
-                        ss + solve.solve_seconds,
-                    )
-                })
-            },
-        )?;
+        rounds.round(s.steps, &mut ours, |w: &World| w.phase_times)?;
         let mut phases = [0.0; 3];
         let clock = Instant::now();
         for _ in 0..s.steps {
@@ -404,7 +392,6 @@ fn run_3d(case: &BenchCase, scene: &Scene, s: &BenchSettings) -> Result<BenchRow
         rapier_ms.push(clock.elapsed().as_secs_f64() * 1e3 / s.steps as f64);
         rapier_phases.push(phases.map(|x| x / s.steps as f64));
     }
-    let ours = ours.into_inner();
     Ok(BenchRow {
         name: case.name.clone(),
         family: case.family,
@@ -427,28 +414,14 @@ fn run_pile(
     pieces: Pieces,
     s: &BenchSettings,
 ) -> Result<BenchRow, String> {
-    let world = std::cell::RefCell::new(packed_pile(bodies, pieces, 1));
+    let mut world: World2 = packed_pile(bodies, pieces, 1);
     for _ in 0..s.warmup.max(PILE_WARMUP) {
-        world.borrow_mut().step().map_err(|e| e.to_string())?;
+        world.step().map_err(|e| e.to_string())?;
     }
     let mut rounds = Rounds::default();
     for _ in 0..s.rounds {
-        rounds.round(
-            s.steps,
-            || world.borrow_mut().step().map_err(|e| e.to_string()),
-            || world.borrow().phase_times,
-            || {
-                let w = world.borrow();
-                w.solves.iter().fold((0.0, 0.0), |(cs, ss), solve| {
-                    (
-                        cs + solve.contacts.len() as f64 * f64::from(solve.report.iterations),
-                        ss + solve.solve_seconds,
-                    )
-                })
-            },
-        )?;
+        rounds.round(s.steps, &mut world, |w: &World2| w.phase_times)?;
     }
-    let world: World2 = world.into_inner();
     Ok(BenchRow {
         name: case.name.clone(),
         family: case.family,
@@ -745,17 +718,7 @@ pub fn svg(rows: &[BenchRow], path: &std::path::Path, title: &str) -> Result<(),
         .y_desc("ms per step")
         .draw()
         .map_err(|e| err(&e))?;
-    let palette = [
-        RGBColor(31, 119, 180),
-        RGBColor(214, 39, 40),
-        RGBColor(44, 160, 44),
-        RGBColor(148, 103, 189),
-        RGBColor(255, 127, 14),
-        RGBColor(23, 190, 207),
-        RGBColor(140, 86, 75),
-        RGBColor(188, 189, 34),
-        RGBColor(127, 127, 127),
-    ];
+    let palette = crate::tools::plot::COLOURS;
     for (k, family) in families(rows).into_iter().enumerate() {
         let colour = palette[k % palette.len()];
         let of = |g: &dyn Fn(&BenchRow) -> Option<f64>| -> Vec<(f64, f64)> {

@@ -23,7 +23,7 @@ pub struct PlottedRun {
 const PANEL: (u32, u32) = (1000, 300);
 
 /// Line colours, by series (the first run) and then by run.
-const COLOURS: [RGBColor; 8] = [
+pub(crate) const COLOURS: [RGBColor; 8] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),

@@ -49,17 +49,6 @@ pub fn mesh_size(mesh: &TriMesh) -> f64 {
     Aabb::around(mesh.vertices.iter().copied()).smallest_side()
 }
 
-/// Depth of `body` below the ground plane, m (0 when no vertex is below it).
-pub fn ground_depth(body: &RigidBody) -> f64 {
-    let lowest = body
-        .mesh
-        .vertices
-        .iter()
-        .map(|v| (body.x + body.rotation * v).y)
-        .fold(f64::INFINITY, f64::min);
-    (-lowest).max(0.0)
-}
-
 /// Penetration depth of bodies `i` and `j`, m: the largest over pairs of their convex pieces of
 /// parry's contact depth (0 when no pieces overlap).
 pub fn pair_depth(
@@ -152,8 +141,7 @@ pub fn penetrations_in(
 ) {
     out.clear();
     for i in 0..bodies.len() {
-        // The lowest vertex is the bottom of the body's world box (the same numbers as
-        // `ground_depth`, without transforming the vertices a second time).
+        // Body and ground: the depth of the lowest vertex, the bottom of the body's world box.
         let depth = (-boxes[i].min.y).max(0.0);
         if depth > 0.0 {
             out.push(Penetration {
