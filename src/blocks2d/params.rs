@@ -72,6 +72,9 @@ pub struct Params2 {
     /// Shock propagation after each velocity solve (scene key `shock_propagation`; default off).
     /// docs/blocks2d.md §"Shock propagation".
     pub shock_propagation: bool,
+    /// The contact solver (scene key `solver`): `pgs` (default, the assignment's) or `newton`
+    /// (the exact solver, docs/contact.md §"Newton solver"); post-stabilisation uses it too.
+    pub solver: crate::solve::Solver,
 }
 
 /// The most substeps one step takes with adaptive substeps: a body faster than
@@ -144,6 +147,7 @@ impl Params2 {
             penalty_damping: 10.0,
             max_travel: None,
             shock_propagation: false,
+            solver: crate::solve::Solver::Pgs,
         }
     }
 

@@ -20,7 +20,7 @@ use super::params::{ContactModel, Params2, Preset};
 use super::world::{ScriptedImpulse, Shake, World2};
 use crate::common::scene_json::{Overrides, SceneError};
 use crate::common::values::{Count, NonNegative, Positive};
-use crate::solve::{ContactOrder, LocalSolve};
+use crate::solve::{ContactOrder, LocalSolve, Solver};
 use nalgebra::Vector2;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -78,6 +78,7 @@ struct ParametersFile2 {
     white_threshold: Option<NonNegative>,
     max_travel: Option<Positive>,
     shock_propagation: Option<bool>,
+    solver: Option<Solver>,
 }
 
 #[derive(Deserialize)]
@@ -161,6 +162,8 @@ pub struct Parameters2 {
     pub max_travel: Option<f64>,
     /// Shock propagation after each velocity solve.
     pub shock_propagation: Option<bool>,
+    /// The contact solver: PGS or the exact Newton solver.
+    pub solver: Option<Solver>,
 }
 
 /// A parameter out of its range: the key (as in a scene file) and what is wrong.
@@ -195,6 +198,7 @@ impl Parameters2 {
             ("white_threshold", self.white_threshold.is_some()),
             ("max_travel", self.max_travel.is_some()),
             ("shock_propagation", self.shock_propagation.is_some()),
+            ("solver", self.solver.is_some()),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -224,6 +228,7 @@ impl Parameters2 {
             contact_model: self.contact_model.unwrap_or(d.contact_model),
             max_travel: self.max_travel.or(d.max_travel),
             shock_propagation: self.shock_propagation.unwrap_or(d.shock_propagation),
+            solver: self.solver.unwrap_or(d.solver),
             ..d
         };
         let white_threshold = self
@@ -273,6 +278,12 @@ impl Parameters2 {
         {
             return fail("max_travel", format!("must be a positive number, got {t}"));
         }
+        if p.shock_propagation && p.solver == Solver::Newton {
+            return fail(
+                "shock_propagation",
+                "is a pass after PGS; with solver newton every solve is exact already: turn one of them off".into(),
+            );
+        }
         if !(0.0..1.0).contains(&white_threshold) {
             return fail(
                 "white_threshold",
@@ -306,6 +317,7 @@ impl Parameters2 {
             white_threshold: self.white_threshold.or(other.white_threshold),
             max_travel: self.max_travel.or(other.max_travel),
             shock_propagation: self.shock_propagation.or(other.shock_propagation),
+            solver: self.solver.or(other.solver),
         }
     }
 }
@@ -334,6 +346,7 @@ impl ParametersFile2 {
             white_threshold: p.white_threshold.map(|x| x.0),
             max_travel: p.max_travel.map(|x| x.0),
             shock_propagation: p.shock_propagation,
+            solver: p.solver,
         }
     }
 }

@@ -9,8 +9,8 @@
 //!    the penalty model its contact springs;
 //! 4. velocities: v += h f/m, ω += h τ/I;
 //! 5. contacts and pins: assemble the shared contact problem with 3 degrees of freedom per body
-//!    ([`assemble_problem2`], the pins' free rows after the contacts) → solve with the same PGS
-//!    as 3D ([`crate::solve::solve_pgs`]) → apply u⁺ = u + M⁻¹Jᵀλ (with the penalty model, the
+//!    ([`assemble_problem2`], the pins' free rows after the contacts) → solve with the same
+//!    solver as 3D ([`crate::solve::solve`]: PGS, or Newton with `solver: newton`) → apply u⁺ = u + M⁻¹Jᵀλ (with the penalty model, the
 //!    pins alone);
 //!    With shock propagation on, a layer-by-layer pass follows the solve
 //!    ([`crate::solve::shock::propagate_shock`]);
@@ -31,7 +31,7 @@ use crate::sim::{
     BodyId, ContactGeometry, NonFinite, PhaseTimes, Simulation, SubstepSolve, readable,
 };
 use crate::solve::shock::propagate_shock;
-use crate::solve::{PgsSettings, PgsWorkspace, SolveReport, solve_pgs};
+use crate::solve::{PgsSettings, SolveReport, SolverSettings, SolverWorkspace};
 use nalgebra::{SVector, Vector2, Vector3};
 use std::time::Instant;
 
@@ -105,11 +105,11 @@ pub struct World2 {
     pin_warm: Vec<SVector<f64, 2>>,
     /// Solve records of earlier steps, kept for their buffers so that a step does not allocate.
     spare_solves: Vec<Solve2>,
-    workspace: PgsWorkspace<3, 2>,
+    workspace: SolverWorkspace<3, 2>,
     /// Post-stabilisation's problem, impulses and workspace, reused from substep to substep.
     position_problem: ContactProblem2,
     position_lambda: Vec<SVector<f64, 2>>,
-    position_workspace: PgsWorkspace<3, 2>,
+    position_workspace: SolverWorkspace<3, 2>,
     /// Each body's (vx, vy, ω) before the current substep's forces: restitution's approach speed.
     before_kick: Vec<Vector3<f64>>,
     warm: WarmStart2,
@@ -140,10 +140,10 @@ impl World2 {
             pins: Vec::new(),
             pin_warm: Vec::new(),
             spare_solves: Vec::new(),
-            workspace: PgsWorkspace::new(params.seed),
+            workspace: SolverWorkspace::new(params.seed),
             position_problem: empty_problem2(),
             position_lambda: Vec::new(),
-            position_workspace: PgsWorkspace::new(params.seed),
+            position_workspace: SolverWorkspace::new(params.seed),
             before_kick: Vec::new(),
             warm: WarmStart2::default(),
             shock_lambda: Vec::new(),
@@ -170,6 +170,16 @@ impl World2 {
             tolerance: self.params.tolerance,
             order: self.params.order,
             local: self.params.local_solve,
+        }
+    }
+
+    /// The solver settings of the velocity solve and of post-stabilisation: the parameters'
+    /// `solver` and each solver's settings (Newton's are its defaults).
+    pub fn solver_settings(&self) -> SolverSettings {
+        SolverSettings {
+            solver: self.params.solver,
+            pgs: self.pgs_settings(),
+            newton: Default::default(),
         }
     }
 
@@ -321,9 +331,9 @@ impl World2 {
         self.append_pins(&mut solve.problem);
         self.phase_times.assemble += clock.elapsed().as_secs_f64();
         let clock = Instant::now();
-        let settings = self.pgs_settings();
+        let settings = self.solver_settings();
         let (report, wall, cpu) = crate::common::timing::timed(|| {
-            solve_pgs(
+            crate::solve::solve(
                 &solve.problem,
                 &settings,
                 &mut self.workspace,
@@ -340,8 +350,8 @@ impl World2 {
             self.shock_lambda.clone_from(&solve.lambda);
             let shock = propagate_shock(
                 &solve.problem,
-                &settings,
-                &mut self.workspace,
+                &settings.pgs,
+                &mut self.workspace.pgs,
                 &mut self.shock_lambda,
             );
             self.shock_layers = self.shock_layers.max(shock.layers);
@@ -418,8 +428,8 @@ impl World2 {
             pc.b = pin.error(&self.bodies) / h;
             pc.lambda0 = SVector::zeros();
         }
-        let settings = self.pgs_settings();
-        solve_pgs(
+        let settings = self.solver_settings();
+        crate::solve::solve(
             &self.position_problem,
             &settings,
             &mut self.position_workspace,

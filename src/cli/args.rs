@@ -229,6 +229,7 @@ impl Blocks2dOptions {
             white_threshold: self.white_threshold,
             max_travel: self.max_travel,
             shock_propagation: self.shock_propagation.then_some(true),
+            solver: None,
         }
     }
 }

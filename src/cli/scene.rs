@@ -48,6 +48,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     }
     println!("pgs_order        {:?} (seed {})", p.pgs_order, p.pgs_seed);
     println!("pgs_local_solve  {}", p.pgs_local_solve.name());
+    println!("solver           {}", p.solver.name());
     println!("collision        {}", p.collision.name());
     println!("culling          {}", p.culling.name());
     for (i, b) in scene.bodies.iter().enumerate() {
@@ -114,6 +115,7 @@ fn scene2(path: &std::path::Path, sets: &super::args::SceneSets) -> anyhow::Resu
     }
     println!("order            {:?} (seed {})", p.order, p.seed);
     println!("pgs_local_solve  {}", p.local_solve.name());
+    println!("solver           {}", p.solver.name());
     println!("warm_start       {}", p.warm_start);
     println!(
         "post_stabilization {} (slop {})",

@@ -15,9 +15,14 @@ use serde::{Deserialize, Serialize};
 /// (docs/trace-format.md), absent when the frame solved no contact problem. Both systems.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SolverRecord {
+    /// The method that produced the frame's answers: `pgs`, `newton`, or `proximal` when the
+    /// Newton solver's proximal fallback produced at least one of them (docs/contact.md §"Newton
+    /// solver"). Traces written before the Newton solver have no key: `pgs`.
+    #[serde(default)]
+    pub solver: crate::problem::SolveMethod,
     /// Contact solves in the frame (one per substep with contacts).
     pub solves: u32,
-    /// PGS sweeps, summed over the frame's solves.
+    /// Iterations, summed over the frame's solves: PGS sweeps, or Newton iterations.
     pub sweeps: u64,
     /// The largest residual a solve of the frame ended with (m/s in 3D, blocks/time in 2D).
     pub residual: f64,
@@ -35,7 +40,13 @@ impl SolverRecord {
         if solves.is_empty() {
             return None;
         }
+        let method = solves
+            .iter()
+            .map(|s| s.report.method)
+            .max_by_key(|m| *m as u8)
+            .unwrap_or_default();
         let mut r = SolverRecord {
+            solver: method,
             solves: solves.len() as u32,
             sweeps: 0,
             residual: 0.0,

@@ -284,7 +284,7 @@ pub mod json;
 /// What a solve did (any solver's answer to the problem: PGS's, or a reference's).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct SolveReport {
-    /// Sweeps run.
+    /// Iterations run: PGS sweeps, or Newton iterations (the fallback's included).
     pub iterations: u32,
     /// Residual of the returned λ (docs/contact.md §"Residual"), m/s.
     pub residual: f64,
@@ -293,4 +293,31 @@ pub struct SolveReport {
     /// For cone friction: the exact Coulomb law's residual of the returned λ (De Saxcé's natural
     /// map, docs/contact.md §"The exact Coulomb residual"), m/s; `None` for box friction.
     pub coulomb_residual: Option<f64>,
+    /// The method that produced the answer.
+    pub method: SolveMethod,
 }
+
+/// Which method produced an answer.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolveMethod {
+    /// Projected Gauss–Seidel (`crate::solve::pgs`).
+    #[default]
+    Pgs,
+    /// The semismooth Newton iteration alone.
+    Newton,
+    /// Newton stalled; the proximal-point fallback produced the answer.
+    Proximal,
+}
+
+impl SolveMethod {
+    /// The spelling in reports and traces.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolveMethod::Pgs => "pgs",
+            SolveMethod::Newton => "newton",
+            SolveMethod::Proximal => "proximal",
+        }
+    }
+}
+

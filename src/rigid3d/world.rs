@@ -5,7 +5,8 @@
 //! 1. zero the force accumulators and add gravity, f = m g;
 //! 2. step velocities (symplectic Euler, velocity half): [`RigidBody::step_velocity`];
 //! 3. contact processing, when `check_collisions` is on: detect ([`crate::rigid3d::collide`]) →
-//!    assemble the contact problem ([`crate::rigid3d::assemble`]) → solve ([`crate::solve::pgs`]) →
+//!    assemble the contact problem ([`crate::rigid3d::assemble`]) → solve ([`crate::solve::solve`]:
+//!    PGS, or the exact Newton solver with `solver: newton`) →
 //!    apply the velocity changes u⁺ = u + M⁻¹Jᵀλ;
 //! 4. step positions with the new velocities: [`RigidBody::step_position`];
 //! 5. check that every state component is finite.
@@ -25,7 +26,7 @@ use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
 pub use crate::sim::PhaseTimes;
 use crate::sim::{BodyId, ContactGeometry, NonFinite, Simulation, SubstepSolve};
-use crate::solve::{PgsSettings, PgsWorkspace, solve_pgs};
+use crate::solve::{PgsSettings, SolverSettings, SolverWorkspace, solve};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -48,7 +49,7 @@ pub struct World {
     colliders: Vec<MeshCollider>,
     detector: Detector,
     warm_start: WarmStart,
-    workspace: PgsWorkspace<6, 3>,
+    workspace: SolverWorkspace<6, 3>,
     contact_buffer: Vec<Contact>,
     /// Wall time spent in each phase of the step since the world was made (`rigidref bench`).
     pub phase_times: PhaseTimes,
@@ -121,7 +122,7 @@ impl World {
             colliders,
             detector: Detector::default(),
             warm_start: WarmStart::new(scene.params.warm_start),
-            workspace: PgsWorkspace::new(scene.params.pgs_seed),
+            workspace: SolverWorkspace::new(scene.params.pgs_seed),
             contact_buffer: Vec::new(),
             phase_times: PhaseTimes::default(),
         };
@@ -171,6 +172,16 @@ impl World {
         }
     }
 
+    /// The solver settings: the scene's `solver` and each solver's settings (Newton's are its
+    /// defaults, docs/contact.md §"Newton solver").
+    pub fn solver_settings(&self) -> SolverSettings {
+        SolverSettings {
+            solver: self.params.solver,
+            pgs: self.pgs_settings(),
+            newton: Default::default(),
+        }
+    }
+
     /// Contact processing of one substep: detect → assemble → solve → apply. Changes velocities
     /// only. Records the solve in `solves` when there were contacts.
     fn process_contacts(&mut self, substep: u32) {
@@ -197,9 +208,9 @@ impl World {
         );
         self.phase_times.assemble += clock.elapsed().as_secs_f64();
         let mut lambda = Vec::with_capacity(contacts.len());
-        let settings = self.pgs_settings();
+        let settings = self.solver_settings();
         let (report, solve_seconds, cpu) = crate::common::timing::timed(|| {
-            solve_pgs(&problem, &settings, &mut self.workspace, &mut lambda)
+            solve(&problem, &settings, &mut self.workspace, &mut lambda)
         });
         self.phase_times.solve += solve_seconds;
         let clock = Instant::now();

@@ -290,6 +290,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         converged,
         coulomb_residual: (problem.friction == FrictionModel::Cone)
             .then(|| workspace.coulomb_residual(problem, lambda)),
+        method: crate::problem::SolveMethod::Pgs,
     }
 }
 

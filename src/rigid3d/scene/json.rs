@@ -8,7 +8,7 @@ use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::rigid3d::collide::{CollisionMethod, Culling};
-use crate::solve::{ContactOrder, LocalSolve};
+use crate::solve::{ContactOrder, LocalSolve, Solver};
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
 
@@ -45,6 +45,7 @@ pub(super) struct SimParametersJson {
     pgs_order: Option<ContactOrder>,
     pgs_seed: Option<u64>,
     pgs_local_solve: Option<LocalSolve>,
+    solver: Option<Solver>,
     collision: Option<CollisionMethod>,
     culling: Option<Culling>,
 }
@@ -74,6 +75,7 @@ impl SimParametersJson {
             pgs_order: self.pgs_order.unwrap_or_default(),
             pgs_seed: self.pgs_seed.unwrap_or(0),
             pgs_local_solve: self.pgs_local_solve.unwrap_or_default(),
+            solver: self.solver.unwrap_or_default(),
             collision: self.collision.unwrap_or_default(),
             culling: self.culling.unwrap_or_default(),
         }

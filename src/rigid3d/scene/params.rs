@@ -3,7 +3,7 @@
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::rigid3d::collide::{CollisionMethod, Culling};
-use crate::solve::{ContactOrder, LocalSolve};
+use crate::solve::{ContactOrder, LocalSolve, Solver};
 use nalgebra::Vector3;
 
 /// Simulation parameters: the first entry of the scene's `sim_parameters`, with the starter's
@@ -50,6 +50,9 @@ pub struct SimParameters {
     /// `pgs_local_solve`: `rows` (default, the assignment's row-by-row update) or `exact` (each
     /// visit solves its contact's 3 × 3 problem exactly; docs/contact.md §"Exact local solve").
     pub pgs_local_solve: LocalSolve,
+    /// `solver`: `pgs` (default, the assignment's projected Gauss–Seidel) or `newton` (the exact
+    /// solver; docs/contact.md §"Newton solver").
+    pub solver: Solver,
     /// `collision`: `vertices` (default, the assignment's) or `complete`.
     pub collision: CollisionMethod,
     /// `culling`: `bvh` (default) or `sphere_tree`: how a mesh's vertices are culled before the

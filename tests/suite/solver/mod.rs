@@ -3,6 +3,7 @@
 mod coulomb;
 mod derivations;
 mod local_solve;
+mod newton;
 mod pgs;
 mod problem;
 mod qp;

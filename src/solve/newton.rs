@@ -1,0 +1,718 @@
+//! The exact solver: a semismooth Newton method on the Alart–Curnier function, independent of
+//! PGS (it shares the problem and nothing else). docs/contact.md §"Newton solver".
+//!
+//! With W = A + C the Delassus operator with compliance (kg⁻¹) and w = W λ + b, each contact's
+//! law is written as an equation F_k(λ_k, w_k) = 0 in velocity units (m/s), Alart and Curnier's
+//! function with the radius μ max(0, s_n), s_n = λn − w_n / a_n:
+//!
+//!   F_n = a_n (λn − max(0, s_n)) = min(a_n λn, w_n)             (0 ≤ λn ⊥ w_n ≥ 0)
+//!   F_r = a_r (λ_r − clamp(λ_r − w_r / a_r, ±μ max(0, s_n)))    (box row r)
+//!   F_t = ρ (λt − proj_disk(λt − w_t / ρ, μ max(0, s_n)))        (disk, the pair of rows)
+//!   F_r = w_r                                                   (a joint's free row)
+//!
+//! with a_r = W_rr and ρ the largest eigenvalue of the contact's tangent block. F = 0 exactly at
+//! the solutions (there s_n = λn whenever λn > 0, and the radius is 0 when λn = 0). Newton solves
+//! F(λ) = 0 with the generalized Jacobian ∂F = D_λ + D_w W (D_λ, D_w block diagonal, read off
+//! the branch each row is on), regularised as ∂F + D_w H with H = ε diag(W) and ε → 0 with ‖F‖
+//! (a proximal term centred at the current iterate, so the equation is unchanged: it only makes
+//! the linear system solvable where W is rank deficient), globalised by an Armijo line search on
+//! θ = ½‖F‖². Where that stalls or runs out of iterations, proximal-point iterations take over:
+//! each solves the problem with W + H and b − H λ_c exactly (by the same Newton iteration) about
+//! a centre λ_c, with H larger where the inner solve fails and smaller where it succeeds; a fixed
+//! point is a solution of the original problem. The report says which produced the answer.
+//!
+//! The linear systems are solved densely (nalgebra's LU with partial pivoting) up to
+//! [`DENSE_ROWS`] rows, and above that by faer's sparse LU on the block pattern of W (contacts
+//! that share a body).
+
+use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveMethod, SolveReport};
+use crate::solve::residual::{coulomb_residual, residual};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
+
+/// Rows up to which the Newton system is factorised densely; above, by faer's sparse LU.
+pub const DENSE_ROWS: usize = 120;
+
+/// How long the Newton solver runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonSettings {
+    /// Newton iterations at most, before the proximal fallback (default 50).
+    pub max_iterations: u32,
+    /// Converged when the residual (docs/contact.md §"Residual") and, for cone friction, the
+    /// exact Coulomb residual of the answer are both at or below this, m/s (default 1e-10, the
+    /// level at which `rigidref crosscheck` counts a solve as converged).
+    pub tolerance: f64,
+    /// Proximal-point iterations at most in the fallback (default 60).
+    pub proximal_iterations: u32,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            max_iterations: 50,
+            tolerance: 1e-10,
+            proximal_iterations: 60,
+        }
+    }
+}
+
+/// Buffers the Newton solver keeps between solves.
+#[derive(Clone, Debug, Default)]
+pub struct NewtonWorkspace<const D: usize> {
+    /// Δu per body after the last solve: M⁻¹ Jᵀ λ.
+    delta_velocity: Vec<SVector<f64, D>>,
+}
+
+impl<const D: usize> NewtonWorkspace<D> {
+    /// Δu of body `i` after the last solve: add it to the body's velocity.
+    pub fn delta_velocity(&self, i: usize) -> &SVector<f64, D> {
+        &self.delta_velocity[i]
+    }
+}
+
+/// The contact law of one constraint, with its scales.
+#[derive(Clone, Copy, Debug)]
+enum Law {
+    /// Normal row plus friction rows each in [−μλn, μλn] (box, and the 2D interval).
+    Box { mu: f64 },
+    /// Normal row plus the pair of friction rows in the disk of radius μλn, with scale ρ.
+    Disk { mu: f64, rho: f64 },
+    /// Every row free: w = 0.
+    Free,
+}
+
+/// W = A + C in blocks: for each contact k, the contacts j that share a body with it and the
+/// R × R block W_kj (compliance on the diagonal blocks).
+struct Delassus<const R: usize> {
+    /// Per contact, (j, W_kj), j ascending, k itself included.
+    rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>>,
+}
+
+impl<const R: usize> Delassus<R> {
+    fn of<const D: usize>(problem: &ContactProblem<D, R>) -> Self {
+        let count = problem.contacts.len();
+        // The contacts touching each body, with the side they touch it on.
+        let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); problem.bodies.len()];
+        for (k, c) in problem.contacts.iter().enumerate() {
+            for (side, body) in c.bodies.iter().enumerate() {
+                if let Some(b) = body {
+                    touching[*b].push((k, side));
+                }
+            }
+        }
+        let mut rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>> = vec![Vec::new(); count];
+        for (b, list) in touching.iter().enumerate() {
+            let inverse_mass = &problem.bodies[b].inverse_mass;
+            for &(k, sk) in list {
+                let left = problem.contacts[k].jacobian[sk] * inverse_mass;
+                for &(j, sj) in list {
+                    let block = left * problem.contacts[j].jacobian[sj].transpose();
+                    match rows[k].iter_mut().find(|(jj, _)| *jj == j) {
+                        Some((_, w)) => *w += block,
+                        None => rows[k].push((j, block)),
+                    }
+                }
+            }
+        }
+        for (k, row) in rows.iter_mut().enumerate() {
+            if !row.iter().any(|(j, _)| *j == k) {
+                row.push((k, SMatrix::zeros()));
+            }
+            row.sort_by_key(|(j, _)| *j);
+            let c = &problem.contacts[k];
+            for (j, w) in row.iter_mut() {
+                if *j == k {
+                    *w = (*w + w.transpose()) * 0.5;
+                    for r in 0..R {
+                        w[(r, r)] += c.row_compliance(r);
+                    }
+                }
+            }
+        }
+        Delassus { rows }
+    }
+
+    fn diagonal_block(&self, k: usize) -> &SMatrix<f64, R, R> {
+        let row = &self.rows[k];
+        let i = row.binary_search_by_key(&k, |(j, _)| *j).unwrap_or(0);
+        &row[i].1
+    }
+
+    /// W x, block by block.
+    fn apply(&self, x: &DVector<f64>, out: &mut DVector<f64>) {
+        for (k, row) in self.rows.iter().enumerate() {
+            let mut sum = SVector::<f64, R>::zeros();
+            for (j, w) in row {
+                sum += w * x.fixed_rows::<R>(R * j);
+            }
+            out.fixed_rows_mut::<R>(R * k).copy_from(&sum);
+        }
+    }
+}
+
+/// One contact's F and its derivative blocks: ∂F_k = D_λ dλ_k + D_w dw_k.
+struct Linearised<const R: usize> {
+    f: SVector<f64, R>,
+    d_lambda: SMatrix<f64, R, R>,
+    d_w: SMatrix<f64, R, R>,
+}
+
+/// The largest eigenvalue of rows and columns 1..R of a symmetric block (the tangent block).
+fn tangent_scale<const R: usize>(w: &SMatrix<f64, R, R>) -> f64 {
+    let largest = match R {
+        0 | 1 => 0.0,
+        2 => w[(1, 1)],
+        _ => {
+            let (p, d, o) = (w[(1, 1)], w[(2, 2)], w[(1, 2)]);
+            0.5 * (p + d) + (0.25 * (p - d) * (p - d) + o * o).sqrt()
+        }
+    };
+    if largest > 0.0 { largest } else { 1.0 }
+}
+
+/// F_k and its generalized Jacobian blocks at (λ_k, w_k) for law `law` with row scales `a`.
+fn linearise<const R: usize>(
+    law: Law,
+    a: &SVector<f64, R>,
+    lambda: &SVector<f64, R>,
+    w: &SVector<f64, R>,
+) -> Linearised<R> {
+    let mut out = Linearised {
+        f: SVector::zeros(),
+        d_lambda: SMatrix::zeros(),
+        d_w: SMatrix::zeros(),
+    };
+    let mu = match law {
+        Law::Free => {
+            out.f = *w;
+            out.d_w = SMatrix::identity();
+            return out;
+        }
+        Law::Box { mu } | Law::Disk { mu, .. } => mu,
+    };
+    // Normal row: F_n = min(a_n λn, w_n) = a_n (λn − max(0, s_n)), s_n = λn − w_n / a_n.
+    let s_n = lambda[0] - w[0] / a[0];
+    if s_n > 0.0 {
+        out.f[0] = w[0];
+        out.d_w[(0, 0)] = 1.0;
+    } else {
+        out.f[0] = a[0] * lambda[0];
+        out.d_lambda[(0, 0)] = a[0];
+    }
+    // Alart and Curnier's radius μ max(0, s_n) (equal to μλn at a solution) and its derivative
+    // in (λn, w_n): unlike μλn⁺ it still feels an approaching contact (w_n < 0) at λn = 0, so
+    // the friction rows stay coupled to the normal row there.
+    let radius = mu * s_n.max(0.0);
+    let (dr_lambda, dr_w) = if s_n > 0.0 {
+        (mu, -mu / a[0])
+    } else {
+        (0.0, 0.0)
+    };
+    match law {
+        Law::Disk { rho, .. } if R == 3 => {
+            let z = SVector::<f64, 2>::new(lambda[1] - w[1] / rho, lambda[2] - w[2] / rho);
+            let norm = z.norm();
+            if norm <= radius && radius > 0.0 {
+                // Inside the disk: sticking, F_t = w_t.
+                for r in 1..3 {
+                    out.f[r] = w[r];
+                    out.d_w[(r, r)] = 1.0;
+                }
+            } else if norm > 0.0 {
+                // On the rim: F_t = ρ(λt − radius ẑ).
+                let unit = z / norm;
+                let g = (SMatrix::<f64, 2, 2>::identity() - unit * unit.transpose())
+                    * (radius / norm);
+                for r in 1..3 {
+                    out.f[r] = rho * (lambda[r] - radius * unit[r - 1]);
+                    out.d_lambda[(r, 0)] = -rho * dr_lambda * unit[r - 1];
+                    out.d_w[(r, 0)] = -rho * dr_w * unit[r - 1];
+                    for s in 1..3 {
+                        let identity = if r == s { 1.0 } else { 0.0 };
+                        out.d_lambda[(r, s)] = rho * (identity - g[(r - 1, s - 1)]);
+                        out.d_w[(r, s)] = g[(r - 1, s - 1)];
+                    }
+                }
+            } else {
+                // z = 0 with radius 0: F_t = ρ λt.
+                for r in 1..3 {
+                    out.f[r] = rho * lambda[r];
+                    out.d_lambda[(r, r)] = rho;
+                }
+            }
+        }
+        _ => {
+            // Box rows (and the 2D interval, which is both models).
+            for r in 1..R {
+                let s = lambda[r] - w[r] / a[r];
+                if s > radius {
+                    out.f[r] = a[r] * (lambda[r] - radius);
+                    out.d_lambda[(r, r)] = a[r];
+                    out.d_lambda[(r, 0)] = -a[r] * dr_lambda;
+                    out.d_w[(r, 0)] = -a[r] * dr_w;
+                } else if s < -radius {
+                    out.f[r] = a[r] * (lambda[r] + radius);
+                    out.d_lambda[(r, r)] = a[r];
+                    out.d_lambda[(r, 0)] = a[r] * dr_lambda;
+                    out.d_w[(r, 0)] = a[r] * dr_w;
+                } else {
+                    out.f[r] = w[r];
+                    out.d_w[(r, r)] = 1.0;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The problem as the Newton iteration sees it.
+struct System<const R: usize> {
+    delassus: Delassus<R>,
+    b: DVector<f64>,
+    laws: Vec<Law>,
+    /// Row scales a_r = W_rr (1 where W_rr = 0: a row no impulse can move).
+    scales: DVector<f64>,
+}
+
+impl<const R: usize> System<R> {
+    fn of<const D: usize>(problem: &ContactProblem<D, R>) -> Self {
+        let delassus = Delassus::of(problem);
+        let n = R * problem.contacts.len();
+        let mut scales = DVector::zeros(n);
+        let mut laws = Vec::with_capacity(problem.contacts.len());
+        for (k, c) in problem.contacts.iter().enumerate() {
+            let block = delassus.diagonal_block(k);
+            for r in 0..R {
+                let d = block[(r, r)];
+                scales[R * k + r] = if d > 0.0 { d } else { 1.0 };
+            }
+            laws.push(match (c.bounds, problem.friction) {
+                (RowBounds::Free, _) => Law::Free,
+                (RowBounds::Contact, FrictionModel::Cone) if R == 3 => Law::Disk {
+                    mu: c.mu,
+                    rho: tangent_scale(block),
+                },
+                (RowBounds::Contact, _) => Law::Box { mu: c.mu },
+            });
+        }
+        System {
+            delassus,
+            b: problem.dense_b(),
+            laws,
+            scales,
+        }
+    }
+
+    fn rows(&self) -> usize {
+        self.b.len()
+    }
+}
+
+/// A proximal term H (λ − λ_c) added to w, H = η diag(W) (kg⁻¹ per row): the subproblem
+/// with W + H and b − H λ_c. Its rows are scaled by W + H's diagonal.
+struct Proximal<'a> {
+    eta: f64,
+    centre: &'a DVector<f64>,
+}
+
+/// F at λ (with the proximal term, when given) and the blocks of its generalized Jacobian.
+fn evaluate<const R: usize>(
+    system: &System<R>,
+    lambda: &DVector<f64>,
+    proximal: Option<&Proximal>,
+    w: &mut DVector<f64>,
+    f: &mut DVector<f64>,
+    blocks: &mut Vec<(SMatrix<f64, R, R>, SMatrix<f64, R, R>)>,
+) {
+    system.delassus.apply(lambda, w);
+    *w += &system.b;
+    let eta = proximal.map_or(0.0, |p| p.eta);
+    if let Some(p) = proximal {
+        for i in 0..w.len() {
+            w[i] += eta * system.scales[i] * (lambda[i] - p.centre[i]);
+        }
+    }
+    blocks.clear();
+    for (k, law) in system.laws.iter().enumerate() {
+        // The scales of W + H: its diagonal, and for the disk ρ + η max(a_t1, a_t2), a bound on
+        // the largest eigenvalue of its tangent block.
+        let a: SVector<f64, R> = system.scales.fixed_rows::<R>(R * k) * (1.0 + eta);
+        let law = match *law {
+            Law::Disk { mu, rho } => Law::Disk {
+                mu,
+                rho: rho + eta * (1..R).map(|r| system.scales[R * k + r]).fold(0.0, f64::max),
+            },
+            other => other,
+        };
+        let l: SVector<f64, R> = lambda.fixed_rows::<R>(R * k).into();
+        let wk: SVector<f64, R> = w.fixed_rows::<R>(R * k).into();
+        let lin = linearise(law, &a, &l, &wk);
+        f.fixed_rows_mut::<R>(R * k).copy_from(&lin.f);
+        blocks.push((lin.d_lambda, lin.d_w));
+    }
+}
+
+/// The largest per-constraint norm of F (m/s): |F_n|, each box row, ‖F_t‖ for the disk, each
+/// free row. At a point where no proximal term acts this is the residual of docs/contact.md
+/// §"Residual".
+fn law_norm<const R: usize>(system: &System<R>, f: &DVector<f64>) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (k, law) in system.laws.iter().enumerate() {
+        let fk = f.fixed_rows::<R>(R * k);
+        worst = match law {
+            Law::Disk { .. } => worst
+                .max(fk[0].abs())
+                .max((1..R).map(|r| fk[r] * fk[r]).sum::<f64>().sqrt()),
+            _ => worst.max(fk.amax()),
+        };
+    }
+    worst
+}
+
+/// Solves (D_λ + D_w (W + H)) Δ = rhs. `None` when the factorisation fails or gives a
+/// non-finite answer.
+fn solve_newton_system<const R: usize>(
+    system: &System<R>,
+    blocks: &[(SMatrix<f64, R, R>, SMatrix<f64, R, R>)],
+    h: &DVector<f64>,
+    rhs: &DVector<f64>,
+) -> Option<DVector<f64>> {
+    let n = system.rows();
+    // The block (k, j) of the matrix: D_w,k W_kj, plus D_λ,k + D_w,k H_k on the diagonal.
+    let block_of = |k: usize, j: usize, w: &SMatrix<f64, R, R>| {
+        let (d_lambda, d_w) = &blocks[k];
+        let mut m = d_w * w;
+        if j == k {
+            m += d_lambda;
+            for r in 0..R {
+                for s in 0..R {
+                    m[(r, s)] += d_w[(r, s)] * h[R * k + s];
+                }
+            }
+        }
+        m
+    };
+    let x = if n <= DENSE_ROWS {
+        let mut m = DMatrix::<f64>::zeros(n, n);
+        for (k, row) in system.delassus.rows.iter().enumerate() {
+            for (j, w) in row {
+                m.view_mut((R * k, R * j), (R, R))
+                    .copy_from(&block_of(k, *j, w));
+            }
+        }
+        m.lu().solve(rhs)?
+    } else {
+        use faer::linalg::solvers::Solve;
+        use faer::sparse::{SparseColMat, Triplet};
+        let mut triplets = Vec::new();
+        for (k, row) in system.delassus.rows.iter().enumerate() {
+            for (j, w) in row {
+                let m = block_of(k, *j, w);
+                for r in 0..R {
+                    for s in 0..R {
+                        if m[(r, s)] != 0.0 {
+                            triplets.push(Triplet::new(R * k + r, R * j + s, m[(r, s)]));
+                        }
+                    }
+                }
+            }
+        }
+        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).ok()?;
+        let lu = matrix.sp_lu().ok()?;
+        let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
+        lu.solve_in_place(x.as_mut());
+        DVector::from_fn(n, |i, _| x[(i, 0)])
+    };
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// Armijo's constant: a step is taken when θ falls by at least this fraction of its linear
+/// prediction.
+const ARMIJO: f64 = 1e-4;
+/// Halvings of the step before the line search gives up (step 2⁻¹²): a shorter step makes no
+/// progress worth its cost, and the iteration tries a better-conditioned system instead.
+const LINE_SEARCH_HALVINGS: u32 = 12;
+/// The Jacobian's regularisation ε diag(W) starts at this ε and grows 10⁴-fold per failed step
+/// (1e-12, 1e-8, 1e-4, 1).
+const EPS_FLOOR: f64 = 1e-12;
+
+/// How a run of Newton iterations ended.
+struct Run {
+    iterations: u32,
+    /// The law norm of F (with the proximal term, when given) at the end.
+    norm: f64,
+    reached: bool,
+}
+
+/// Newton iterations on F (with the proximal term when given) from `lambda`, at most
+/// `max_iterations`, until the law norm is at most `tolerance` (and `accept(λ)` holds) or the
+/// line search stalls.
+fn iterate<const R: usize>(
+    system: &System<R>,
+    lambda: &mut DVector<f64>,
+    proximal: Option<&Proximal>,
+    tolerance: f64,
+    max_iterations: u32,
+    accept: &mut dyn FnMut(&DVector<f64>) -> bool,
+) -> Run {
+    let n = system.rows();
+    let mut w = DVector::zeros(n);
+    let mut f = DVector::zeros(n);
+    let mut blocks = Vec::with_capacity(system.laws.len());
+    let mut trial_w = DVector::zeros(n);
+    let mut trial_f = DVector::zeros(n);
+    let mut trial_blocks = Vec::with_capacity(system.laws.len());
+    evaluate(system, lambda, proximal, &mut w, &mut f, &mut blocks);
+    let mut iterations = 0;
+    loop {
+        let norm = law_norm(system, &f);
+        if norm <= tolerance && accept(lambda) {
+            return Run {
+                iterations,
+                norm,
+                reached: true,
+            };
+        }
+        if iterations >= max_iterations {
+            return Run {
+                iterations,
+                norm,
+                reached: false,
+            };
+        }
+        iterations += 1;
+        let theta = 0.5 * f.norm_squared();
+        // The least regularisation first: diag(W) can exceed W's smallest eigenvalue on the
+        // directions that matter by 10⁶ (a heavy body on a light one), where any larger ε
+        // turns the Newton step into a gradient step. More only after a failed step.
+        let mut epsilon = EPS_FLOOR;
+        let mut stepped = false;
+        // A failed line search retries with more regularisation (a shorter, better-conditioned
+        // step), three times.
+        for _ in 0..4 {
+            let prox = proximal.map_or(0.0, |p| p.eta);
+            let h = system.scales.map(|a| (epsilon + prox) * a);
+            let Some(delta) = solve_newton_system(system, &blocks, &h, &(-&f)) else {
+                epsilon *= 1e4;
+                continue;
+            };
+            let mut t = 1.0;
+            for _ in 0..=LINE_SEARCH_HALVINGS {
+                let trial = &*lambda + &delta * t;
+                evaluate(
+                    system,
+                    &trial,
+                    proximal,
+                    &mut trial_w,
+                    &mut trial_f,
+                    &mut trial_blocks,
+                );
+                if 0.5 * trial_f.norm_squared() <= theta * (1.0 - 2.0 * ARMIJO * t) {
+                    *lambda = trial;
+                    std::mem::swap(&mut w, &mut trial_w);
+                    std::mem::swap(&mut f, &mut trial_f);
+                    std::mem::swap(&mut blocks, &mut trial_blocks);
+                    stepped = true;
+                    break;
+                }
+                t *= 0.5;
+            }
+            if stepped {
+                break;
+            }
+            epsilon *= 1e4;
+        }
+        if !stepped {
+            return Run {
+                iterations,
+                norm,
+                reached: false,
+            };
+        }
+    }
+}
+
+/// Solves `problem` exactly (module documentation), starting from each contact's `lambda0`. On
+/// return `lambda` holds one impulse per contact (N·s) and `workspace.delta_velocity(i)` each
+/// body's velocity change. The report's residuals are recomputed from the answer by
+/// [`residual`] and [`coulomb_residual`], so `converged` never rests on the iteration's own
+/// bookkeeping.
+pub fn solve_newton<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    settings: &NewtonSettings,
+    workspace: &mut NewtonWorkspace<D>,
+    lambda: &mut Vec<SVector<f64, R>>,
+) -> SolveReport {
+    let system = System::of(problem);
+    let n = system.rows();
+    let mut x = DVector::from_iterator(
+        n,
+        problem.contacts.iter().flat_map(|c| c.lambda0.iter().copied()),
+    );
+    let cone = problem.friction == FrictionModel::Cone;
+    let tolerance = settings.tolerance;
+    // The answer must pass the independent measures too, not only the iteration's own F.
+    let to_impulses = |x: &DVector<f64>| -> Vec<SVector<f64, R>> {
+        (0..problem.contacts.len())
+            .map(|k| x.fixed_rows::<R>(R * k).into())
+            .collect()
+    };
+    let mut accept = |x: &DVector<f64>| {
+        let l = to_impulses(x);
+        residual(problem, &l) <= tolerance && (!cone || coulomb_residual(problem, &l) <= tolerance)
+    };
+    let first = iterate(
+        &system,
+        &mut x,
+        None,
+        tolerance,
+        settings.max_iterations,
+        &mut accept,
+    );
+    let mut iterations = first.iterations;
+    let mut reached = first.reached;
+    let mut method = SolveMethod::Newton;
+    // A warm start can put Newton where its merit function has a valley that is not a
+    // solution (contacts that changed keys start cold beside warm ones, and the first steps
+    // throw the rest into sliding); from zero it starts where every contact is at rest.
+    if !reached && x0_is_warm(problem) {
+        let mut cold = DVector::zeros(n);
+        let again = iterate(
+            &system,
+            &mut cold,
+            None,
+            tolerance,
+            settings.max_iterations,
+            &mut accept,
+        );
+        iterations += again.iterations;
+        if again.reached || again.norm < first.norm {
+            x = cold;
+        }
+        reached = again.reached;
+    }
+    if !reached && n > 0 {
+        method = SolveMethod::Proximal;
+        let (extra, _) = proximal_point(&system, &mut x, settings, &mut accept);
+        iterations += extra;
+    }
+    lambda.clear();
+    lambda.extend(to_impulses(&x));
+    let delta = problem.velocity_change(lambda);
+    workspace.delta_velocity.clear();
+    workspace.delta_velocity.extend(delta);
+    let residual = residual(problem, lambda);
+    let coulomb = cone.then(|| coulomb_residual(problem, lambda));
+    SolveReport {
+        iterations,
+        residual,
+        converged: residual <= tolerance && coulomb.is_none_or(|c| c <= tolerance),
+        coulomb_residual: coulomb,
+        method,
+    }
+}
+
+/// Whether any contact starts from a non-zero impulse.
+fn x0_is_warm<const D: usize, const R: usize>(problem: &ContactProblem<D, R>) -> bool {
+    problem
+        .contacts
+        .iter()
+        .any(|c| c.lambda0.iter().any(|&v| v != 0.0))
+}
+
+/// The proximal-point fallback: from the centre λ_c = `x`, solve the problem with W + H and
+/// b − H λ_c (H = η diag(W)) by Newton, to a hundredth of the original residual at the centre
+/// (an inexact proximal point), move the centre to its answer, and shrink η tenfold after a
+/// solved subproblem or grow it tenfold after a failed one. Returns the Newton iterations spent
+/// and whether the original problem was solved.
+fn proximal_point<const R: usize>(
+    system: &System<R>,
+    x: &mut DVector<f64>,
+    settings: &NewtonSettings,
+    accept: &mut dyn FnMut(&DVector<f64>) -> bool,
+) -> (u32, bool) {
+    let n = system.rows();
+    let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
+    let mut original_norm = |centre: &DVector<f64>| {
+        evaluate(system, centre, None, &mut w, &mut f, &mut blocks);
+        law_norm(system, &f)
+    };
+    let mut eta = 1.0;
+    let mut iterations = 0;
+    let mut centre = x.clone();
+    let mut norm = original_norm(&centre);
+    let mut failures = 0;
+    for _ in 0..settings.proximal_iterations {
+        let proximal = Proximal {
+            eta,
+            centre: &centre,
+        };
+        let mut inner = centre.clone();
+        let run = iterate(
+            system,
+            &mut inner,
+            Some(&proximal),
+            (0.01 * norm).max(settings.tolerance),
+            settings.max_iterations,
+            &mut |_| true,
+        );
+        iterations += run.iterations;
+        if run.reached {
+            failures = 0;
+            centre = inner;
+            norm = original_norm(&centre);
+            if norm <= settings.tolerance && accept(&centre) {
+                *x = centre;
+                return (iterations, true);
+            }
+            eta = (eta * 0.1).max(1e-12);
+        } else {
+            failures += 1;
+            if eta >= 1e8 && failures > 3 {
+                break;
+            }
+            eta = (eta * 10.0).min(1e8);
+        }
+    }
+    // Not solved: finish with plain Newton from the last centre, and keep whichever is better.
+    let mut last = centre.clone();
+    let run = iterate(
+        system,
+        &mut last,
+        None,
+        settings.tolerance,
+        settings.max_iterations,
+        accept,
+    );
+    iterations += run.iterations;
+    *x = if run.reached || run.norm < norm {
+        last
+    } else {
+        centre
+    };
+    (iterations, run.reached)
+}
+
+/// The Newton function F(λ) (m/s, module documentation) and its generalized Jacobian
+/// D_λ + D_w W (dense, kg⁻¹ per row scale), for inspection and tests.
+pub fn newton_function<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    lambda: &[SVector<f64, R>],
+) -> (DVector<f64>, DMatrix<f64>) {
+    let system = System::of(problem);
+    let n = system.rows();
+    let x = DVector::from_iterator(n, lambda.iter().flat_map(|l| l.iter().copied()));
+    let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
+    evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
+    let mut jacobian = DMatrix::zeros(n, n);
+    for (k, row) in system.delassus.rows.iter().enumerate() {
+        let (d_lambda, d_w) = &blocks[k];
+        for (j, wkj) in row {
+            let mut m = d_w * wkj;
+            if *j == k {
+                m += d_lambda;
+            }
+            jacobian.view_mut((R * k, R * j), (R, R)).copy_from(&m);
+        }
+    }
+    (f, jacobian)
+}
