@@ -106,6 +106,36 @@ pub struct SubstepSolve<C, const D: usize, const R: usize> {
     pub solve_cpu_seconds: f64,
 }
 
+/// A PGS solve counts as unresolved when its residual exceeds this fraction of the solve's
+/// velocity scale (docs/contact.md §"Unresolved solves").
+pub const UNRESOLVED_FRACTION: f64 = 0.1;
+
+impl<C, const D: usize, const R: usize> SubstepSolve<C, D, R> {
+    /// The velocity scale of the solve: max(|g| h, max_k ‖b_k‖∞), the speed gravity gives a body
+    /// in one substep or the fastest constraint velocity the solve starts from (m/s in 3D).
+    pub fn velocity_scale(&self, gravity_h: f64) -> f64 {
+        self.problem
+            .contacts
+            .iter()
+            .map(|c| c.b.amax())
+            .fold(gravity_h, f64::max)
+    }
+
+    /// Whether the answer is too far from a solution to trust: the Newton solver did not
+    /// converge, or PGS ended with a residual above [`UNRESOLVED_FRACTION`] of the velocity
+    /// scale (and above its tolerance, when one was set and not reached). docs/contact.md
+    /// §"Unresolved solves".
+    pub fn unresolved(&self, gravity_h: f64) -> bool {
+        match self.report.method {
+            crate::problem::SolveMethod::Pgs => {
+                !self.report.converged
+                    && self.report.residual > UNRESOLVED_FRACTION * self.velocity_scale(gravity_h)
+            }
+            _ => !self.report.converged,
+        }
+    }
+}
+
 impl<C: ContactGeometry, const D: usize, const R: usize> SubstepSolve<C, D, R> {
     /// The problem as a contact-problem file (docs/contact-problem-format.md), with the contacts'
     /// geometry, where it came from (`scene`, step `step`, substep length `h`) and the solution.
@@ -179,13 +209,24 @@ pub struct RunTotals {
     /// The deepest interpenetration the system measured between bodies, whatever contacts were
     /// found (3D's penetration measure, m); `None` where the system has no such measure (2D).
     pub measured: Option<f64>,
+    /// Solves answered by the Newton solver (its fallback's included).
+    pub newton: u64,
+    /// Solves answered by the Newton solver's proximal-point fallback.
+    pub proximal: u64,
+    /// Unresolved solves ([`SubstepSolve::unresolved`]).
+    pub unresolved: u64,
+    /// The largest residual of an unresolved solve, and the step it ended.
+    pub worst_unresolved: Option<(f64, u64)>,
 }
 
 impl RunTotals {
-    /// Adds one step's solves.
+    /// Adds step `step`'s solves; `gravity_h` is |g| times the substep (the velocity scale's
+    /// floor, [`SubstepSolve::velocity_scale`]).
     pub fn add<C: ContactGeometry, const D: usize, const R: usize>(
         &mut self,
         solves: &[SubstepSolve<C, D, R>],
+        step: u64,
+        gravity_h: f64,
     ) {
         if !solves.is_empty() {
             self.steps_with_contacts += 1;
@@ -196,6 +237,21 @@ impl RunTotals {
         self.sweeps += t.sweeps;
         self.worst_residual = self.worst_residual.max(t.worst_residual);
         for s in solves {
+            match s.report.method {
+                crate::problem::SolveMethod::Pgs => {}
+                crate::problem::SolveMethod::Newton => self.newton += 1,
+                crate::problem::SolveMethod::Proximal => {
+                    self.newton += 1;
+                    self.proximal += 1;
+                }
+            }
+            if s.unresolved(gravity_h) {
+                self.unresolved += 1;
+                let r = s.report.residual;
+                if self.worst_unresolved.is_none_or(|(w, _)| r > w) {
+                    self.worst_unresolved = Some((r, step));
+                }
+            }
             if let Some(r) = s.report.coulomb_residual {
                 self.worst_coulomb_residual =
                     Some(self.worst_coulomb_residual.map_or(r, |w: f64| w.max(r)));
@@ -227,14 +283,49 @@ impl RunTotals {
             Some(r) => format!(" (exact Coulomb residual {r:.3e} {velocity})"),
             None => String::new(),
         };
+        let solver = match (self.newton, self.proximal) {
+            (0, _) => "PGS {:.1} sweeps on average".to_string(),
+            (_, 0) => "Newton {:.1} iterations on average".to_string(),
+            (_, p) => format!("Newton {{:.1}} iterations on average ({p} by its proximal fallback)"),
+        }
+        .replace("{:.1}", &format!("{:.1}", self.sweeps as f64 / self.solves as f64));
+        let unresolved = match self.unresolved {
+            0 => String::new(),
+            n => format!("; {n} unresolved ({})", self.unresolved_reason()),
+        };
         format!(
-            "{} solves in {} steps, up to {} contacts; PGS {:.1} sweeps on average, worst residual {:.3e} {velocity}{coulomb}, {penetration}",
+            "{} solves in {} steps, up to {} contacts; {solver}, worst residual {:.3e} {velocity}{coulomb}{unresolved}, {penetration}",
             self.solves,
             self.steps_with_contacts,
             self.most_contacts,
-            self.sweeps as f64 / self.solves as f64,
             self.worst_residual,
         )
+    }
+
+    /// What made the unresolved solves unresolved, in a few words.
+    fn unresolved_reason(&self) -> &'static str {
+        if self.newton > 0 {
+            "Newton did not converge"
+        } else {
+            "PGS residual above a tenth of the solve's velocity scale"
+        }
+    }
+
+    /// The run's one warning about unresolved solves, if there were any: how many, the worst
+    /// residual and its step, and what helps. `velocity` names the unit.
+    pub fn unresolved_warning(&self, velocity: &str) -> Option<String> {
+        let (worst, step) = self.worst_unresolved?;
+        let help = if self.newton > 0 {
+            "the answers of those solves are the best the Newton solver found, not solutions; see docs/contact.md §\"Unresolved solves\""
+        } else {
+            "their impulses are far from the contact law's; `--set solver=newton` solves every contact problem exactly (or raise the sweeps: pgs_iterations in 3D, iterations in 2D)"
+        };
+        Some(format!(
+            "warning: {} of {} contact solves unresolved ({}), worst residual {worst:.3e} {velocity} at step {step}: {help}",
+            self.unresolved,
+            self.solves,
+            self.unresolved_reason()
+        ))
     }
 }
 

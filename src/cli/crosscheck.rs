@@ -9,15 +9,17 @@ use rigidref::problem::json::ProblemFile;
 use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
-use rigidref::verify::crosscheck::{CrosscheckSettings, check_problem};
+use rigidref::verify::crosscheck::{CrosscheckSettings, check_problem, check_step};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rigidref crosscheck`.
 #[derive(Args)]
 #[command(after_long_help = "\
-For every contact problem, PGS is run to convergence (residual 1e-12 m/s, at most 200000
-sweeps; not the scene's pgs_iterations) and clarabel solves the convex program with the same
-solution: the frictionless QP when μ = 0, else the QP (box) or SOCP (cone) with the friction
+For every contact problem, the answer of the solver under test is checked. With the default
+solver (pgs), PGS is run to convergence (residual 1e-12 m/s, at most 200000 sweeps; not the
+scene's pgs_iterations); with --set solver=newton, the answer checked is the step's own λ from
+the Newton solver (what the run applied). Its residual is recomputed from the problem and λ
+alone, and clarabel solves the convex program with the same solution: the frictionless QP when μ = 0, else the QP (box) or SOCP (cone) with the friction
 bounds fixed at PGS's normal impulses, which PGS's answer must minimise. Where the objective is
 strictly convex on the free rows, λ is unique and, where clarabel's answer provably lies within
 1e-6 of it (a bound from clarabel's residual and the conditioning), compared:
@@ -27,11 +29,14 @@ is, and the one-sided relative objective gap is compared (docs/verification.md �
 For cone friction the report also gives the distance to Anitescu's relaxation (the SOCP with no
 fixed data), which differs from PGS wherever a contact slides.
 
-Coupled friction is not a monotone problem; where PGS cannot converge, the problem is reported
-as unverified, not compared. Row-by-row PGS can cycle on a single contact whose normal and
-friction rows are coupled; --pgs-local-solve exact (or --set pgs_local_solve=exact) solves each
-contact's own problem exactly and cannot. For cone friction the exact Coulomb law's residual of
-PGS's answers is reported too. The verdict is one of three: agree (every problem verified within
+Coupled friction is not a monotone problem; where the answer is not converged (residual above
+1e-10 m/s), the problem is reported as unverified, not compared. With PGS under test, the exact
+solver (Newton, docs/contact.md §\"Newton solver\") also solves every problem, and the report gives
+each problem's distance to the exact solution: max |u⁺ − u⁺_exact| over the bodies' velocities
+for PGS's converged answer and for the step's λ, and the step λ's residual (its violation of the
+contact law), so an unverified problem still says how wrong PGS was. --set solver=newton checks
+the exact solver's own answers instead. For cone friction the exact Coulomb law's residual of
+the answers is reported too. The verdict is one of three: agree (every problem verified within
 tolerance; exit status 0), unverified (none disagrees, but some could not be checked; exit status
 3), disagree (some comparison exceeds its tolerance or clarabel fails; exit status 1). With
 --strict, unverified problems count as disagreeing. Formulations: docs/contact.md §\"Convex formulations\".")]
@@ -137,6 +142,7 @@ fn rows_of(
             // An image with the default parameters, or a 2D scene file with its own.
             let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
             settings.pgs.local = args.pgs_local_solve.unwrap_or(world.params.local_solve);
+            settings.solver = world.params.solver;
             let source = path.display().to_string();
             let rows = check_run(&mut world, args.time, &source, &*settings, |_| {})?;
             (source, rows)
@@ -151,6 +157,7 @@ fn rows_of(
             }
             let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
             settings.pgs.local = args.pgs_local_solve.unwrap_or(scene.params.pgs_local_solve);
+            settings.solver = scene.params.solver;
             let mut watch = InterpenetrationWatch::default();
             let mut warnings = watch.observe(&world);
             let rows = check_run(&mut world, args.time, &scene.source, &*settings, |w| {
@@ -217,7 +224,9 @@ fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
     let mut rows = Vec::new();
     let ran = drive(sim, steps, |w, k| -> Result<Flow, Stopped> {
         for solve in w.solves() {
-            let check = check_problem(&solve.problem, settings).map_err(anyhow::Error::msg)?;
+            let step = Some((solve.lambda.as_slice(), &solve.report));
+            let check =
+                check_step(&solve.problem, settings, step).map_err(anyhow::Error::msg)?;
             rows.push(Row {
                 source: format!("step {k} substep {}", solve.substep),
                 check,

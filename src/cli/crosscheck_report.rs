@@ -43,6 +43,11 @@ pub(crate) struct Summary {
     pub(crate) passed: bool,
     /// How PGS visited each contact: `rows` or `exact` (docs/contact.md §"Exact local solve").
     pub(crate) pgs_local_solve: &'static str,
+    /// Whose answers were checked: `pgs` or `newton`.
+    pub(crate) solver: &'static str,
+    /// With PGS under test: the exact solver's answers, and the distances to them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) exact: Option<ExactSummary>,
     /// Cone friction: the largest exact Coulomb residual of PGS's answers (m/s; docs/contact.md
     /// §"The exact Coulomb residual").
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -56,6 +61,32 @@ pub(crate) struct Summary {
     pub(crate) deepest_penetration_step: Option<u64>,
 }
 
+/// The exact reference over a run (PGS under test).
+#[derive(serde::Serialize)]
+pub(crate) struct ExactSummary {
+    /// Problems the exact solver converged on.
+    pub(crate) solved: usize,
+    /// The largest distance of PGS's converged answers to the exact solution, max |u⁺ − u⁺_exact|.
+    pub(crate) max_answer_distance: f64,
+    /// The largest distance of the steps' λ (what the run applied) to the exact solution.
+    pub(crate) max_step_distance: Option<f64>,
+    /// The largest residual of the steps' λ (the contact law's violation), m/s.
+    pub(crate) max_step_residual: Option<f64>,
+    /// Per unverified problem: where it came from, the distance of PGS's answer and of the
+    /// step's λ to the exact solution, and the step λ's residual.
+    pub(crate) unverified: Vec<UnverifiedDistance>,
+}
+
+/// How far one unverified problem's answers are from the exact solution.
+#[derive(serde::Serialize)]
+pub(crate) struct UnverifiedDistance {
+    pub(crate) source: String,
+    pub(crate) exact_converged: bool,
+    pub(crate) answer_distance: f64,
+    pub(crate) step_distance: Option<f64>,
+    pub(crate) step_residual: Option<f64>,
+}
+
 /// Some problems could not be checked and none disagrees: exit status 3.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -64,20 +95,21 @@ pub struct Unverified(pub String);
 /// One line per problem.
 pub(crate) fn print_table(rows: &[Row]) {
     println!(
-        "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12}",
+        "{:<28} {:>8} {:<36} {:<9} {:>10} {:>10} {:>10} {:>7} {:<12} {:>10}",
         "problem",
         "contacts",
         "formulation",
         "compared",
         "disagree",
-        "res PGS",
+        "res answer",
         "res QP",
-        "sweeps",
-        "clarabel"
+        "its",
+        "clarabel",
+        "to exact"
     );
     for r in rows {
         println!(
-            "{:<28} {:>8} {:<36} {:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>7} {:<12}",
+            "{:<28} {:>8} {:<36} {:<9} {:>10.2e} {:>10.2e} {:>10.2e} {:>7} {:<12} {:>10}",
             r.source,
             r.check.contacts,
             r.check.formulation,
@@ -87,10 +119,14 @@ pub(crate) fn print_table(rows: &[Row]) {
                 "objective"
             },
             r.check.disagreement,
-            r.check.residual_pgs,
+            r.check.residual_answer,
             r.check.residual_qp,
-            r.check.pgs_iterations,
+            r.check.iterations,
             format!("{} ({})", r.check.qp_status, r.check.qp_iterations),
+            r.check
+                .exact
+                .as_ref()
+                .map_or("-".to_string(), |e| format!("{:.2e}", e.answer_distance)),
         );
     }
 }
@@ -109,7 +145,7 @@ const CONVERGED: f64 = 1e-10;
 pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
     let compared: Vec<&Row> = rows
         .iter()
-        .filter(|r| r.check.residual_pgs <= CONVERGED)
+        .filter(|r| r.check.residual_answer <= CONVERGED)
         .collect();
     let by = |c: Comparison| {
         compared
@@ -175,19 +211,54 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
         verdict,
         passed: verdict == "agree",
         pgs_local_solve: rows.first().map_or("rows", |r| r.check.pgs_local_solve),
+        solver: if rows.iter().any(|r| r.check.exact.is_none()) && !rows.is_empty() {
+            "newton"
+        } else {
+            "pgs"
+        },
+        exact: exact_summary(rows),
         worst_coulomb_residual: rows
             .iter()
-            .filter_map(|r| r.check.coulomb_residual_pgs)
+            .filter_map(|r| r.check.coulomb_residual_answer)
             .reduce(f64::max),
         deepest_penetration: None,
         deepest_penetration_step: None,
     }
 }
 
+/// The exact reference's summary, where PGS was under test.
+fn exact_summary(rows: &[Row]) -> Option<ExactSummary> {
+    if rows.is_empty() || rows.iter().any(|r| r.check.exact.is_none()) {
+        return None;
+    }
+    let exact = || rows.iter().filter_map(|r| r.check.exact.as_ref());
+    let max = |v: Vec<f64>| v.into_iter().reduce(f64::max);
+    Some(ExactSummary {
+        solved: exact().filter(|e| e.converged).count(),
+        max_answer_distance: max(exact().map(|e| e.answer_distance).collect()).unwrap_or(0.0),
+        max_step_distance: max(exact().filter_map(|e| e.step_distance).collect()),
+        max_step_residual: max(exact().filter_map(|e| e.step_residual).collect()),
+        unverified: rows
+            .iter()
+            .filter(|r| r.check.residual_answer > CONVERGED)
+            .filter_map(|r| {
+                let e = r.check.exact.as_ref()?;
+                Some(UnverifiedDistance {
+                    source: r.source.clone(),
+                    exact_converged: e.converged,
+                    answer_distance: e.answer_distance,
+                    step_distance: e.step_distance,
+                    step_residual: e.step_residual,
+                })
+            })
+            .collect(),
+    })
+}
+
 pub(crate) fn print_summary(s: &Summary) {
     println!("input            {}", s.input);
     println!(
-        "problems         {} ({} compared: {} by λ, {} by objective; {} unverified: PGS did not converge)",
+        "problems         {} ({} compared: {} by λ, {} by objective; {} unverified: the answer did not converge)",
         s.problems, s.compared, s.compared_by_lambda, s.compared_by_objective, s.unverified
     );
     println!(
@@ -199,7 +270,48 @@ pub(crate) fn print_summary(s: &Summary) {
         s.max_objective_gap, s.median_objective_gap, s.objective_tolerance
     );
     println!("worst            {}", s.worst.as_deref().unwrap_or("-"));
-    println!("PGS visit        {}", s.pgs_local_solve);
+    println!(
+        "answers checked  {}",
+        match s.solver {
+            "newton" => "the Newton solver's (the step's own λ, what the run applied)",
+            _ => "PGS's, run to convergence",
+        }
+    );
+    if s.solver == "pgs" {
+        println!("PGS visit        {}", s.pgs_local_solve);
+    }
+    if let Some(e) = &s.exact {
+        println!(
+            "exact solver     {} of {} problems solved by Newton (docs/contact.md §\"Newton solver\")",
+            e.solved, s.problems
+        );
+        println!(
+            "distance to the exact solution, max |u⁺ − u⁺_exact|: PGS converged {:.2e}{}",
+            e.max_answer_distance,
+            match (e.max_step_distance, e.max_step_residual) {
+                (Some(d), Some(r)) => format!(
+                    "; the steps' λ {d:.2e} (their residual, the contact law's violation, up to {r:.2e} m/s)"
+                ),
+                _ => String::new(),
+            }
+        );
+        for u in &e.unverified {
+            println!(
+                "  unverified {}: distance to the exact solution {:.2e} (PGS after 200 000 sweeps){}{}",
+                u.source,
+                u.answer_distance,
+                match (u.step_distance, u.step_residual) {
+                    (Some(d), Some(r)) => format!(", {d:.2e} (the step's λ, residual {r:.2e})"),
+                    _ => String::new(),
+                },
+                if u.exact_converged {
+                    ""
+                } else {
+                    " [the exact solver did not converge either]"
+                }
+            );
+        }
+    }
     if let Some(r) = s.worst_coulomb_residual {
         println!(
             "Coulomb residual worst {r:.2e} m/s (the exact Coulomb law, De Saxcé's natural map, of PGS's answers)"
@@ -221,21 +333,26 @@ pub(crate) fn describe_verdict(s: &Summary) -> String {
             s.failures,
             s.problems,
             if s.unverified > 0 {
-                format!(" ({} more unverified: PGS did not converge)", s.unverified)
+                format!(" ({} more unverified: not converged)", s.unverified)
             } else {
                 String::new()
             }
         ),
         "unverified" => format!(
-            "unverified: {} of {} problems could not be checked (PGS did not converge to 1e-10 m/s within 200 000 sweeps){}; the {} compared agree",
+            "unverified: {} of {} problems could not be checked ({}); the {} compared agree{}",
             s.unverified,
             s.problems,
-            if s.pgs_local_solve == "rows" {
-                " (try --pgs-local-solve exact: row-by-row PGS can cycle where the exact local solve cannot)"
+            if s.solver == "newton" {
+                "the Newton solver did not converge to 1e-10 m/s"
+            } else {
+                "PGS did not converge to 1e-10 m/s within 200 000 sweeps"
+            },
+            s.compared,
+            if s.solver == "pgs" {
+                "; each one's distance to the exact solution is listed above; --set solver=newton solves every problem exactly and checks those answers"
             } else {
                 ""
-            },
-            s.compared
+            }
         ),
         _ if s.problems == 0 => "agree: no contact problems to compare".to_string(),
         _ => format!(

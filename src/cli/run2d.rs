@@ -70,7 +70,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         last_done = k;
         let totals = SolveTotals::of(&w.solves);
-        run_totals.add(&w.solves);
+        run_totals.add(&w.solves, k, w.params.gravity * w.params.dt / f64::from(w.substeps_in_step));
         most_contacts = most_contacts.max(w.most_contacts_in_step);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {
@@ -101,6 +101,9 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             out_path.display()
         )
     })?;
+    if let Some(warning) = run_totals.unresolved_warning("blocks per time unit") {
+        eprintln!("{}: {warning}", image.display());
+    }
     if !args.quiet {
         let summary = Summary2 {
             image,
@@ -277,8 +280,9 @@ impl Summary2<'_> {
             );
         }
         eprintln!(
-            "solver         {:?}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {}){}",
+            "solver         {:?} contacts by {}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {}){}",
             p.contact_model,
+            p.solver.name(),
             p.iterations,
             p.tolerance
                 .map_or(String::new(), |t| format!(" (tolerance {t})")),

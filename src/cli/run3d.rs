@@ -47,7 +47,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let mut stopped_at_contact = None;
 
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
-        stats.add(&w.solves);
+        stats.add(&w.solves, k, w.params.gravity.norm() * w.params.h());
         for warning in watch.observe(w) {
             progress.println(&warning);
         }
@@ -79,6 +79,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         )
     })?;
     stats.measured = Some(watch.deepest);
+    if let Some(warning) = stats.unresolved_warning("m/s") {
+        eprintln!("{}: {warning}", scene.source);
+    }
     let wall = progress.elapsed();
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);

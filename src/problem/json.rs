@@ -114,7 +114,8 @@ pub struct GeometryJson {
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SolutionJson {
-    /// Which solver, e.g. `pgs`.
+    /// Which method produced the solution: `pgs`, `newton`, or `proximal` (the Newton solver's
+    /// fallback).
     pub solver: String,
     /// λ per contact, R each, N·s.
     pub lambda: Vec<Vec<f64>>,
@@ -213,7 +214,7 @@ impl ProblemFile {
             json.geometry = Some(g);
         }
         file.solution = Some(SolutionJson {
-            solver: "pgs".into(),
+            solver: report.method.name().into(),
             lambda: lambda.iter().map(|l| l.iter().copied().collect()).collect(),
             iterations: report.iterations,
             residual: report.residual,

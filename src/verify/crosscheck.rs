@@ -1,15 +1,25 @@
-//! Cross-checking PGS against clarabel on one contact problem. docs/verification.md §"clarabel".
+//! Cross-checking a solver's answer against clarabel, and against the exact solver, on one
+//! contact problem. docs/verification.md §"clarabel", §"The exact reference".
 //!
-//! PGS is run to convergence (not the scene's `pgs_iterations`: the question here is whether its
-//! fixed point is the problem's solution, not how far 100 sweeps get), clarabel solves the convex
-//! formulation that has the same solution ([`crate::solve::qp`]), and the two answers are
-//! compared: by λ where the solution is unique, by the objective where it is not.
+//! The answer checked is the solver under test's ([`CrosscheckSettings::solver`]): PGS run to
+//! convergence (not the scene's `pgs_iterations`: the question here is whether its fixed point
+//! is the problem's solution, not how far 100 sweeps get), or with the Newton solver the step's
+//! own λ (the one the run applied). Its residual is recomputed from the problem alone
+//! ([`residual`], [`coulomb_residual`]), clarabel solves the convex formulation that has the
+//! same solution ([`crate::solve::qp`]), and the two answers are compared: by λ where the
+//! solution is unique, by the objective where it is not. With PGS under test, the Newton solver
+//! also solves every problem, and the distance of PGS's answers (and of the step's λ) to its
+//! solution is reported ([`ExactReference`]), so that a problem PGS cannot converge on still
+//! says how wrong the plain solver was.
 
 use crate::problem::{ContactProblem, FrictionModel, RowBounds};
 use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::residual::coulomb_residual;
-use crate::solve::{LocalSolve, PgsSettings, PgsWorkspace, residual, solve_pgs};
+use crate::solve::{
+    LocalSolve, NewtonSettings, NewtonWorkspace, PgsSettings, PgsWorkspace, SolveReport, Solver,
+    residual, solve_newton, solve_pgs,
+};
 use nalgebra::{DMatrix, DVector, SVector};
 use serde::Serialize;
 
@@ -53,18 +63,24 @@ pub struct ProblemCheck {
     pub lambda_uncertainty: Option<f64>,
     /// The number held against the tolerance: `lambda_difference` or `objective_gap`.
     pub disagreement: f64,
-    /// PGS's residual (docs/contact.md §"Residual"), m/s.
-    pub residual_pgs: f64,
-    /// For cone friction, the exact Coulomb law's residual of PGS's λ (De Saxcé's natural map,
-    /// docs/contact.md §"The exact Coulomb residual"), m/s.
-    pub coulomb_residual_pgs: Option<f64>,
+    /// The residual of the answer checked (docs/contact.md §"Residual"), m/s, recomputed from the
+    /// problem and λ alone.
+    pub residual_answer: f64,
+    /// For cone friction, the exact Coulomb law's residual of the answer (De Saxcé's natural
+    /// map, docs/contact.md §"The exact Coulomb residual"), m/s.
+    pub coulomb_residual_answer: Option<f64>,
     /// The PGS visit that produced the answer checked: `rows` or `exact` (the scene's
     /// `pgs_local_solve`, or crosscheck's `--pgs-local-solve`).
     pub pgs_local_solve: &'static str,
     /// The same residual of clarabel's λ, m/s.
     pub residual_qp: f64,
-    /// PGS sweeps used.
-    pub pgs_iterations: u32,
+    /// Iterations the answer took (PGS sweeps, or Newton iterations).
+    pub iterations: u32,
+    /// Whose answer was checked: `pgs` (run to convergence), `newton` or `proximal` (the step's
+    /// Newton answer, or the Newton solver's on a problem file).
+    pub solver: &'static str,
+    /// With PGS under test: the exact solver's solution and the distances to it.
+    pub exact: Option<ExactReference>,
     /// clarabel's status.
     pub qp_status: String,
     /// clarabel's iterations.
@@ -74,11 +90,37 @@ pub struct ProblemCheck {
     pub anitescu: Option<(f64, bool)>,
 }
 
+/// The exact solver's answer to a problem and how far the checked answers are from it.
+#[derive(Clone, Debug, Serialize)]
+pub struct ExactReference {
+    /// `newton`, or `proximal` where its fallback produced the answer.
+    pub method: &'static str,
+    /// Whether it converged (residual and exact Coulomb residual ≤ its tolerance, 1e-10 m/s).
+    pub converged: bool,
+    /// Its residual, m/s.
+    pub residual: f64,
+    /// max |u⁺ − u⁺_exact| over every body's velocity components (m/s and rad/s; 2D: blocks and
+    /// rad per time unit) for the answer checked (PGS run to convergence).
+    pub answer_distance: f64,
+    /// The same for the step's λ, the impulses the run applied (when checking a run).
+    pub step_distance: Option<f64>,
+    /// The step λ's violation of the contact law: its residual (m/s), and for cone friction its
+    /// exact Coulomb residual.
+    pub step_residual: Option<f64>,
+    /// The step λ's exact Coulomb residual (cone friction), m/s.
+    pub step_coulomb_residual: Option<f64>,
+}
+
 /// Settings of a cross-check.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CrosscheckSettings {
+    /// Whose answer is checked: PGS run to convergence (`pgs`, with [`Self::pgs`]) or the
+    /// Newton solver's (the step's λ when checking a run).
+    pub solver: Solver,
     /// PGS run to convergence: sweeps at most and residual target (m/s).
     pub pgs: PgsSettings,
+    /// The Newton solver's settings (under test, or the exact reference).
+    pub newton: NewtonSettings,
     /// clarabel's settings.
     pub qp: QpSettings,
     /// Smallest eigenvalue over largest of the objective's Hessian on the free rows below which
@@ -92,6 +134,8 @@ pub struct CrosscheckSettings {
 impl Default for CrosscheckSettings {
     fn default() -> Self {
         CrosscheckSettings {
+            solver: Solver::Pgs,
+            newton: NewtonSettings::default(),
             pgs: PgsSettings {
                 max_iterations: 200_000,
                 tolerance: Some(1e-12),
@@ -184,15 +228,45 @@ fn distance_bound<const D: usize, const R: usize>(
     (2.0 + m / l) * (l / m) * r2.sqrt()
 }
 
-/// Runs PGS to convergence and clarabel on `problem` and compares them.
+/// Checks `problem` with the solver under test solving it ([`CrosscheckSettings::solver`]: PGS
+/// to convergence, or Newton) against clarabel, and with PGS also against the exact solver.
 pub fn check_problem<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     settings: &CrosscheckSettings,
 ) -> Result<ProblemCheck, String> {
+    check_step(problem, settings, None)
+}
+
+/// Checks one solve of a run: as [`check_problem`], with the step's λ and report. With the
+/// Newton solver under test the step's λ is the answer checked (it is what the run applied);
+/// with PGS, PGS is run to convergence and the step's λ is measured against the exact solution.
+pub fn check_step<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    settings: &CrosscheckSettings,
+    step: Option<(&[SVector<f64, R>], &SolveReport)>,
+) -> Result<ProblemCheck, String> {
     problem.validate()?;
-    let mut workspace = PgsWorkspace::new(0);
     let mut lambda = Vec::new();
-    let report = solve_pgs(problem, &settings.pgs, &mut workspace, &mut lambda);
+    let report = match (settings.solver, step) {
+        (Solver::Newton, Some((step_lambda, step_report))) => {
+            lambda.extend_from_slice(step_lambda);
+            *step_report
+        }
+        (Solver::Newton, None) => solve_newton(
+            problem,
+            &settings.newton,
+            &mut NewtonWorkspace::default(),
+            &mut lambda,
+        ),
+        (Solver::Pgs, _) => solve_pgs(
+            problem,
+            &settings.pgs,
+            &mut PgsWorkspace::new(0),
+            &mut lambda,
+        ),
+    };
+    let exact = (settings.solver == Solver::Pgs)
+        .then(|| exact_reference(problem, &settings.newton, &lambda, step.map(|(l, _)| l)));
     let frictionless =
         (problem.contacts.iter()).all(|c| c.mu == 0.0 || c.bounds == RowBounds::Free);
     let fixed: Vec<f64> = lambda.iter().map(|l| l[0]).collect();
@@ -291,14 +365,52 @@ pub fn check_problem<const D: usize, const R: usize>(
             Comparison::Lambda => lambda_difference,
             Comparison::Objective => objective_gap,
         },
-        residual_pgs: report.residual,
-        coulomb_residual_pgs: (problem.friction == FrictionModel::Cone)
+        residual_answer: residual(problem, &lambda),
+        coulomb_residual_answer: (problem.friction == FrictionModel::Cone)
             .then(|| coulomb_residual(problem, &lambda)),
         pgs_local_solve: settings.pgs.local.name(),
         residual_qp: residual(problem, &qp.lambda),
-        pgs_iterations: report.iterations,
+        iterations: report.iterations,
+        solver: report.method.name(),
+        exact,
         qp_status: qp.status,
         qp_iterations: qp.iterations,
         anitescu,
     })
+}
+
+/// The exact solver's solution of `problem` and the distances of `answer` and of the step's λ
+/// to it, in the bodies' velocities after the impulses (u⁺ = u + M⁻¹Jᵀλ).
+fn exact_reference<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    settings: &NewtonSettings,
+    answer: &[SVector<f64, R>],
+    step: Option<&[SVector<f64, R>]>,
+) -> ExactReference {
+    let mut exact = Vec::new();
+    let report = solve_newton(
+        problem,
+        settings,
+        &mut NewtonWorkspace::default(),
+        &mut exact,
+    );
+    let exact_change = problem.velocity_change(&exact);
+    let distance = |lambda: &[SVector<f64, R>]| {
+        problem
+            .velocity_change(lambda)
+            .iter()
+            .zip(&exact_change)
+            .map(|(a, b)| (a - b).amax())
+            .fold(0.0, f64::max)
+    };
+    let cone = problem.friction == FrictionModel::Cone;
+    ExactReference {
+        method: report.method.name(),
+        converged: report.converged,
+        residual: report.residual,
+        answer_distance: distance(answer),
+        step_distance: step.map(distance),
+        step_residual: step.map(|l| residual(problem, l)),
+        step_coulomb_residual: step.filter(|_| cone).map(|l| coulomb_residual(problem, l)),
+    }
 }

@@ -246,7 +246,7 @@ fn clarabel_agrees_with_pgs_on_problems_with_joint_rows() {
             }
             assert!(problem.contacts.iter().any(|c| c.bounds == RowBounds::Free));
             let c = check_problem(&problem, &Default::default()).unwrap();
-            if c.residual_pgs <= 1e-10 {
+            if c.residual_answer <= 1e-10 {
                 let tol = match c.comparison {
                     Comparison::Lambda => 1e-5,
                     Comparison::Objective => 1e-8,

@@ -83,7 +83,7 @@ fn crosscheck_failures(faults: Faults) -> Vec<String> {
                 let ran = drive(&mut world, 100, |world, _| {
                     for solve in &world.solves {
                         let c = check_problem(&solve.problem, &settings).unwrap();
-                        disagree |= c.residual_pgs > 1e-10
+                        disagree |= c.residual_answer > 1e-10
                             || match c.comparison {
                                 Comparison::Lambda => c.lambda_difference > 1e-5,
                                 Comparison::Objective => c.objective_gap > 1e-8,
