@@ -286,19 +286,21 @@ impl RunTotals {
         let solver = match (self.newton, self.proximal) {
             (0, _) => "PGS {:.1} sweeps on average".to_string(),
             (_, 0) => "Newton {:.1} iterations on average".to_string(),
-            (_, p) => format!("Newton {{:.1}} iterations on average ({p} by its proximal fallback)"),
+            (_, p) => {
+                format!("Newton {{:.1}} iterations on average ({p} by its proximal fallback)")
+            }
         }
-        .replace("{:.1}", &format!("{:.1}", self.sweeps as f64 / self.solves as f64));
+        .replace(
+            "{:.1}",
+            &format!("{:.1}", self.sweeps as f64 / self.solves as f64),
+        );
         let unresolved = match self.unresolved {
             0 => String::new(),
             n => format!("; {n} unresolved ({})", self.unresolved_reason()),
         };
         format!(
             "{} solves in {} steps, up to {} contacts; {solver}, worst residual {:.3e} {velocity}{coulomb}{unresolved}, {penetration}",
-            self.solves,
-            self.steps_with_contacts,
-            self.most_contacts,
-            self.worst_residual,
+            self.solves, self.steps_with_contacts, self.most_contacts, self.worst_residual,
         )
     }
 

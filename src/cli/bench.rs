@@ -5,7 +5,8 @@ use clap::Args;
 use rigidref::rigid3d::scene::load_scene;
 use rigidref::tools::bench::{
     BenchSettings, assignment_scene, cube_pyramid, cube_stack_grid, factory_pile, markdown,
-    peak_memory_bytes, pyramid_grid, run_case, sphere_rain, stack_grid, svg,
+    peak_memory_bytes, pyramid_grid, run_case, solver_markdown, solver_row, sphere_rain,
+    stack_grid, svg,
 };
 use rigidref::tools::factory::Pieces;
 use std::path::PathBuf;
@@ -156,6 +157,25 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
         rows.push(run_case(case, &settings).map_err(|e| anyhow::anyhow!("{}: {e}", case.name))?);
     }
     let mut table = markdown(&rows, &settings);
+    // The exact solver against PGS on the assignment's contact scenes 5–7 (issue 30's target:
+    // within 20× PGS's step).
+    let mut solver_rows = Vec::new();
+    for case in cases.iter().filter(|c| {
+        ["scene5", "scene6", "scene7"]
+            .iter()
+            .any(|n| c.name.ends_with(n))
+    }) {
+        if let rigidref::tools::bench::BenchScene::Rigid3d(scene) = &case.scene {
+            eprintln!("[solvers] {}", case.name);
+            solver_rows.push(
+                solver_row(&case.name, scene, &settings.for_bodies(scene.bodies.len()))
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", case.name))?,
+            );
+        }
+    }
+    if !solver_rows.is_empty() {
+        table.push_str(&solver_markdown(&solver_rows));
+    }
     if args.quick {
         table.insert_str(
             0,

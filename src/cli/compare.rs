@@ -289,6 +289,10 @@ pub struct GradeArgs {
     /// Threads [default: the machine's cores].
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Scene parameters for the reference runs (e.g. `--set solver=newton` for exact contact
+    /// solves), applied to every scene.
+    #[command(flatten)]
+    pub sets: super::args::SceneSets,
 }
 
 /// Runs `rigidref grade`.
@@ -299,7 +303,9 @@ pub fn grade(args: GradeArgs) -> anyhow::Result<()> {
     }
     let mut references = Vec::new();
     for path in &args.scenes {
-        let scene = load_scene(path).map_err(|e| anyhow::anyhow!("{}", e.0))?;
+        let overrides = args.sets.overrides()?;
+        let scene = rigidref::rigid3d::scene::load_scene_with(path, &overrides)
+            .map_err(|e| anyhow::anyhow!("{}", e.0))?;
         let name = path.file_stem().map_or_else(
             || path.display().to_string(),
             |s| s.to_string_lossy().to_string(),

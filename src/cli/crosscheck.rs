@@ -225,8 +225,7 @@ fn check_run<S: Simulation<D, R>, const D: usize, const R: usize>(
     let ran = drive(sim, steps, |w, k| -> Result<Flow, Stopped> {
         for solve in w.solves() {
             let step = Some((solve.lambda.as_slice(), &solve.report));
-            let check =
-                check_step(&solve.problem, settings, step).map_err(anyhow::Error::msg)?;
+            let check = check_step(&solve.problem, settings, step).map_err(anyhow::Error::msg)?;
             rows.push(Row {
                 source: format!("step {k} substep {}", solve.substep),
                 check,

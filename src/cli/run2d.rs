@@ -70,7 +70,11 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         last_done = k;
         let totals = SolveTotals::of(&w.solves);
-        run_totals.add(&w.solves, k, w.params.gravity * w.params.dt / f64::from(w.substeps_in_step));
+        run_totals.add(
+            &w.solves,
+            k,
+            w.params.gravity * w.params.dt / f64::from(w.substeps_in_step),
+        );
         most_contacts = most_contacts.max(w.most_contacts_in_step);
         if let Some(dir) = &args.output.dump_problems {
             for solve in &w.solves {

@@ -220,8 +220,8 @@ fn linearise<const R: usize>(
             } else if norm > 0.0 {
                 // On the rim: F_t = ρ(λt − radius ẑ).
                 let unit = z / norm;
-                let g = (SMatrix::<f64, 2, 2>::identity() - unit * unit.transpose())
-                    * (radius / norm);
+                let g =
+                    (SMatrix::<f64, 2, 2>::identity() - unit * unit.transpose()) * (radius / norm);
                 for r in 1..3 {
                     out.f[r] = rho * (lambda[r] - radius * unit[r - 1]);
                     out.d_lambda[(r, 0)] = -rho * dr_lambda * unit[r - 1];
@@ -546,7 +546,10 @@ pub fn solve_newton<const D: usize, const R: usize>(
     let n = system.rows();
     let mut x = DVector::from_iterator(
         n,
-        problem.contacts.iter().flat_map(|c| c.lambda0.iter().copied()),
+        problem
+            .contacts
+            .iter()
+            .flat_map(|c| c.lambda0.iter().copied()),
     );
     let cone = problem.friction == FrictionModel::Cone;
     let tolerance = settings.tolerance;

@@ -772,3 +772,92 @@ pub fn svg(rows: &[BenchRow], path: &std::path::Path, title: &str) -> Result<(),
     root.present().map_err(|e| err(&e))?;
     Ok(())
 }
+
+/// One scene stepped with PGS and with the exact Newton solver, each with the scene's own
+/// parameters (docs/performance.md §"The exact solver's cost").
+#[derive(Clone, Debug, PartialEq)]
+pub struct SolverRow {
+    /// The scene's name.
+    pub name: String,
+    /// Median ms per step with PGS (the scene's `pgs_iterations`).
+    pub pgs_ms: f64,
+    /// Median ms per step with `solver: newton`.
+    pub newton_ms: f64,
+    /// Newton iterations per solve, mean over the timed steps (the fallback's included).
+    pub newton_iterations: f64,
+    /// Timed solves the Newton solver did not converge on.
+    pub unconverged: usize,
+}
+
+impl SolverRow {
+    /// Newton's step time over PGS's.
+    pub fn ratio(&self) -> f64 {
+        self.newton_ms / self.pgs_ms.max(1e-12)
+    }
+}
+
+/// Steps `scene` with PGS and with the Newton solver side by side: `s.warmup` steps each, then
+/// `s.rounds` rounds of `s.steps` steps, PGS then Newton in each round; medians.
+pub fn solver_row(name: &str, scene: &Scene, s: &BenchSettings) -> Result<SolverRow, String> {
+    use crate::solve::Solver;
+    let with = |solver| {
+        let mut scene = scene.clone();
+        scene.params.solver = solver;
+        World::new(&scene)
+    };
+    let (mut pgs, mut newton) = (with(Solver::Pgs)?, with(Solver::Newton)?);
+    for _ in 0..s.warmup {
+        pgs.step().map_err(|e| e.to_string())?;
+        newton.step().map_err(|e| e.to_string())?;
+    }
+    let (mut pgs_ms, mut newton_ms) = (Vec::new(), Vec::new());
+    let (mut iterations, mut solves, mut unconverged) = (0u64, 0u64, 0usize);
+    for _ in 0..s.rounds {
+        let clock = Instant::now();
+        for _ in 0..s.steps {
+            pgs.step().map_err(|e| e.to_string())?;
+        }
+        pgs_ms.push(clock.elapsed().as_secs_f64() * 1e3 / s.steps as f64);
+        let mut elapsed = 0.0;
+        for _ in 0..s.steps {
+            let clock = Instant::now();
+            newton.step().map_err(|e| e.to_string())?;
+            elapsed += clock.elapsed().as_secs_f64();
+            for solve in &newton.solves {
+                iterations += u64::from(solve.report.iterations);
+                solves += 1;
+                unconverged += usize::from(!solve.report.converged);
+            }
+        }
+        newton_ms.push(elapsed * 1e3 / s.steps as f64);
+    }
+    Ok(SolverRow {
+        name: name.to_string(),
+        pgs_ms: median(pgs_ms),
+        newton_ms: median(newton_ms),
+        newton_iterations: iterations as f64 / solves.max(1) as f64,
+        unconverged,
+    })
+}
+
+/// The solver rows as a Markdown table.
+pub fn solver_markdown(rows: &[SolverRow]) -> String {
+    let mut out = String::from(
+        "\nThe exact solver's cost: each scene with its own parameters, PGS and `solver: newton` \
+         side by side (interleaved rounds, medians).\n\n\
+         | scene | PGS ms/step | Newton ms/step | Newton / PGS | Newton iterations per solve | unconverged solves |\n\
+         |---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        out.push_str(&format!(
+            "| {} | {:.4} | {:.4} | {:.2} | {:.2} | {} |\n",
+            r.name,
+            r.pgs_ms,
+            r.newton_ms,
+            r.ratio(),
+            r.newton_iterations,
+            r.unconverged
+        ));
+    }
+    out
+}

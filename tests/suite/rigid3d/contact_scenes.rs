@@ -551,7 +551,12 @@ fn heavy_cube_on_light_cube_holds_with_newton_and_each_layer_carries_its_load() 
     });
     for (b, x0) in w.bodies.iter().zip(&start) {
         // 1 mm over 1 s (measured: 1e-12 m).
-        assert!((b.x - x0).norm() <= 1e-3, "{}: moved {:e} m", b.name, (b.x - x0).norm());
+        assert!(
+            (b.x - x0).norm() <= 1e-3,
+            "{}: moved {:e} m",
+            b.name,
+            (b.x - x0).norm()
+        );
     }
     // Within 1% of m g h per step (measured: round-off).
     assert!(worst_layer_error <= 0.01, "{worst_layer_error}");
@@ -588,9 +593,15 @@ fn heavy_cube_on_light_cube_with_pgs_warns_unresolved() {
         .collect();
     assert_eq!(warnings.len(), 1, "{stderr}");
     assert!(warnings[0].contains("--set solver=newton"), "{stderr}");
-    assert!(stderr.contains("unresolved (PGS residual"), "the summary says it too: {stderr}");
+    assert!(
+        stderr.contains("unresolved (PGS residual"),
+        "the summary says it too: {stderr}"
+    );
     let out = run("newton");
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success() && !stderr.contains("warning"), "{stderr}");
+    assert!(
+        out.status.success() && !stderr.contains("warning"),
+        "{stderr}"
+    );
     assert!(stderr.contains("Newton"), "{stderr}");
 }

@@ -24,7 +24,12 @@ fn newton<const D: usize, const R: usize>(
         ..NewtonSettings::default()
     };
     let mut lambda = Vec::new();
-    let report = solve_newton(problem, &settings, &mut NewtonWorkspace::default(), &mut lambda);
+    let report = solve_newton(
+        problem,
+        &settings,
+        &mut NewtonWorkspace::default(),
+        &mut lambda,
+    );
     (lambda, report)
 }
 
@@ -43,7 +48,10 @@ fn check_known(
     let w = problem.constraint_velocity(&lambda);
     // 1e-12: the answers are exact up to the round-off of a 3 × 3 solve with entries of order 1.
     assert!(report.converged && report.residual <= 1e-12, "{report:?}");
-    assert!((lambda[0] - SVector::from(expected_lambda)).amax() <= 1e-12, "{lambda:?}");
+    assert!(
+        (lambda[0] - SVector::from(expected_lambda)).amax() <= 1e-12,
+        "{lambda:?}"
+    );
     assert!((w[0] - SVector::from(expected_w)).amax() <= 1e-12, "{w:?}");
     if friction == FrictionModel::Cone {
         assert!(coulomb_residual(&problem, &lambda) <= 1e-12);
@@ -51,7 +59,10 @@ fn check_known(
     // PGS converges on these one-contact problems (its exact visit in one sweep) and agrees.
     let (pgs, pgs_report) = super::run_pgs(&problem, LocalSolve::Exact, 10, Some(1e-13));
     assert!(pgs_report.converged, "{pgs_report:?}");
-    assert!((pgs[0] - lambda[0]).amax() <= 1e-12, "PGS {pgs:?} Newton {lambda:?}");
+    assert!(
+        (pgs[0] - lambda[0]).amax() <= 1e-12,
+        "PGS {pgs:?} Newton {lambda:?}"
+    );
 }
 
 #[test]
@@ -98,7 +109,12 @@ fn newton_solves_hand_made_problems_with_known_exact_solutions() {
         [1.0, -mu, -mu],
         [0.0, 2.0 - mu, 2.0 - mu],
     );
-    let problem = super::local_solve_problem(identity, SVector::from([-1.0, 2.0, 2.0]), mu, FrictionModel::Box);
+    let problem = super::local_solve_problem(
+        identity,
+        SVector::from([-1.0, 2.0, 2.0]),
+        mu,
+        FrictionModel::Box,
+    );
     let (lambda, _) = newton(&problem, 1e-12);
     let tangential = (lambda[0][1].powi(2) + lambda[0][2].powi(2)).sqrt();
     assert!((tangential - 2f64.sqrt() * mu * lambda[0][0]).abs() <= 1e-12);
