@@ -40,6 +40,11 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
                       the friction rows bounded by the new λn: the assignment's;
                       default) or \"exact\" (the contact's 3×3 problem solved exactly,
                       normal and friction together: cannot cycle on one contact)
+    solver            \"pgs\" (projected Gauss-Seidel, the assignment's; default) or
+                      \"newton\" (the exact solver: semismooth Newton, every contact
+                      problem solved to 1e-10 m/s or reported unresolved; use it
+                      where PGS warns of unresolved solves, e.g. a heavy body on a
+                      light one; docs/contact.md §\"Newton solver\")
     collision         \"vertices\" (the assignment's rule: vertices of one mesh
                       inside the other; default) or \"complete\" (also edge-edge
                       crossings and face contacts, from the contact manifolds of

@@ -10,7 +10,7 @@ use crate::common;
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, NonFinite, drive};
-use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_problem};
+use rigidref::verify::crosscheck::{Comparison, CrosscheckSettings, check_step};
 use rigidref::verify::faults::{Faults, with_faults};
 use rigidref::verify::golden::{
     Tolerances, canonical_scenes, compare, golden_path, read_golden, record,
@@ -65,16 +65,20 @@ fn snapshot_failures(faults: Faults) -> Vec<String> {
         .collect()
 }
 
-/// Canonical contact scenes where, on some problem of the first second, PGS (with the faults)
-/// and clarabel disagree, or PGS cannot reach the residual tolerance (the unmodified PGS reaches
-/// it on every problem of these scenes: `the_unmodified_code_passes_every_check`); this is
+/// Canonical contact scenes where, on some problem of the first second, the scene's solver (with
+/// the faults: PGS run to convergence, or the step's Newton answer) and clarabel disagree, or
+/// the answer does not reach the residual tolerance (the unmodified solvers reach it on every
+/// problem of these scenes: `the_unmodified_code_passes_every_check`); this is
 /// `rigidref crosscheck --strict`.
 fn crosscheck_failures(faults: Faults) -> Vec<String> {
-    let settings = CrosscheckSettings::default();
     scenes()
         .into_iter()
         .filter(|(_, scene)| scene.params.check_collisions)
         .filter(|(_, scene)| {
+            let settings = CrosscheckSettings {
+                solver: scene.params.solver,
+                ..CrosscheckSettings::default()
+            };
             with_faults(faults, || {
                 let mut world = World::new(scene).unwrap();
                 // Stops at the first problem where the two disagree; a run that blows up certainly
@@ -82,7 +86,8 @@ fn crosscheck_failures(faults: Faults) -> Vec<String> {
                 let mut disagree = false;
                 let ran = drive(&mut world, 100, |world, _| {
                     for solve in &world.solves {
-                        let c = check_problem(&solve.problem, &settings).unwrap();
+                        let step = Some((solve.lambda.as_slice(), &solve.report));
+                        let c = check_step(&solve.problem, &settings, step).unwrap();
                         disagree |= c.residual_answer > 1e-10
                             || match c.comparison {
                                 Comparison::Lambda => c.lambda_difference > 1e-5,
