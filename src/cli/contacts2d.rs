@@ -88,9 +88,9 @@ fn print_table(source: &str, world: &World2, solve: &Solve2, contacts: &[Contact
         p.mu
     );
     println!(
-        "{} contacts; PGS {} sweeps, residual {:.3e} blocks per time unit",
+        "{} contacts; {}, residual {:.3e} blocks per time unit",
         contacts.len(),
-        solve.report.iterations,
+        super::contacts3d::iterations_phrase(solve.report.method.name(), solve.report.iterations),
         solve.report.residual
     );
     for (k, c) in contacts.iter().enumerate() {

@@ -14,6 +14,8 @@ struct ContactsJson {
     h: f64,
     mu: f64,
     friction_model: String,
+    /// The method that produced λ: `pgs`, `newton` or `proximal`.
+    solver: &'static str,
     iterations: u32,
     residual: f64,
     /// Cone friction: the exact Coulomb law's residual, m/s.
@@ -69,6 +71,7 @@ fn contacts_json(world: &World, solve: &Solve3) -> ContactsJson {
         h: world.params.h(),
         mu: world.params.mu,
         friction_model: world.params.friction_model.name().into(),
+        solver: solve.report.method.name(),
         iterations: solve.report.iterations,
         residual: solve.report.residual,
         coulomb_residual: solve.report.coulomb_residual,
@@ -106,9 +109,9 @@ fn print_table(out: &ContactsJson, world: &World) {
         out.scene, out.step, out.t, out.substep, out.h, out.mu, out.friction_model
     );
     println!(
-        "{} contacts; PGS {} sweeps, residual {:.3e} m/s{}",
+        "{} contacts; {}, residual {:.3e} m/s{}",
         out.contacts.len(),
-        out.iterations,
+        iterations_phrase(out.solver, out.iterations),
         out.residual,
         match out.coulomb_residual {
             Some(r) => format!(", exact Coulomb residual {r:.3e} m/s"),
@@ -162,4 +165,13 @@ fn print_table(out: &ContactsJson, world: &World) {
 
 fn fmt3(v: &[f64; 3]) -> String {
     format!("[{:>13.6e}, {:>13.6e}, {:>13.6e}]", v[0], v[1], v[2])
+}
+
+/// "PGS 100 sweeps" or "Newton 3 iterations" (with the fallback named when it answered).
+pub(super) fn iterations_phrase(method: &str, iterations: u32) -> String {
+    match method {
+        "pgs" => format!("PGS {iterations} sweeps"),
+        "proximal" => format!("Newton {iterations} iterations (its proximal fallback answered)"),
+        _ => format!("Newton {iterations} iterations"),
+    }
 }

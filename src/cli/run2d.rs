@@ -283,15 +283,20 @@ impl Summary2<'_> {
                 }
             );
         }
+        let solver = match p.solver {
+            rigidref::solve::Solver::Newton => "by newton (exact)".to_string(),
+            rigidref::solve::Solver::Pgs => format!(
+                "by pgs, {} iterations{}, order {:?} (seed {})",
+                p.iterations,
+                p.tolerance
+                    .map_or(String::new(), |t| format!(" (tolerance {t})")),
+                p.order,
+                p.seed
+            ),
+        };
         eprintln!(
-            "solver         {:?} contacts by {}, {} iterations{}, order {:?} (seed {}), μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {}){}",
+            "solver         {:?} contacts {solver}, μ {}, restitution {}, warm start {}, post-stabilisation {} (slop {}){}",
             p.contact_model,
-            p.solver.name(),
-            p.iterations,
-            p.tolerance
-                .map_or(String::new(), |t| format!(" (tolerance {t})")),
-            p.order,
-            p.seed,
             p.mu,
             p.restitution,
             p.warm_start,

@@ -15,8 +15,8 @@
 //! F(λ) = 0 with the generalized Jacobian ∂F = D_λ + D_w W (D_λ, D_w block diagonal, read off
 //! the branch each row is on), regularised as ∂F + D_w H with H = ε diag(W) and ε → 0 with ‖F‖
 //! (a proximal term centred at the current iterate, so the equation is unchanged: it only makes
-//! the linear system solvable where W is rank deficient), globalised by an Armijo line search on
-//! θ = ½‖F‖². Where that stalls or runs out of iterations, proximal-point iterations take over:
+//! the linear system solvable where W is rank deficient), globalised by a non-monotone Armijo
+//! line search on θ = ½‖F‖² (against the largest θ of the last five iterations). Where that stalls or runs out of iterations, proximal-point iterations take over:
 //! each solves the problem with W + H and b − H λ_c exactly (by the same Newton iteration) about
 //! a centre λ_c, with H larger where the inner solve fails and smaller where it succeeds; a fixed
 //! point is a solution of the original problem. The report says which produced the answer.
@@ -43,6 +43,9 @@ pub struct NewtonSettings {
     pub tolerance: f64,
     /// Proximal-point iterations at most in the fallback (default 60).
     pub proximal_iterations: u32,
+    /// Rows up to which the Newton system is factorised densely; above, by the sparse LU
+    /// (default [`DENSE_ROWS`]; the two give the same answer to round-off, which a test checks).
+    pub dense_rows: usize,
 }
 
 impl Default for NewtonSettings {
@@ -51,6 +54,7 @@ impl Default for NewtonSettings {
             max_iterations: 50,
             tolerance: 1e-10,
             proximal_iterations: 60,
+            dense_rows: DENSE_ROWS,
         }
     }
 }
@@ -271,10 +275,12 @@ struct System<const R: usize> {
     laws: Vec<Law>,
     /// Row scales a_r = W_rr (1 where W_rr = 0: a row no impulse can move).
     scales: DVector<f64>,
+    /// Rows up to which the Newton system is factorised densely.
+    dense_rows: usize,
 }
 
 impl<const R: usize> System<R> {
-    fn of<const D: usize>(problem: &ContactProblem<D, R>) -> Self {
+    fn of<const D: usize>(problem: &ContactProblem<D, R>, dense_rows: usize) -> Self {
         let delassus = Delassus::of(problem);
         let n = R * problem.contacts.len();
         let mut scales = DVector::zeros(n);
@@ -299,6 +305,7 @@ impl<const R: usize> System<R> {
             b: problem.dense_b(),
             laws,
             scales,
+            dense_rows,
         }
     }
 
@@ -391,7 +398,7 @@ fn solve_newton_system<const R: usize>(
         }
         m
     };
-    let x = if n <= DENSE_ROWS {
+    let x = if n <= system.dense_rows {
         let mut m = DMatrix::<f64>::zeros(n, n);
         for (k, row) in system.delassus.rows.iter().enumerate() {
             for (j, w) in row {
@@ -428,6 +435,8 @@ fn solve_newton_system<const R: usize>(
 /// Armijo's constant: a step is taken when θ falls by at least this fraction of its linear
 /// prediction.
 const ARMIJO: f64 = 1e-4;
+/// Iterations whose θ a trial step is compared with (the largest of them).
+const NONMONOTONE_MEMORY: usize = 5;
 /// Halvings of the step before the line search gives up (step 2⁻¹²): a shorter step makes no
 /// progress worth its cost, and the iteration tries a better-conditioned system instead.
 const LINE_SEARCH_HALVINGS: u32 = 12;
@@ -463,6 +472,10 @@ fn iterate<const R: usize>(
     let mut trial_blocks = Vec::with_capacity(system.laws.len());
     evaluate(system, lambda, proximal, &mut w, &mut f, &mut blocks);
     let mut iterations = 0;
+    // θ of the last iterations: a step is measured against the largest (a non-monotone line
+    // search), so that the iteration can cross a ridge of θ on its way along a direction in
+    // which W is singular, where a monotone search only creeps.
+    let mut recent = [0.0f64; NONMONOTONE_MEMORY];
     loop {
         let norm = law_norm(system, &f);
         if norm <= tolerance && accept(lambda) {
@@ -479,8 +492,10 @@ fn iterate<const R: usize>(
                 reached: false,
             };
         }
-        iterations += 1;
         let theta = 0.5 * f.norm_squared();
+        recent[iterations as usize % NONMONOTONE_MEMORY] = theta;
+        let reference = recent.iter().copied().fold(theta, f64::max);
+        iterations += 1;
         // The least regularisation first: diag(W) can exceed W's smallest eigenvalue on the
         // directions that matter by 10⁶ (a heavy body on a light one), where any larger ε
         // turns the Newton step into a gradient step. More only after a failed step.
@@ -506,7 +521,7 @@ fn iterate<const R: usize>(
                     &mut trial_f,
                     &mut trial_blocks,
                 );
-                if 0.5 * trial_f.norm_squared() <= theta * (1.0 - 2.0 * ARMIJO * t) {
+                if 0.5 * trial_f.norm_squared() <= reference - 2.0 * ARMIJO * t * theta {
                     *lambda = trial;
                     std::mem::swap(&mut w, &mut trial_w);
                     std::mem::swap(&mut f, &mut trial_f);
@@ -542,7 +557,7 @@ pub fn solve_newton<const D: usize, const R: usize>(
     workspace: &mut NewtonWorkspace<D>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
-    let system = System::of(problem);
+    let system = System::of(problem, settings.dense_rows);
     let n = system.rows();
     let mut x = DVector::from_iterator(
         n,
@@ -701,7 +716,7 @@ pub fn newton_function<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     lambda: &[SVector<f64, R>],
 ) -> (DVector<f64>, DMatrix<f64>) {
-    let system = System::of(problem);
+    let system = System::of(problem, DENSE_ROWS);
     let n = system.rows();
     let x = DVector::from_iterator(n, lambda.iter().flat_map(|l| l.iter().copied()));
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
