@@ -151,7 +151,15 @@ impl<C: ContactGeometry, const D: usize, const R: usize> SubstepSolve<C, D, R> {
             n: c.normal(),
             depth: c.depth(),
         });
-        ProblemFile::of_run(&self.problem, origin, geometry, &self.lambda, &self.report)
+        let criteria = crate::solve::criteria::criteria(&self.problem, &self.lambda).0;
+        ProblemFile::of_run(
+            &self.problem,
+            origin,
+            geometry,
+            &self.lambda,
+            &self.report,
+            criteria,
+        )
     }
 }
 
@@ -217,6 +225,9 @@ pub struct RunTotals {
     pub unresolved: u64,
     /// The largest residual of an unresolved solve, and the step it ended.
     pub worst_unresolved: Option<(f64, u64)>,
+    /// The largest of each physical criterion over every contact of the run (docs/contact.md
+    /// §"Physical criteria"); `None` before the first solve.
+    pub criteria: Option<crate::problem::ContactCriteria>,
 }
 
 impl RunTotals {
@@ -245,6 +256,8 @@ impl RunTotals {
                     self.proximal += 1;
                 }
             }
+            let worst = crate::solve::criteria::criteria(&s.problem, &s.lambda).1;
+            self.criteria = Some(self.criteria.map_or(worst, |c| c.max(&worst)));
             if s.unresolved(gravity_h) {
                 self.unresolved += 1;
                 let r = s.report.residual;
@@ -302,6 +315,16 @@ impl RunTotals {
             "{} solves in {} steps, up to {} contacts; {solver}, worst residual {:.3e} {velocity}{coulomb}{unresolved}, {penetration}",
             self.solves, self.steps_with_contacts, self.most_contacts, self.worst_residual,
         )
+    }
+
+    /// The summary's criteria line (docs/contact.md §"Physical criteria"): the largest of each
+    /// over the run; `impulse`, `velocity` and `energy` name the units.
+    pub fn describe_criteria(&self, impulse: &str, velocity: &str, energy: &str) -> Option<String> {
+        let c = self.criteria?;
+        Some(format!(
+            "primal {:.2e} {impulse}, dual {:.2e} {velocity}, complementarity {:.2e} {energy} (signorini {:.2e}, cone boundary {:.2e}, max dissipation {:.2e}); largest over every contact, against Coulomb's cone",
+            c.primal, c.dual, c.complementarity, c.signorini, c.cone_boundary, c.max_dissipation
+        ))
     }
 
     /// What made the unresolved solves unresolved, in a few words.
@@ -456,5 +479,66 @@ where
 impl From<NonFinite> for String {
     fn from(e: NonFinite) -> String {
         e.to_string()
+    }
+}
+
+/// What the contact solves of a recorded frame did: a trace record's `solver` key
+/// (docs/trace-format.md), absent when the frame solved no contact problem. Both systems.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SolverRecord {
+    /// The method that produced the frame's answers: `pgs`, `newton`, or `proximal` when the
+    /// Newton solver's proximal fallback produced at least one of them (docs/contact.md §"Newton
+    /// solver"). Traces written before the Newton solver have no key: `pgs`.
+    #[serde(default)]
+    pub solver: crate::problem::SolveMethod,
+    /// Contact solves in the frame (one per substep with contacts).
+    pub solves: u32,
+    /// Iterations, summed over the frame's solves: PGS sweeps, or Newton iterations.
+    pub sweeps: u64,
+    /// The largest residual a solve of the frame ended with (m/s in 3D, blocks/time in 2D).
+    pub residual: f64,
+    /// Cone friction: the largest exact Coulomb residual of the frame's solves (same unit;
+    /// docs/contact.md §"The exact Coulomb residual"); absent with box friction.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coulomb_residual: Option<f64>,
+    /// The largest of each physical criterion over the frame's contacts (docs/contact.md
+    /// §"Physical criteria"): `primal` N·s, `dual` m/s, the others J (2D: the system's units).
+    /// Absent in traces written before the criteria existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub criteria: Option<crate::problem::ContactCriteria>,
+}
+
+impl SolverRecord {
+    /// The record of a frame's `solves`; `None` when there were none.
+    pub fn of<C, const D: usize, const R: usize>(
+        solves: &[SubstepSolve<C, D, R>],
+    ) -> Option<SolverRecord> {
+        if solves.is_empty() {
+            return None;
+        }
+        let method = solves
+            .iter()
+            .map(|s| s.report.method)
+            .max_by_key(|m| *m as u8)
+            .unwrap_or_default();
+        let mut r = SolverRecord {
+            solver: method,
+            solves: solves.len() as u32,
+            sweeps: 0,
+            residual: 0.0,
+            coulomb_residual: None,
+            criteria: None,
+        };
+        let mut worst = crate::solve::criteria::ContactCriteria::default();
+        for s in solves {
+            worst = worst.max(&crate::solve::criteria::criteria(&s.problem, &s.lambda).1);
+            r.sweeps += u64::from(s.report.iterations);
+            r.residual = r.residual.max(s.report.residual);
+            if let Some(c) = s.report.coulomb_residual {
+                r.coulomb_residual = Some(r.coulomb_residual.map_or(c, |w| w.max(c)));
+            }
+        }
+        r.criteria = Some(worst);
+        Some(r)
     }
 }

@@ -69,7 +69,7 @@ pub struct Record2 {
     /// What the step's contact solves did (sweeps, worst residual); absent when it solved none,
     /// and in traces written before issue 16.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solver: Option<crate::common::trace::SolverRecord>,
+    pub solver: Option<crate::sim::SolverRecord>,
 }
 
 /// A body's state.
@@ -173,7 +173,7 @@ impl Record2 {
                     })
                     .collect()
             }),
-            solver: crate::common::trace::SolverRecord::of(&world.solves),
+            solver: crate::sim::SolverRecord::of(&world.solves),
         }
     }
 }

@@ -20,6 +20,9 @@ struct Contact2Json {
     b: [f64; 2],
     lambda0: [f64; 2],
     lambda: [f64; 2],
+    /// The contact's physical criteria (docs/contact.md §"Physical criteria").
+    #[serde(flatten)]
+    criteria: rigidref::solve::criteria::ContactCriteria,
 }
 
 /// The 2D counterpart: the contacts of one substep of an image or 2D scene file (docs/blocks2d.md
@@ -36,6 +39,7 @@ pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<(
     let source = path.display().to_string();
     step_to_contacts(args, &mut world, &source, "time units")?;
     let solve = choose_substep(args, world.step, &world.solves)?;
+    let (each, worst) = rigidref::solve::criteria::criteria(&solve.problem, &solve.lambda);
     let contacts: Vec<Contact2Json> = solve
         .contacts
         .iter()
@@ -58,6 +62,7 @@ pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<(
                 b: pc.b.into(),
                 lambda0: pc.lambda0.into(),
                 lambda: solve.lambda[k].into(),
+                criteria: each[k],
             }
         })
         .collect();
@@ -67,7 +72,7 @@ pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<(
             "scene": source, "dimension": 2, "step": world.step, "t": world.time(),
             "substep": solve.substep, "h": p.h(), "mu": p.mu,
             "iterations": solve.report.iterations, "residual": solve.report.residual,
-            "contacts": contacts,
+            "criteria": worst, "contacts": contacts,
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
         return Ok(());

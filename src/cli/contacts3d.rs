@@ -3,6 +3,7 @@
 use super::contacts::{ContactsArgs, choose_substep, rows, step_to_contacts};
 use nalgebra::{DMatrix, SMatrix};
 use rigidref::rigid3d::world::{Solve3, World};
+use rigidref::solve::criteria::{ContactCriteria, criteria};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -21,6 +22,8 @@ struct ContactsJson {
     /// Cone friction: the exact Coulomb law's residual, m/s.
     #[serde(skip_serializing_if = "Option::is_none")]
     coulomb_residual: Option<f64>,
+    /// The largest of each physical criterion over the contacts.
+    criteria: ContactCriteria,
     contacts: Vec<ContactJson>,
 }
 
@@ -37,6 +40,9 @@ struct ContactJson {
     b: [f64; 3],
     lambda0: [f64; 3],
     lambda: [f64; 3],
+    /// The contact's physical criteria (docs/contact.md §"Physical criteria").
+    #[serde(flatten)]
+    criteria: ContactCriteria,
 }
 
 /// Runs the scene to the chosen step and prints its contacts.
@@ -63,7 +69,9 @@ pub fn contacts(args: &ContactsArgs) -> anyhow::Result<()> {
 
 /// The solve's contacts with every quantity, as printed.
 fn contacts_json(world: &World, solve: &Solve3) -> ContactsJson {
+    let (each, worst) = criteria(&solve.problem, &solve.lambda);
     ContactsJson {
+        criteria: worst,
         scene: world.params.name.clone(),
         step: world.step,
         t: world.time(),
@@ -96,6 +104,7 @@ fn contacts_json(world: &World, solve: &Solve3) -> ContactsJson {
                     b: pc.b.into(),
                     lambda0: pc.lambda0.into(),
                     lambda: solve.lambda[k].into(),
+                    criteria: each[k],
                 }
             })
             .collect(),

@@ -19,8 +19,11 @@ docs/trace-format.md), one panel per quantity:
   omega             angular velocity of the bodies chosen by --bodies (default: the first four
                     that are not pinned)
   contacts          number of contacts in the record
-  sweeps            PGS sweeps in the recorded frame (traces of this version)
-  residual          PGS residual, and the exact Coulomb residual with cone friction (log scale)
+  sweeps            solver iterations in the recorded frame: PGS sweeps or Newton iterations
+  residual          solver residual, and the exact Coulomb residual with cone friction (log scale)
+  criteria          the physical criteria, largest over the frame's contacts: primal, dual,
+                    complementarity, signorini, cone boundary, max dissipation (log scale;
+                    docs/contact.md §\"Physical criteria\"; traces that record them)
   penetration       3D: the penetration measure; 2D: the deepest disc overlap
 Several traces are overlaid, each series named with its trace's file name: rigidref against
 another simulator's trace of the same scene, or two integrators. A trace cut off in its last

@@ -327,5 +327,11 @@ impl Summary2<'_> {
             self.totals
                 .describe("blocks per time unit", "blocks (disc overlap)")
         );
+        if let Some(line) =
+            self.totals
+                .describe_criteria("mass·blocks/time", "blocks/time", "mass·blocks²/time²")
+        {
+            eprintln!("criteria       {line}");
+        }
     }
 }

@@ -159,4 +159,7 @@ fn print_summary(
         return;
     }
     eprintln!("contacts       {}", c.describe("m/s", "m"));
+    if let Some(line) = c.describe_criteria("N·s", "m/s", "J") {
+        eprintln!("criteria       {line}");
+    }
 }

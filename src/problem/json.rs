@@ -127,6 +127,10 @@ pub struct SolutionJson {
     /// residual"), m/s; absent for box friction and in files written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub coulomb_residual: Option<f64>,
+    /// Each contact's physical criteria (docs/contact.md §"Physical criteria"); absent in files
+    /// written before they existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub criteria: Option<Vec<crate::problem::ContactCriteria>>,
 }
 
 fn rows<const A: usize, const B: usize>(m: &SMatrix<f64, A, B>) -> Vec<Vec<f64>> {
@@ -204,6 +208,7 @@ impl ProblemFile {
         geometry: impl IntoIterator<Item = GeometryJson>,
         lambda: &[SVector<f64, R>],
         report: &crate::problem::SolveReport,
+        criteria: Vec<crate::problem::ContactCriteria>,
     ) -> ProblemFile {
         let mut file = ProblemFile::new(problem);
         file.scene = Some(origin.scene.to_string());
@@ -219,6 +224,7 @@ impl ProblemFile {
             iterations: report.iterations,
             residual: report.residual,
             coulomb_residual: report.coulomb_residual,
+            criteria: Some(criteria),
         });
         file
     }

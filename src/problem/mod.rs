@@ -320,3 +320,37 @@ impl SolveMethod {
         }
     }
 }
+
+/// One contact's physical criteria against Coulomb's law (computed by
+/// `crate::solve::criteria`, docs/contact.md §"Physical criteria"); all zero at a Coulomb
+/// solution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ContactCriteria {
+    /// dist_K(λ), N·s: how far the impulse is outside the friction cone.
+    pub primal: f64,
+    /// dist_K*(ĉ), m/s: how far De Saxcé's velocity is outside the dual cone (an approach
+    /// without impulse shows here).
+    pub dual: f64,
+    /// |λ·ĉ|, J.
+    pub complementarity: f64,
+    /// |λn c_n|, J: impulse on a contact that separates (or approaches).
+    pub signorini: f64,
+    /// |‖c_T‖ (μλn − ‖λ_T‖)|, J: a sliding contact whose friction is inside the cone.
+    pub cone_boundary: f64,
+    /// ‖λ_T‖ ‖c_T‖ + λ_T·c_T, J: friction not opposite to the slip.
+    pub max_dissipation: f64,
+}
+
+impl ContactCriteria {
+    /// The larger of each criterion.
+    pub fn max(&self, other: &ContactCriteria) -> ContactCriteria {
+        ContactCriteria {
+            primal: self.primal.max(other.primal),
+            dual: self.dual.max(other.dual),
+            complementarity: self.complementarity.max(other.complementarity),
+            signorini: self.signorini.max(other.signorini),
+            cone_boundary: self.cone_boundary.max(other.cone_boundary),
+            max_dissipation: self.max_dissipation.max(other.max_dissipation),
+        }
+    }
+}

@@ -8,7 +8,8 @@ use crate::rigid3d::world::World;
 use serde::{Deserialize, Serialize};
 use std::io::{BufRead, BufWriter, Write};
 
-pub use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION, SolverRecord};
+pub use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION};
+pub use crate::sim::SolverRecord;
 
 /// The first line of a JSON Lines trace.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

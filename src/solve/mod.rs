@@ -14,8 +14,12 @@
 //! - [`projection`]: the feasible set of a contact's impulse and the projections onto it;
 //! - [`residual`](mod@residual): the natural-map residual that says how far a λ is from a solution, for any
 //!   solver's answer;
+//! - [`criteria`](mod@criteria): the physical criteria of an answer against Coulomb's law, per
+//!   contact (primal, dual, complementarity and its Signorini, cone-boundary and
+//!   maximum-dissipation parts);
 //! - [`shock`]: shock propagation, a layer-by-layer pass after PGS (an option).
 
+pub mod criteria;
 pub mod local;
 pub mod newton;
 pub mod pgs;

@@ -3,8 +3,8 @@
 //! docs/viewing.md §"Plots".
 
 use crate::blocks2d::trace::Record2;
-use crate::common::trace::SolverRecord;
 use crate::rigid3d::trace::{TraceHeader, TraceRecord};
+use crate::sim::SolverRecord;
 
 /// One plotted series: a name (unique within its plot) and one value per record (`None` where
 /// the record has none, drawn as a gap).
@@ -32,7 +32,7 @@ pub struct Plot {
 }
 
 /// The quantity names `rigidref plot --quantities` accepts, in the order plots are drawn.
-pub const QUANTITIES: [&str; 8] = [
+pub const QUANTITIES: [&str; 9] = [
     "energy",
     "momentum",
     "angular_momentum",
@@ -40,6 +40,7 @@ pub const QUANTITIES: [&str; 8] = [
     "contacts",
     "sweeps",
     "residual",
+    "criteria",
     "penetration",
 ];
 
@@ -80,16 +81,43 @@ fn solver_plots(solver: &[Option<SolverRecord>], velocity: &str) -> Vec<Plot> {
             .collect();
         residuals.push(series("exact Coulomb residual", coulomb));
     }
-    vec![
+    let mut plots = vec![
         plot(
             "sweeps",
-            "PGS sweeps",
+            "solver iterations (PGS sweeps, Newton iterations)",
             "",
             false,
-            vec![series("sweeps per frame", sweeps)],
+            vec![series("iterations per frame", sweeps)],
         ),
-        plot("residual", "PGS residual", velocity, true, residuals),
-    ]
+        plot("residual", "solver residual", velocity, true, residuals),
+    ];
+    if solver
+        .iter()
+        .any(|s| s.is_some_and(|s| s.criteria.is_some()))
+    {
+        let criterion = |name: &str, pick: fn(&crate::problem::ContactCriteria) -> f64| {
+            let values = solver
+                .iter()
+                .map(|s| s.and_then(|s| s.criteria.as_ref().map(pick)))
+                .collect();
+            series(name, values)
+        };
+        plots.push(plot(
+            "criteria",
+            "physical criteria (largest over the contacts)",
+            "N·s, m/s, J",
+            true,
+            vec![
+                criterion("primal", |c| c.primal),
+                criterion("dual", |c| c.dual),
+                criterion("complementarity", |c| c.complementarity),
+                criterion("signorini", |c| c.signorini),
+                criterion("cone boundary", |c| c.cone_boundary),
+                criterion("max dissipation", |c| c.max_dissipation),
+            ],
+        ));
+    }
+    plots
 }
 
 /// The plots of a 3D trace: energy, linear and angular momentum, the angular velocity of the

@@ -1024,3 +1024,76 @@ fn bench_quick_prints_the_side_by_side_table() {
     );
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }
+
+/// The six physical criteria (docs/contact.md §"Physical criteria") in `rigidref contacts --json`
+/// (per contact and their maximum), in a cone-friction trace's per-step solver record and in
+/// dumped problem files; on the resting box stack with cone friction every one is small.
+#[test]
+fn contacts_json_traces_and_problem_files_carry_the_physical_criteria() {
+    const KEYS: [&str; 6] = [
+        "primal",
+        "dual",
+        "complementarity",
+        "signorini",
+        "cone_boundary",
+        "max_dissipation",
+    ];
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/box_stack.json");
+    let scene = scene.to_str().unwrap();
+    let out = rigidref(&["contacts", scene, "--json"], tmp.path());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in KEYS {
+        assert!(v["criteria"][key].as_f64().is_some(), "{key}: {v}");
+        for c in v["contacts"].as_array().unwrap() {
+            assert!(c[key].as_f64().unwrap() >= 0.0, "{key}: {c}");
+        }
+    }
+    let out = rigidref(
+        &[
+            "run",
+            scene,
+            "--time",
+            "1",
+            "--set",
+            "friction_model=cone",
+            "--out",
+            "t.jsonl",
+            "--dump-problems",
+            "p",
+        ],
+        tmp.path(),
+    );
+    assert!(out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("criteria       primal"), "{stderr}");
+    let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
+    let last: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
+    let record = &last["solver"]["criteria"];
+    for key in KEYS {
+        // At rest with cone friction PGS's 100 warm-started sweeps leave every criterion far
+        // below the stack's scale (λn ~ 10 N·s, velocities ~ 0.1 m/s): 1e-3.
+        assert!(record[key].as_f64().unwrap() <= 1e-3, "{key}: {record}");
+    }
+    let problem = std::fs::read_dir(tmp.path().join("p"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(problem).unwrap()).unwrap();
+    let per_contact = file["solution"]["criteria"].as_array().unwrap();
+    assert_eq!(
+        per_contact.len(),
+        file["contacts"].as_array().unwrap().len()
+    );
+    for key in KEYS {
+        assert!(per_contact[0][key].as_f64().is_some());
+    }
+}

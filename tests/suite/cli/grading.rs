@@ -556,6 +556,7 @@ fn compare_problem_accepts_another_frictional_solution_by_its_residual() {
             iterations: 1,
             residual: 0.0,
             coulomb_residual: None,
+            criteria: None,
         });
         file
     };

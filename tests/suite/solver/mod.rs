@@ -1,6 +1,7 @@
 //! The shared core: the contact problem and PGS.
 
 mod coulomb;
+mod criteria;
 mod derivations;
 mod local_solve;
 mod newton;
