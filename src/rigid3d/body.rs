@@ -26,7 +26,8 @@ pub enum AngularIntegrator {
     /// the torque is applied explicitly. Dissipates a little energy instead of gaining it.
     ImplicitGyroscopic,
     /// The implicit midpoint rule on the body-frame Euler equations L' = L × J₀⁻¹L with the
-    /// matching Cayley rotation update (a discrete Lie–Poisson map): a torque-free body keeps
+    /// matching Cayley rotation update (not a Lie–Poisson map; docs/dynamics.md §"Conservative
+    /// rotation"): a torque-free body keeps
     /// its kinetic energy, |L| and its world angular momentum to round-off at any step. Torques
     /// and contact impulses act as a kick before the free rotation (a splitting).
     /// docs/dynamics.md §"Conservative rotation".
@@ -80,6 +81,11 @@ pub struct RigidBody {
     /// the mesh in collision (ground contact at its lowest point; other meshes' vertices against
     /// its implicit surface). The mesh is then for drawing only.
     pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
+    /// A constant applied force at the centre of mass, world frame, N (scene key `force`).
+    pub load: Vector3<f64>,
+    /// The rate of an applied force growing from zero, F(t) = load_rate · t at the centre of
+    /// mass, world frame, N/s (scene key `force_rate`).
+    pub load_rate: Vector3<f64>,
 }
 
 impl RigidBody {
@@ -103,6 +109,8 @@ impl RigidBody {
             inertia_world_inv: inertia_body_inv,
             mesh,
             ellipsoid: None,
+            load: Vector3::zeros(),
+            load_rate: Vector3::zeros(),
         };
         body.update_world_inertia();
         body

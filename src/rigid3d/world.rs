@@ -2,7 +2,8 @@
 //!
 //! Per frame of length `dt`, `substeps` substeps of length h = dt / substeps, each:
 //!
-//! 1. zero the force accumulators and add gravity, f = m g;
+//! 1. zero the force accumulators and add gravity and the applied loads,
+//!    f = m g + F + Ḟ t (scene keys `force`, `force_rate`; t the substep's start);
 //! 2. step velocities (symplectic Euler, velocity half): [`RigidBody::step_velocity`];
 //! 3. contact processing, when `check_collisions` is on: detect ([`crate::rigid3d::collide`]) →
 //!    assemble the contact problem ([`crate::rigid3d::assemble`]) → solve ([`crate::solve::solve`]:
@@ -69,6 +70,8 @@ impl World {
                 b.v = d.v0;
                 b.omega = d.omega0;
                 b.ellipsoid = d.ellipsoid;
+                b.load = d.force;
+                b.load_rate = d.force_rate;
                 b.update_world_inertia();
                 b
             })
@@ -246,9 +249,11 @@ impl World {
         self.solves.clear();
         for substep in 0..self.params.substeps {
             let clock = Instant::now();
+            // Applied loads at the substep's start time (explicit, like gravity).
+            let t = self.time() + f64::from(substep) * h;
             for body in &mut self.bodies {
                 body.zero_forces();
-                body.force += gravity * body.mass;
+                body.force += gravity * body.mass + body.load + body.load_rate * t;
             }
             for body in &mut self.bodies {
                 body.step_velocity(h, integrator);

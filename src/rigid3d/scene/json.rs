@@ -98,6 +98,10 @@ pub(super) struct BodyJson {
     /// distributed differently inside, as in a rattleback): the warning becomes a note.
     #[serde(default)]
     pub off_centre_mesh: bool,
+    /// A constant force at the centre of mass, world frame, N (docs/scene-format.md §"Bodies").
+    pub force: Option<Vec3>,
+    /// A force growing from zero at this rate, world frame, N/s.
+    pub force_rate: Option<Vec3>,
 }
 
 /// `ellipsoid`: `{"semi_axes": [a, b, c], "centre": [x, y, z]}`, body frame, m.

@@ -38,6 +38,11 @@ pub struct BodyDescription {
     /// `ellipsoid`: an analytic contact shape in place of the mesh (docs/contact.md
     /// §"Ellipsoid contact").
     pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
+    /// `force`: a constant force at the centre of mass, world frame, N (default zero).
+    pub force: Vector3<f64>,
+    /// `force_rate`: a force growing linearly in time from zero, F(t) = force_rate · t, at the
+    /// centre of mass, world frame, N/s (default zero).
+    pub force_rate: Vector3<f64>,
 }
 
 /// A loaded scene.
@@ -251,6 +256,8 @@ pub fn parse_scene(
                     centre: e.centre.map_or(Vector3::zeros(), |c| c.0),
                     semi_axes: Vector3::from(e.semi_axes.map(|a| a.0)),
                 }),
+            force: body.force.map_or(Vector3::zeros(), |v| v.0),
+            force_rate: body.force_rate.map_or(Vector3::zeros(), |v| v.0),
         });
     }
     Ok(Scene {

@@ -4,6 +4,7 @@
 use crate::common;
 
 use nalgebra::Vector3;
+use rigidref::problem::FrictionModel;
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
 use std::path::PathBuf;
@@ -604,4 +605,96 @@ fn heavy_cube_on_light_cube_with_pgs_warns_unresolved() {
         "{stderr}"
     );
     assert!(stderr.contains("Newton"), "{stderr}");
+}
+
+/// Steps `scene` until the body's velocity is below 1e-9 m/s; the time and its position then.
+fn run_to_rest(scene: &Scene, limit: u64) -> (f64, Vector3<f64>) {
+    let mut w = world(scene);
+    let steps = common::run_until(&mut w, limit, |w, _| w.bodies[0].v.norm() < 1e-9);
+    (steps as f64 * scene.params.dt, w.bodies[0].x)
+}
+
+/// scenes/sliding_cube.json: a 0.2 m, 1 kg cube sliding at v0 = 1 m/s with μ = 0.4 stops after
+/// v0/(μg) = 0.2548 s and v0²/(2μg) = 0.1274 m, less v0 h/2 (the first step's friction acts
+/// before its position update: symplectic Euler ends half a step's travel short). With cone
+/// friction it slides straight along 0°, 30° and 45°. Box friction decelerates each tangent axis
+/// (here x and z) by μg separately: along an axis that is Coulomb's law, along the diagonal it is
+/// √2 μg (stops after 0.2548/√2 s), and at 30° the z-motion stops first and the path bends.
+#[test]
+fn sliding_cube_stops_where_the_closed_form_says() {
+    let base = canonical("sliding_cube.json");
+    let (mu, g, h) = (base.params.mu, base.params.gravity.norm(), base.params.dt);
+    let start = base.bodies[0].x0;
+    for friction in [FrictionModel::Cone, FrictionModel::Box] {
+        for degrees in [0.0f64, 30.0, 45.0] {
+            let (c, s) = (degrees.to_radians().cos(), degrees.to_radians().sin());
+            let mut scene = base.clone();
+            scene.params.friction_model = friction;
+            scene.bodies[0].v0 = Vector3::new(c, 0.0, s);
+            let (time, x) = run_to_rest(&scene, 1000);
+            let travel = x - start;
+            // Per axis: |v| stops after |v|/a and travels v²/(2a) − |v| h/2, where a is μg along
+            // the motion (cone) or on each axis separately (box).
+            let (expected_time, expected) = match friction {
+                FrictionModel::Cone => (
+                    1.0 / (mu * g),
+                    Vector3::new(c, 0.0, s) * (1.0 / (2.0 * mu * g) - h / 2.0),
+                ),
+                FrictionModel::Box => (
+                    c.max(s) / (mu * g),
+                    Vector3::new(
+                        c * (c / (2.0 * mu * g) - h / 2.0),
+                        0.0,
+                        s * (s / (2.0 * mu * g) - h / 2.0),
+                    ),
+                ),
+            };
+            // The stop is the first step after the closed-form time (steps of 1 ms).
+            assert!(
+                time >= expected_time - 1e-9 && time <= expected_time + h + 1e-9,
+                "{friction:?} {degrees}°: stopped at {time} s, expected {expected_time}"
+            );
+            // 1e-6 m: measured 2.6e-7 (the last step's partial deceleration).
+            assert!(
+                (travel - expected).norm() <= 1e-6,
+                "{friction:?} {degrees}°: travelled {travel}, expected {expected}"
+            );
+        }
+    }
+}
+
+/// scenes/dragged_cube.json: the same cube pulled by F = 20 t N along x sticks while 20 t ≤ μmg
+/// (t₀ = 0.1962 s) and then accelerates at (20 t − μmg)/m: v = 10 (t − t₀)². The load acts at
+/// each step's start, so the exact solver's cube moves in the step after t₀ (measured 0.198 s);
+/// PGS's 100 sweeps let it creep (~1e-6 m/s) some milliseconds earlier, so its start is taken
+/// where it exceeds 1e-6 m/s (measured 0.195 s).
+#[test]
+fn dragged_cube_sticks_until_mu_m_g_then_follows_the_closed_form() {
+    for solver in [
+        rigidref::solve::Solver::Pgs,
+        rigidref::solve::Solver::Newton,
+    ] {
+        let mut scene = canonical("dragged_cube.json");
+        scene.params.solver = solver;
+        let mut w = world(&scene);
+        let mut started = None;
+        common::run(&mut w, 500, |w, k| {
+            if started.is_none() && w.bodies[0].v.x > 1e-6 {
+                started = Some(k as f64 * w.params.dt);
+            }
+        });
+        let t0 = scene.params.mu * 1.0 * scene.params.gravity.norm() / 20.0;
+        let started = started.unwrap();
+        assert!(
+            (started - t0).abs() <= 0.010,
+            "{solver:?}: moved at {started} s, t₀ = {t0}"
+        );
+        let closed = 10.0 * (0.5 - t0) * (0.5 - t0);
+        let v = w.bodies[0].v.x;
+        assert!(
+            (v - closed).abs() <= 0.02 * closed,
+            "{solver:?}: v(0.5) = {v}, closed form {closed}"
+        );
+        assert!(w.bodies[0].v.z.abs() <= 1e-12 && w.bodies[0].omega.norm() <= 1e-9);
+    }
 }
