@@ -8,7 +8,7 @@
 //!                      ├─ problem::ContactProblem<D, R> ──►│  snapshots, references, faults)
 //!   blocks2d (images) ─┘        │                          └─ tools (factory, scaling, render)
 //!                               ▼
-//!                   solve::solve_pgs (one PGS) ── solve::qp (clarabel, the independent check)
+//!         solve::solve (PGS | Newton, one switch) ── solve::qp (clarabel, the independent check)
 //! ```
 //!
 //! - [`problem`] and [`solve`]: the contact problem as plain data, generic over degrees of

@@ -1,5 +1,8 @@
 //! The contact problem as a convex program, solved by clarabel (an interior-point solver that
-//! shares no code or method with PGS): the independent reference for [`super::pgs`].
+//! shares no code or method with PGS): the independent check of [`super::pgs`]'s and
+//! [`super::newton`]'s answers. Without friction it solves the problem on its own; with friction
+//! its bounds are frozen at the answer's normal impulses, so it checks the answer rather than
+//! solving the frictional problem independently (the Newton solver does that).
 //! docs/verification.md §"clarabel", derivations in docs/contact.md §"Convex formulations".
 //!
 //! Every formulation minimises the same objective, whose optimality conditions are the contact
