@@ -260,6 +260,7 @@ pub fn parse_scene(
             force_rate: body.force_rate.map_or(Vector3::zeros(), |v| v.0),
         });
     }
+    warnings.extend(slop_warnings(source, &params, &bodies));
     Ok(Scene {
         source: source.to_string(),
         params,
@@ -267,6 +268,38 @@ pub fn parse_scene(
         warnings,
         overrides: overrides.describe(),
     })
+}
+
+/// The slop is more than this fraction of a body's smallest extent: a warning
+/// (docs/contact.md §"Stabilisation").
+pub const SLOP_FRACTION: f64 = 0.1;
+
+/// One warning per body whose smallest extent (its ellipsoid's smallest diameter, else its mesh's
+/// smallest bounding-box side) is less than `stabilization_slop` / [`SLOP_FRACTION`]: such a body
+/// can rest sunk up to the slop into the ground or another body with nothing pushing it out (the
+/// Kane–Levinson rattleback, 2 cm thick, sinks 3 mm under the default 5 mm), so the slop is not
+/// small against it. Only with collisions on and stabilisation acting (β > 0).
+fn slop_warnings(source: &str, params: &SimParameters, bodies: &[BodyDescription]) -> Vec<String> {
+    if !params.check_collisions || params.stabilization == 0.0 {
+        return Vec::new();
+    }
+    let slop = params.stabilization_slop;
+    bodies
+        .iter()
+        .filter_map(|b| {
+            let extent = match &b.ellipsoid {
+                Some(e) => 2.0 * e.semi_axes.min(),
+                None => crate::rigid3d::collide::penetration::mesh_size(&b.mesh),
+            };
+            (slop > SLOP_FRACTION * extent).then(|| {
+                format!(
+                    "{source}: stabilization_slop {slop} m is more than a tenth of body {:?}'s smallest extent ({extent:.4} m): it can rest that deep in a contact with nothing pushing it out; set stabilization_slop to at most {:.1e} m (docs/contact.md §\"Stabilisation\")",
+                    b.name,
+                    SLOP_FRACTION * extent
+                )
+            })
+        })
+        .collect()
 }
 
 /// A body-frame coordinate reflection S (diag with one −1) that maps the mesh onto itself and

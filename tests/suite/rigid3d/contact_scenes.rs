@@ -698,3 +698,32 @@ fn dragged_cube_sticks_until_mu_m_g_then_follows_the_closed_form() {
         assert!(w.bodies[0].v.z.abs() <= 1e-12 && w.bodies[0].omega.norm() <= 1e-9);
     }
 }
+
+/// A slop that is not small against a body is never silent: the rattleback (an ellipsoid 4 cm
+/// across at its thinnest) under the default 5 mm slop gets one warning naming
+/// `stabilization_slop` and the value to use; its own scene's 0.1 mm gets none, and neither do
+/// the canonical scenes (`canonical_scenes_load_cleanly_and_run`).
+#[test]
+fn a_slop_above_a_tenth_of_a_body_warns_naming_stabilization_slop() {
+    let path = common::project_root().join("scenes/rattleback.json");
+    let quiet = load_scene(&path).unwrap();
+    assert!(
+        !quiet
+            .warnings
+            .iter()
+            .any(|w| w.contains("stabilization_slop")),
+        "{:?}",
+        quiet.warnings
+    );
+    let overrides =
+        rigidref::common::scene_json::Overrides::parse(&["stabilization_slop=0.005".to_string()])
+            .unwrap();
+    let loud = rigidref::rigid3d::scene::load_scene_with(&path, &overrides).unwrap();
+    let warnings: Vec<&String> = loud
+        .warnings
+        .iter()
+        .filter(|w| w.contains("stabilization_slop"))
+        .collect();
+    assert_eq!(warnings.len(), 1, "{:?}", loud.warnings);
+    assert!(warnings[0].contains("at most 4.0e-3 m"), "{}", warnings[0]);
+}
