@@ -127,7 +127,7 @@ impl<C, const D: usize, const R: usize> SubstepSolve<C, D, R> {
     /// §"Unresolved solves".
     pub fn unresolved(&self, gravity_h: f64) -> bool {
         match self.report.method {
-            crate::problem::SolveMethod::Pgs => {
+            crate::problem::SolveMethod::Pgs | crate::problem::SolveMethod::PgsShock => {
                 !self.report.converged
                     && self.report.residual > UNRESOLVED_FRACTION * self.velocity_scale(gravity_h)
             }
@@ -249,7 +249,7 @@ impl RunTotals {
         self.worst_residual = self.worst_residual.max(t.worst_residual);
         for s in solves {
             match s.report.method {
-                crate::problem::SolveMethod::Pgs => {}
+                crate::problem::SolveMethod::Pgs | crate::problem::SolveMethod::PgsShock => {}
                 crate::problem::SolveMethod::Newton => self.newton += 1,
                 crate::problem::SolveMethod::Proximal => {
                     self.newton += 1;

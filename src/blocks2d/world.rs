@@ -355,6 +355,7 @@ impl World2 {
                 &mut self.shock_lambda,
             );
             self.shock_layers = self.shock_layers.max(shock.layers);
+            solve.report.method = crate::problem::SolveMethod::PgsShock;
         }
         self.phase_times.solve += clock.elapsed().as_secs_f64();
         let clock = Instant::now();

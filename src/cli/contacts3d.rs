@@ -180,6 +180,9 @@ fn fmt3(v: &[f64; 3]) -> String {
 pub(super) fn iterations_phrase(method: &str, iterations: u32) -> String {
     match method {
         "pgs" => format!("PGS {iterations} sweeps"),
+        "pgs_shock" => format!(
+            "PGS {iterations} sweeps, then shock propagation (λ is PGS's; the motion is the pass's)"
+        ),
         "proximal" => format!("Newton {iterations} iterations (its proximal fallback answered)"),
         _ => format!("Newton {iterations} iterations"),
     }

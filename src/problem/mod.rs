@@ -308,6 +308,11 @@ pub enum SolveMethod {
     Newton,
     /// Newton stalled; the proximal-point fallback produced the answer.
     Proximal,
+    /// PGS, followed by shock propagation (2D, `shock_propagation`): the recorded λ is PGS's,
+    /// but the bodies moved by the shock pass's velocity changes, which no single λ gives
+    /// through u⁺ = u + M⁻¹Jᵀλ (the pass holds one side of each layer fixed). The record is
+    /// not the step's law: its residual and criteria describe PGS's λ.
+    PgsShock,
 }
 
 impl SolveMethod {
@@ -317,6 +322,7 @@ impl SolveMethod {
             SolveMethod::Pgs => "pgs",
             SolveMethod::Newton => "newton",
             SolveMethod::Proximal => "proximal",
+            SolveMethod::PgsShock => "pgs_shock",
         }
     }
 }

@@ -158,3 +158,53 @@ fn shock_propagation_keeps_tower100_standing_where_cold_plain_pgs_lets_it_fall()
         "with shock propagation: {shock:?}"
     );
 }
+
+/// With shock propagation the bodies move by the pass's velocity changes, which no recorded λ
+/// gives: the trace's solver records and the problem files say `pgs_shock`, not `pgs`
+/// (docs/blocks2d.md §"Shock propagation").
+#[test]
+fn shock_propagation_marks_its_records_as_not_the_steps_law() {
+    let tmp = tempfile::tempdir().unwrap();
+    let image = common::project_root().join("scenes/blocks/stack.png");
+    let out = common::rigidref(
+        &[
+            "run",
+            image.to_str().unwrap(),
+            "--time",
+            "10",
+            "--shock-propagation",
+            "--out",
+            "t.jsonl",
+            "--dump-problems",
+            "p",
+        ],
+        tmp.path(),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
+    let solvers: Vec<String> = text
+        .lines()
+        .skip(1)
+        .filter_map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            v["solver"]["solver"].as_str().map(String::from)
+        })
+        .collect();
+    assert!(
+        !solvers.is_empty() && solvers.iter().all(|s| s == "pgs_shock"),
+        "{solvers:?}"
+    );
+    let problem = std::fs::read_dir(tmp.path().join("p"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(problem).unwrap()).unwrap();
+    assert_eq!(file["solution"]["solver"], "pgs_shock");
+}
