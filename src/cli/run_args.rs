@@ -21,7 +21,8 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     integrator        angular velocity update: \"spatial\" (the assignment's explicit
                       spatial-frame scheme; default), \"body\" (the same equations in
                       the body frame), \"implicit_gyroscopic\" (implicit Euler on the
-                      ω×Jω term, solved by Newton: stable at high spin, dissipates),
+                      ω×Jω term, solved by Newton with step halving: never gains
+                      energy (tested to h|ω| = 60), dissipates),
                       \"conservative\" (implicit midpoint on the body-frame Euler
                       equations with a Cayley rotation: a free body keeps E, |L| and
                       L to round-off at any step; torques and contacts as a kick)

@@ -285,15 +285,27 @@ pub const CONSERVATIVE_MAX_HALVINGS: u32 = 20;
 ///
 /// Solves f(ω) = J₀(ω − ω₀) + h ω × J₀ω = 0 by Newton's method from ω₀ with the Jacobian
 /// ∂f/∂ω = J₀ + h(\[ω\]× J₀ − \[J₀ω\]×), iterated until the update is below 1e-15 |ω| (two to four
-/// iterations at h|ω| ≤ 0.1; at most [`IMPLICIT_GYROSCOPIC_MAX_NEWTON`]). Solving to convergence
-/// matters: the exact solution never gains energy or |L|, a single Newton step can (by ~1e-10
-/// per step on a thin rod). If the Jacobian is singular (only for absurd h|ω|) the result is NaN,
-/// which stops the run with the body and quantity named. docs/dynamics.md §"Implicit gyroscopic
+/// iterations at h|ω| ≤ 0.1). Solving to convergence matters: the exact solution never gains
+/// energy or |L|, an unconverged iterate can. Where Newton does not converge in
+/// [`IMPLICIT_GYROSCOPIC_MAX_NEWTON`] iterations (large h|ω|) the step is taken as two implicit
+/// Euler steps of h/2, recursively, at most [`IMPLICIT_GYROSCOPIC_MAX_HALVINGS`] times; if that
+/// still does not converge the result is NaN, which stops the run with the body and quantity
+/// named, rather than an answer that may gain energy. docs/dynamics.md §"Implicit gyroscopic
 /// term".
 pub fn implicit_gyroscopic_step(
     inertia_body: &Matrix3<f64>,
     omega_body: &Vector3<f64>,
     h: f64,
+) -> Vector3<f64> {
+    implicit_gyroscopic_halving(inertia_body, omega_body, h, 0)
+}
+
+/// [`implicit_gyroscopic_step`] at halving depth `depth`.
+fn implicit_gyroscopic_halving(
+    inertia_body: &Matrix3<f64>,
+    omega_body: &Vector3<f64>,
+    h: f64,
+    depth: u32,
 ) -> Vector3<f64> {
     let mut omega = *omega_body;
     for _ in 0..IMPLICIT_GYROSCOPIC_MAX_NEWTON {
@@ -301,16 +313,23 @@ pub fn implicit_gyroscopic_step(
         let residual = inertia_body * (omega - omega_body) + omega.cross(&momentum) * h;
         let jacobian = inertia_body + (skew(&omega) * inertia_body - skew(&momentum)) * h;
         let Some(delta) = jacobian.lu().solve(&residual) else {
-            return Vector3::repeat(f64::NAN);
+            break;
         };
         omega -= delta;
-        if delta.norm() <= 1e-15 * omega.norm() {
-            break;
+        if delta.norm() <= 1e-15 * omega.norm() || omega == *omega_body {
+            return omega;
         }
     }
-    omega
+    if depth < IMPLICIT_GYROSCOPIC_MAX_HALVINGS {
+        let half = implicit_gyroscopic_halving(inertia_body, omega_body, 0.5 * h, depth + 1);
+        return implicit_gyroscopic_halving(inertia_body, &half, 0.5 * h, depth + 1);
+    }
+    Vector3::repeat(f64::NAN)
 }
 
 /// Newton iterations allowed per implicit gyroscopic step. Convergence is quadratic from ω₀,
 /// so this is reached only when h|ω| is far beyond any useful step.
 pub const IMPLICIT_GYROSCOPIC_MAX_NEWTON: u32 = 20;
+
+/// How many times an implicit gyroscopic step may be halved (2²⁰ pieces at most).
+pub const IMPLICIT_GYROSCOPIC_MAX_HALVINGS: u32 = 20;
