@@ -225,6 +225,9 @@ pub struct RunTotals {
     pub unresolved: u64,
     /// The largest residual of an unresolved solve, and the step it ended.
     pub worst_unresolved: Option<(f64, u64)>,
+    /// Exact local-solve visits that took the best candidate (`SolveReport::local_fallbacks`),
+    /// summed over the run.
+    pub local_fallbacks: u64,
     /// The largest of each physical criterion over every contact of the run (docs/contact.md
     /// §"Physical criteria"); `None` before the first solve.
     pub criteria: Option<crate::problem::ContactCriteria>,
@@ -248,6 +251,7 @@ impl RunTotals {
         self.sweeps += t.sweeps;
         self.worst_residual = self.worst_residual.max(t.worst_residual);
         for s in solves {
+            self.local_fallbacks += u64::from(s.report.local_fallbacks);
             match s.report.method {
                 crate::problem::SolveMethod::Pgs | crate::problem::SolveMethod::PgsShock => {}
                 crate::problem::SolveMethod::Newton => self.newton += 1,
@@ -307,10 +311,16 @@ impl RunTotals {
             "{:.1}",
             &format!("{:.1}", self.sweeps as f64 / self.solves as f64),
         );
-        let unresolved = match self.unresolved {
+        let mut unresolved = match self.unresolved {
             0 => String::new(),
             n => format!("; {n} unresolved ({})", self.unresolved_reason()),
         };
+        if self.local_fallbacks > 0 {
+            unresolved.push_str(&format!(
+                "; the exact local solve took its best candidate in {} visits (no case exact to round-off)",
+                self.local_fallbacks
+            ));
+        }
         format!(
             "{} solves in {} steps, up to {} contacts; {solver}, worst residual {:.3e} {velocity}{coulomb}{unresolved}, {penetration}",
             self.solves, self.steps_with_contacts, self.most_contacts, self.worst_residual,

@@ -295,6 +295,10 @@ pub struct SolveReport {
     pub coulomb_residual: Option<f64>,
     /// The method that produced the answer.
     pub method: SolveMethod,
+    /// PGS with `pgs_local_solve: exact`: visits that took the exact local solve's best
+    /// candidate because none of its cases was exact to round-off (docs/contact.md §"Exact local
+    /// solve"); 0 otherwise.
+    pub local_fallbacks: u32,
 }
 
 /// Which method produced an answer.

@@ -70,7 +70,8 @@ const ACCEPT: f64 = 1e-13;
 /// Solves one contact's problem w = A λ + q exactly (module documentation). `a` is the contact's
 /// Delassus block with compliance on the normal row (kg⁻¹), `q` in m/s, `scales` the row scales
 /// the residual measures with. Returns the first case's λ (N·s) whose residual is zero to
-/// round-off, else the candidate with the smallest residual. Separation is always a candidate,
+/// round-off and `true`, else the candidate with the smallest residual and `false` (a fallback,
+/// which PGS counts and reports: `SolveReport::local_fallbacks`). Separation is always a candidate,
 /// so there is always an answer: for a contact its own impulse cannot move (A = 0, every system
 /// singular) it is λ = 0, and the residual keeps the violation.
 pub fn solve_local<const R: usize>(
@@ -79,7 +80,7 @@ pub fn solve_local<const R: usize>(
     mu: f64,
     friction: FrictionModel,
     scales: &RowScales<R>,
-) -> SVector<f64, R> {
+) -> (SVector<f64, R>, bool) {
     let tolerance = ACCEPT * q.amax().max(f64::MIN_POSITIVE);
     let mut best: Option<(f64, SVector<f64, R>)> = None;
     let mut consider = |lambda: SVector<f64, R>| -> bool {
@@ -93,19 +94,19 @@ pub fn solve_local<const R: usize>(
 
     // 1. Separate.
     if consider(SVector::zeros()) {
-        return SVector::zeros();
+        return (SVector::zeros(), true);
     }
     // 2. Stick: every row active, A λ = −q.
     if let Some(lambda) = solve_linear(a, &(-q))
         && consider(lambda)
     {
-        return lambda;
+        return (lambda, true);
     }
     // 3. Slide.
     if friction == FrictionModel::Cone && R == 3 {
         for lambda in disk_slides(a, q, mu) {
             if consider(lambda) {
-                return lambda;
+                return (lambda, true);
             }
         }
     } else {
@@ -115,12 +116,12 @@ pub fn solve_local<const R: usize>(
             if let Some(lambda) = box_pattern(a, q, mu, pattern)
                 && consider(lambda)
             {
-                return lambda;
+                return (lambda, true);
             }
         }
     }
     // Separation was considered first, so `best` is set.
-    best.map_or(SVector::zeros(), |(_, lambda)| lambda)
+    (best.map_or(SVector::zeros(), |(_, lambda)| lambda), false)
 }
 
 /// The candidate of one box pattern: λn > 0 with w_n = 0, each friction row free (w_r = 0) or

@@ -626,6 +626,7 @@ pub fn solve_newton<const D: usize, const R: usize>(
         converged: residual <= tolerance && coulomb.is_none_or(|c| c <= tolerance),
         coulomb_residual: coulomb,
         method,
+        local_fallbacks: 0,
     }
 }
 

@@ -66,6 +66,9 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// The visiting order.
     order: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
+    /// Exact visits of the current solve that took the local solve's best candidate because no
+    /// case was exact to round-off ([`super::local::solve_local`]).
+    local_fallbacks: u32,
 }
 
 /// Contact `k` as a sweep reads it, gathered in one place (Box2D's "constraint" struct): one
@@ -126,6 +129,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             scales: Vec::new(),
             order: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
+            local_fallbacks: 0,
         }
     }
 
@@ -141,6 +145,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.entries.clear();
         self.scales.clear();
         self.order.clear();
+        self.local_fallbacks = 0;
         for (k, c) in problem.contacts.iter().enumerate() {
             let side = |s: usize| match c.bodies[s] {
                 Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
@@ -291,6 +296,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         coulomb_residual: (problem.friction == FrictionModel::Cone)
             .then(|| workspace.coulomb_residual(problem, lambda)),
         method: crate::problem::SolveMethod::Pgs,
+        local_fallbacks: workspace.local_fallbacks,
     }
 }
 
@@ -324,7 +330,10 @@ fn solve_contact_exactly<const D: usize, const R: usize>(
     let scales = &workspace.scales[k];
     // q = w_now − A λ_now: the velocity the rest of the problem gives this contact.
     let q = workspace.contact_velocity(problem, k, lambda) - scales.block * *lambda;
-    let solution = solve_local(&scales.block, &q, contact.mu, problem.friction, scales);
+    let (solution, exact) = solve_local(&scales.block, &q, contact.mu, problem.friction, scales);
+    if !exact {
+        workspace.local_fallbacks += 1;
+    }
     for r in 0..R {
         workspace.apply(k, r, solution[r] - lambda[r]);
     }

@@ -253,3 +253,31 @@ fn exact_local_solve_converges_on_the_assignment_cone_problems() {
         assert!(solves.get() > 0, "scene{k}: no contact solves");
     }
 }
+
+/// A contact no impulse of its own can move (a pinned body on the ground: A = 0) and that
+/// approaches has no exact case; the exact visit takes its best candidate, and the report counts
+/// every such visit instead of passing over it (docs/contact.md §"Exact local solve").
+#[test]
+fn the_exact_local_solve_reports_its_fallbacks() {
+    let stuck = super::local_solve_problem(
+        nalgebra::SMatrix::zeros(),
+        nalgebra::SVector::from([-1.0, 0.0, 0.0]),
+        0.5,
+        rigidref::problem::FrictionModel::Cone,
+    );
+    let (_, report) = super::run_pgs(&stuck, LocalSolve::Exact, 3, None);
+    assert_eq!(report.local_fallbacks, 3, "{report:?}");
+    assert!(
+        report.residual > 0.5,
+        "the violation stays in the residual: {report:?}"
+    );
+    // A well-posed contact never falls back.
+    let fine = super::local_solve_problem(
+        nalgebra::SMatrix::identity(),
+        nalgebra::SVector::from([-1.0, 3.0, 4.0]),
+        0.5,
+        rigidref::problem::FrictionModel::Cone,
+    );
+    let (_, report) = super::run_pgs(&fine, LocalSolve::Exact, 3, None);
+    assert_eq!(report.local_fallbacks, 0, "{report:?}");
+}
