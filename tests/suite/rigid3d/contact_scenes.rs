@@ -727,3 +727,58 @@ fn a_slop_above_a_tenth_of_a_body_warns_naming_stabilization_slop() {
     assert_eq!(warnings.len(), 1, "{:?}", loud.warnings);
     assert!(warnings[0].contains("at most 4.0e-3 m"), "{}", warnings[0]);
 }
+
+/// scenes/ball_incline_rolls.json and ball_incline_slides.json: a solid ball (r = 0.1 m, the
+/// analytic sphere of the `ellipsoid` key) on a 20° incline (gravity tilted by 20°, the ground
+/// is the incline). With μ = 0.5 ≥ (2/7) tan θ = 0.104 it rolls without slipping at
+/// a = (5/7) g sin θ, ω = −v/r; with μ = 0.05 it slides at a = g (sin θ − μ cos θ) while friction
+/// spins it up at α = μ m g cos θ r / J.
+#[test]
+fn ball_on_an_incline_rolls_or_slides_as_the_closed_form_says() {
+    let (theta, g) = (20f64.to_radians(), 9.81);
+    for (name, mu, rolls) in [
+        ("ball_incline_rolls.json", 0.5, true),
+        ("ball_incline_slides.json", 0.05, false),
+    ] {
+        let scene = canonical(name);
+        assert_eq!(scene.params.mu, mu);
+        let mut w = world(&scene);
+        let (mut v_half, mut w_half) = (Vector3::zeros(), 0.0);
+        common::run(&mut w, 1000, |w, k| {
+            if k == 500 {
+                (v_half, w_half) = (w.bodies[0].v, w.bodies[0].omega.z);
+            }
+        });
+        let b = &w.bodies[0];
+        let a = (b.v.x - v_half.x) / 0.5;
+        let expected = if rolls {
+            5.0 / 7.0 * g * theta.sin()
+        } else {
+            g * (theta.sin() - mu * theta.cos())
+        };
+        // 1e-6 relative: measured to the last printed digit (the contact is one exact point).
+        assert!(
+            (a - expected).abs() <= 1e-6 * expected,
+            "{name}: a = {a}, expected {expected}"
+        );
+        let r = 0.1;
+        if rolls {
+            assert!(
+                (b.omega.z * r + b.v.x).abs() <= 1e-9,
+                "{name}: slips, ω r = {}, v = {}",
+                b.omega.z * r,
+                b.v.x
+            );
+        } else {
+            // Friction μ m g cos θ at the contact point spins the ball up at α = μ m g cos θ r / J
+            // (clockwise about z, ω_z < 0, for motion along +x), while it slides ever faster.
+            let alpha = mu * b.mass * g * theta.cos() * r / b.inertia_body[(2, 2)];
+            let spin_up = -(b.omega.z - w_half) / 0.5;
+            assert!(
+                (spin_up - alpha).abs() <= 1e-6 * alpha,
+                "{name}: α = {spin_up}, expected {alpha}"
+            );
+            assert!(b.v.x + b.omega.z * r > 1.0, "{name}: not sliding");
+        }
+    }
+}
