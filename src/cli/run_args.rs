@@ -61,7 +61,8 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     world frame); missing R0 is the identity, missing v0/omega0 are zero. This project adds
     ellipsoid ({\"semi_axes\": [a, b, c], \"centre\": [x, y, z]}, body frame, m: an analytic
     contact shape in place of the mesh, e.g. scenes/rattleback.json) and off_centre_mesh (true:
-    the mesh is not centred on the centre of mass on purpose; its warning becomes a note).
+    the mesh is not centred on the centre of mass on purpose; its warning becomes a note), force
+    (N, world frame, constant, at the centre of mass) and force_rate (N/s: F(t) = force_rate t).
 
 TRACE (docs/trace-format.md): JSON Lines, a header line then one line per recorded step
 with every body's x, R, v, ω, the energies and momenta; or a flat CSV of the same.";
