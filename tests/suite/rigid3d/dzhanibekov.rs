@@ -96,3 +96,37 @@ fn canonical_dzhanibekov_scene_flips_with_the_reference_period() {
     let scene = load_scene(&common::project_root().join("scenes/dzhanibekov.json")).unwrap();
     check(&scene, 0.01);
 }
+
+/// The observed order in h of the first flip time against the RK4 reference (docs/dynamics.md
+/// §"The Dzhanibekov flip period"): the assignment's explicit spatial integrator is first order
+/// (its error halves with the step), the conservative midpoint rule second order (it quarters).
+#[test]
+fn the_first_flip_time_converges_at_the_integrators_order() {
+    let base = load_scene(&common::project_root().join("scenes/dzhanibekov.json")).unwrap();
+    for (integrator, expected) in [
+        (rigidref::rigid3d::body::AngularIntegrator::Spatial, 1.0),
+        (
+            rigidref::rigid3d::body::AngularIntegrator::Conservative,
+            2.0,
+        ),
+    ] {
+        let mut errors = Vec::new();
+        for dt in [0.004, 0.002, 0.001] {
+            let mut scene = base.clone();
+            scene.params.dt = dt;
+            scene.params.integrator = integrator;
+            let (changes, reference) = flips(&scene, 3.0);
+            errors.push((changes[0] - reference[0]).abs());
+        }
+        let orders: Vec<f64> = errors.windows(2).map(|e| (e[0] / e[1]).log2()).collect();
+        println!("{integrator:?}: first-flip errors {errors:?} s, observed orders {orders:?}");
+        for order in &orders {
+            // Within 0.25 of the scheme's order: the flip time is read off a linear
+            // interpolation between frames, whose own error is second order.
+            assert!(
+                (order - expected).abs() <= 0.25,
+                "{integrator:?}: {orders:?}"
+            );
+        }
+    }
+}
