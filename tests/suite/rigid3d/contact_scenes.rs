@@ -807,3 +807,34 @@ fn the_sliding_stop_converges_at_first_order_in_the_step() {
         assert!((order - 1.0).abs() <= 0.05, "{orders:?}");
     }
 }
+
+/// A body at rest deeper in the ground than a tenth of its size is never silent: the sliding
+/// cube's body (0.2 m) started 3 cm deep at rest with stabilisation off stays there, and the
+/// watch warns once, naming the slop, stabilisation and compliance; resting at its usual 0.1 mm
+/// it does not (docs/contact.md §"Penetration measure").
+#[test]
+fn a_body_resting_deep_in_another_warns_once() {
+    use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
+    let count = |depth: f64| {
+        let mut scene = canonical("sliding_cube.json");
+        scene.params.stabilization = 0.0;
+        scene.bodies[0].x0.y = 0.1 - depth;
+        scene.bodies[0].v0 = Vector3::zeros();
+        let mut w = world(&scene);
+        let mut watch = InterpenetrationWatch::default();
+        let mut warnings = watch.observe(&w);
+        common::run(&mut w, 200, |w, _| warnings.extend(watch.observe(w)));
+        warnings
+            .into_iter()
+            .filter(|m| m.contains("at rest"))
+            .collect::<Vec<_>>()
+    };
+    let deep = count(0.03);
+    assert_eq!(deep.len(), 1, "{deep:?}");
+    assert!(
+        deep[0].contains("stabilization_slop") && deep[0].contains("0.0300 m deep"),
+        "{}",
+        deep[0]
+    );
+    assert!(count(1e-4).is_empty());
+}
