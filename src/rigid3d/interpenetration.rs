@@ -39,8 +39,12 @@ impl InterpenetrationWatch {
         for p in &world.penetrations {
             // The smaller body's size, of which the bound is a fixed fraction.
             let size = p.bound / crate::rigid3d::collide::penetration::PENETRATION_BOUND;
+            // Only below the bound, and never for a pair the bound's warning has named: deeper
+            // than the bound the contacts were missed, not holding the bodies.
             if world.params.check_collisions
                 && p.depth > RESTING_SINK_FRACTION * size
+                && !p.exceeds_bound()
+                && !self.warned.contains(&(p.body1, p.body2))
                 && at_rest(p.body1)
                 && p.body2.is_none_or(at_rest)
                 && self.warned_resting.insert((p.body1, p.body2))
