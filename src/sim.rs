@@ -264,7 +264,12 @@ impl RunTotals {
             self.criteria = Some(self.criteria.map_or(worst, |c| c.max(&worst)));
             if s.unresolved(gravity_h) {
                 self.unresolved += 1;
-                let r = s.report.residual;
+                // The measure that failed: a cone Newton solve can fail on the exact Coulomb
+                // residual alone.
+                let r = s
+                    .report
+                    .residual
+                    .max(s.report.coulomb_residual.unwrap_or(0.0));
                 if self.worst_unresolved.is_none_or(|(w, _)| r > w) {
                     self.worst_unresolved = Some((r, step));
                 }

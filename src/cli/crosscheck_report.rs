@@ -66,7 +66,8 @@ pub(crate) struct Summary {
 pub(crate) struct ExactSummary {
     /// Problems the exact solver converged on.
     pub(crate) solved: usize,
-    /// The largest distance of PGS's converged answers to the exact solution, max |u⁺ − u⁺_exact|.
+    /// The largest distance of PGS's converged answers to the exact solution, max |u⁺ − u⁺_exact|,
+    /// over the problems the exact solver converged on.
     pub(crate) max_answer_distance: f64,
     /// The largest distance of the steps' λ (what the run applied) to the exact solution.
     pub(crate) max_step_distance: Option<f64>,
@@ -233,10 +234,13 @@ fn exact_summary(rows: &[Row]) -> Option<ExactSummary> {
     }
     let exact = || rows.iter().filter_map(|r| r.check.exact.as_ref());
     let max = |v: Vec<f64>| v.into_iter().reduce(f64::max);
+    // Distances to the exact solution count only where the exact solver converged: elsewhere
+    // its answer is not a solution (those problems are listed with `exact_converged: false`).
+    let solved = || exact().filter(|e| e.converged);
     Some(ExactSummary {
-        solved: exact().filter(|e| e.converged).count(),
-        max_answer_distance: max(exact().map(|e| e.answer_distance).collect()).unwrap_or(0.0),
-        max_step_distance: max(exact().filter_map(|e| e.step_distance).collect()),
+        solved: solved().count(),
+        max_answer_distance: max(solved().map(|e| e.answer_distance).collect()).unwrap_or(0.0),
+        max_step_distance: max(solved().filter_map(|e| e.step_distance).collect()),
         max_step_residual: max(exact().filter_map(|e| e.step_residual).collect()),
         unverified: rows
             .iter()

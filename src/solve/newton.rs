@@ -13,12 +13,15 @@
 //! with a_r = W_rr and ρ the largest eigenvalue of the contact's tangent block. F = 0 exactly at
 //! the solutions (there s_n = λn whenever λn > 0, and the radius is 0 when λn = 0). Newton solves
 //! F(λ) = 0 with the generalized Jacobian ∂F = D_λ + D_w W (D_λ, D_w block diagonal, read off
-//! the branch each row is on), regularised as ∂F + D_w H with H = ε diag(W) and ε → 0 with ‖F‖
-//! (a proximal term centred at the current iterate, so the equation is unchanged: it only makes
-//! the linear system solvable where W is rank deficient), globalised by a non-monotone Armijo
-//! line search on θ = ½‖F‖² (against the largest θ of the last five iterations). Where that stalls or runs out of iterations, proximal-point iterations take over:
-//! each solves the problem with W + H and b − H λ_c exactly (by the same Newton iteration) about
-//! a centre λ_c, with H larger where the inner solve fails and smaller where it succeeds; a fixed
+//! the branch each row is on), regularised as ∂F + D_w H with H = ε diag(W) (a proximal term
+//! centred at the current iterate, so the equation is unchanged; it makes the system solvable
+//! where W's rank deficiency alone would make it singular; ε held at 1e-12 and raised only after
+//! a failed step), globalised by a non-monotone Armijo line search on θ = ½‖F‖² (against the
+//! largest θ of the last five iterations). Where that stalls or runs out of iterations, a run
+//! from λ = 0 follows (when the start was warm), then proximal-point iterations: each solves the
+//! problem with W + H and b − H λ_c inexactly (by the same Newton iteration, to a hundredth of the
+//! law norm at the centre) about a centre λ_c, with H larger where the inner solve fails and
+//! smaller where it succeeds; a fixed
 //! point is a solution of the original problem. The report says which produced the answer.
 //!
 //! The linear systems are solved densely (nalgebra's LU with partial pivoting) up to
@@ -476,8 +479,14 @@ fn iterate<const R: usize>(
     // search), so that the iteration can cross a ridge of θ on its way along a direction in
     // which W is singular, where a monotone search only creeps.
     let mut recent = [0.0f64; NONMONOTONE_MEMORY];
+    // The best point so far by the law norm: the non-monotone search may end above it, and an
+    // unsuccessful run returns it rather than its last iterate.
+    let mut best: (f64, DVector<f64>) = (f64::INFINITY, lambda.clone());
     loop {
         let norm = law_norm(system, &f);
+        if norm < best.0 {
+            best = (norm, lambda.clone());
+        }
         if norm <= tolerance && accept(lambda) {
             return Run {
                 iterations,
@@ -486,9 +495,10 @@ fn iterate<const R: usize>(
             };
         }
         if iterations >= max_iterations {
+            *lambda = best.1;
             return Run {
                 iterations,
-                norm,
+                norm: best.0,
                 reached: false,
             };
         }
@@ -537,9 +547,10 @@ fn iterate<const R: usize>(
             epsilon *= 1e4;
         }
         if !stepped {
+            *lambda = best.1;
             return Run {
                 iterations,
-                norm,
+                norm: best.0,
                 reached: false,
             };
         }
@@ -609,9 +620,12 @@ pub fn solve_newton<const D: usize, const R: usize>(
         reached = again.reached;
     }
     if !reached && n > 0 {
-        method = SolveMethod::Proximal;
-        let (extra, _) = proximal_point(&system, &mut x, settings, &mut accept);
+        let (extra, _, improved) = proximal_point(&system, &mut x, settings, &mut accept);
         iterations += extra;
+        // The fallback is named only where its answer is the one returned.
+        if improved {
+            method = SolveMethod::Proximal;
+        }
     }
     lambda.clear();
     lambda.extend(to_impulses(&x));
@@ -641,14 +655,15 @@ fn x0_is_warm<const D: usize, const R: usize>(problem: &ContactProblem<D, R>) ->
 /// The proximal-point fallback: from the centre λ_c = `x`, solve the problem with W + H and
 /// b − H λ_c (H = η diag(W)) by Newton, to a hundredth of the original residual at the centre
 /// (an inexact proximal point), move the centre to its answer, and shrink η tenfold after a
-/// solved subproblem or grow it tenfold after a failed one. Returns the Newton iterations spent
-/// and whether the original problem was solved.
+/// solved subproblem or grow it tenfold after a failed one. Returns the Newton iterations spent,
+/// whether the original problem was solved, and whether `x` was replaced (by a point with a
+/// smaller law norm than the entry point's; otherwise `x` is left as it came).
 fn proximal_point<const R: usize>(
     system: &System<R>,
     x: &mut DVector<f64>,
     settings: &NewtonSettings,
     accept: &mut dyn FnMut(&DVector<f64>) -> bool,
-) -> (u32, bool) {
+) -> (u32, bool, bool) {
     let n = system.rows();
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
     let mut original_norm = |centre: &DVector<f64>| {
@@ -659,6 +674,10 @@ fn proximal_point<const R: usize>(
     let mut iterations = 0;
     let mut centre = x.clone();
     let mut norm = original_norm(&centre);
+    // The best point by the original law norm, from the entry point on: what is returned when
+    // nothing solves, and whether the fallback improved on its entry at all.
+    let entry_norm = norm;
+    let mut best = (norm, centre.clone());
     let mut failures = 0;
     for _ in 0..settings.proximal_iterations {
         let proximal = Proximal {
@@ -679,9 +698,12 @@ fn proximal_point<const R: usize>(
             failures = 0;
             centre = inner;
             norm = original_norm(&centre);
+            if norm < best.0 {
+                best = (norm, centre.clone());
+            }
             if norm <= settings.tolerance && accept(&centre) {
                 *x = centre;
-                return (iterations, true);
+                return (iterations, true, true);
             }
             eta = (eta * 0.1).max(1e-12);
         } else {
@@ -692,8 +714,8 @@ fn proximal_point<const R: usize>(
             eta = (eta * 10.0).min(1e8);
         }
     }
-    // Not solved: finish with plain Newton from the last centre, and keep whichever is better.
-    let mut last = centre.clone();
+    // Not solved: finish with plain Newton from the best centre, and keep whichever is better.
+    let mut last = best.1.clone();
     let run = iterate(
         system,
         &mut last,
@@ -703,12 +725,14 @@ fn proximal_point<const R: usize>(
         accept,
     );
     iterations += run.iterations;
-    *x = if run.reached || run.norm < norm {
-        last
-    } else {
-        centre
-    };
-    (iterations, run.reached)
+    if run.reached || run.norm < best.0 {
+        best = (run.norm, last);
+    }
+    let improved = run.reached || best.0 < entry_norm;
+    if improved {
+        *x = best.1;
+    }
+    (iterations, run.reached, improved)
 }
 
 /// The Newton function F(λ) (m/s, module documentation) and its generalized Jacobian

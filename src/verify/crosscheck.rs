@@ -104,8 +104,7 @@ pub struct ExactReference {
     pub answer_distance: f64,
     /// The same for the step's λ, the impulses the run applied (when checking a run).
     pub step_distance: Option<f64>,
-    /// The step λ's violation of the contact law: its residual (m/s), and for cone friction its
-    /// exact Coulomb residual.
+    /// The step λ's violation of the contact law: its residual (m/s).
     pub step_residual: Option<f64>,
     /// The step λ's exact Coulomb residual (cone friction), m/s.
     pub step_coulomb_residual: Option<f64>,

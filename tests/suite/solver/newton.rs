@@ -165,8 +165,8 @@ fn newton_agrees_with_pgs_where_pgs_converges() {
 #[test]
 fn newton_reports_convergence_only_where_the_exact_law_holds() {
     // 600 random problems (300 cone, 300 box), including ones with no solution or with thin
-    // rods struck at the far end: wherever Newton says "converged" the law holds to 1e-9 m/s by
-    // the independent measures; where it does not, it says so. Counts: [not converged by Newton
+    // rods struck at the far end: wherever Newton says "converged" the law holds to its tolerance
+    // 1e-10 m/s by the measures recomputed from the problem and λ alone; where it does not, it says so. Counts: [not converged by Newton
     // alone, not converged after the fallback, converged by Newton, converged by the fallback].
     let counts = RefCell::new([0usize; 4]);
     for friction in [FrictionModel::Cone, FrictionModel::Box] {
@@ -174,10 +174,14 @@ fn newton_reports_convergence_only_where_the_exact_law_holds() {
             let problem = build(&s, mu, 0.0, friction);
             let (lambda, report) = newton(&problem, 1e-10);
             if report.converged {
-                prop_assert!(residual(&problem, &lambda) <= 1e-9);
+                prop_assert!(residual(&problem, &lambda) <= 1e-10);
                 if friction == FrictionModel::Cone {
-                    prop_assert!(coulomb_residual(&problem, &lambda) <= 1e-9);
+                    prop_assert!(coulomb_residual(&problem, &lambda) <= 1e-10);
                 }
+            } else if friction == FrictionModel::Box {
+                // The box law is judged by its own residual alone (a box answer is rarely a
+                // Coulomb solution, so the exact Coulomb residual says nothing here).
+                prop_assert!(residual(&problem, &lambda) > 1e-10, "reported unconverged at a solution: {report:?}");
             } else {
                 prop_assert!(
                     residual(&problem, &lambda) > 1e-10
