@@ -28,8 +28,18 @@ impl RunLength {
                 rigidref::sim::check_step_count(n as f64, dt).map_err(anyhow::Error::msg)?;
                 Ok(n)
             }
-            None => rigidref::sim::steps_in(self.time.unwrap_or(10.0), dt, unit)
-                .map_err(anyhow::Error::msg),
+            None => {
+                let time = self.time.unwrap_or(10.0);
+                let steps = rigidref::sim::steps_in(time, dt, unit).map_err(anyhow::Error::msg)?;
+                // Not silent about the rounding: the run ends at whole steps of dt.
+                let end = steps as f64 * dt;
+                if (end - time).abs() > 1e-9 * time.max(dt) {
+                    eprintln!(
+                        "note: --time {time} is not a whole number of steps of dt = {dt}; the run takes {steps} steps and ends at t = {end}"
+                    );
+                }
+                Ok(steps)
+            }
         }
     }
 }

@@ -66,6 +66,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     let mut reports = Reports2::open(&args.reports)?;
     reports.nuts(&world)?;
     let mut progress = Progress::steps(steps, args.quiet);
+    let start_energy = world.energy().total;
     let (mut run_totals, mut last_done, mut most_contacts) = (RunTotals::default(), 0, 0);
     let ran = drive(&mut world, steps, |w, k| -> Result<Flow, Stopped> {
         last_done = k;
@@ -117,6 +118,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             totals: run_totals,
             most_contacts,
             overrides: &scene.overrides,
+            start_energy,
         };
         summary.print(&world);
         if let Some(finding) = nut_finding {
@@ -236,6 +238,8 @@ struct Summary2<'a> {
     totals: RunTotals,
     most_contacts: usize,
     overrides: &'a [String],
+    /// Total energy at the start (kinetic + potential + elastic), mass · blocks² / time².
+    start_energy: f64,
 }
 
 impl Summary2<'_> {
@@ -312,9 +316,15 @@ impl Summary2<'_> {
             eprintln!("overrides      {}", self.overrides.join(", "));
         }
         eprintln!("wall time      {:.3} s", self.wall);
+        // The total and its change first: in a pile the potential energy dominates and the
+        // kinetic energy alone says little about what the run gained or lost.
         eprintln!(
-            "energy         kinetic {:.6e}, potential {:.6e}",
-            e.kinetic, e.potential
+            "energy         {:.6e} → {:.6e}, change {:+.3e} (now kinetic {:.6e}, potential {:.6e})",
+            self.start_energy,
+            e.total,
+            e.total - self.start_energy,
+            e.kinetic,
+            e.potential
         );
         eprintln!(
             "at rest        {resting} of {moving} bodies below kinetic energy {}",

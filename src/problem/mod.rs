@@ -232,8 +232,9 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
         delta
     }
 
-    /// Checks the problem is well formed: body indices in range, every number finite, μ ≥ 0,
-    /// compliance ≥ 0, no contact between the static world and itself. Returns what is wrong.
+    /// Checks the problem is well formed: body indices in range, every number finite, inverse
+    /// masses symmetric positive semi-definite, μ ≥ 0 (0 on free rows), compliance ≥ 0, no
+    /// contact between the static world and itself, zero Jacobian blocks for the static world. Returns what is wrong.
     pub fn validate(&self) -> Result<(), String> {
         for (i, body) in self.bodies.iter().enumerate() {
             if body
@@ -243,6 +244,18 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
                 .any(|x| !x.is_finite())
             {
                 return Err(format!("body {i}: non-finite inverse mass or velocity"));
+            }
+            // An inverse mass must be symmetric positive semi-definite; 1e-9 of its largest
+            // entry allows the round-off of R J⁻¹ Rᵀ and of a file's printed digits.
+            let m = &body.inverse_mass;
+            let scale = m.amax();
+            if (m - m.transpose()).amax() > 1e-9 * scale {
+                return Err(format!("body {i}: the inverse mass is not symmetric"));
+            }
+            if DMatrix::from_iterator(D, D, m.iter().copied()).symmetric_eigenvalues().min() < -1e-9 * scale {
+                return Err(format!(
+                    "body {i}: the inverse mass is not positive semi-definite"
+                ));
             }
         }
         for (k, c) in self.contacts.iter().enumerate() {
@@ -256,6 +269,21 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
                         self.bodies.len()
                     ));
                 }
+            }
+            for side in 0..2 {
+                if c.bodies[side].is_none() && c.jacobian[side].iter().any(|x| *x != 0.0) {
+                    return Err(format!(
+                        "contact {k}: J{} must be zero: body {} is the static world",
+                        side + 1,
+                        side + 1
+                    ));
+                }
+            }
+            if c.bounds == RowBounds::Free && c.mu != 0.0 {
+                return Err(format!(
+                    "contact {k}: mu has no meaning on free rows (bounds \"free\"); give 0, got {}",
+                    c.mu
+                ));
             }
             let numbers = c.jacobian[0]
                 .iter()

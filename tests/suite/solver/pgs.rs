@@ -54,7 +54,8 @@ fn pgs_solves_random_frictionless_lcps_to_the_residual_tolerance() {
         prop_assume!(eigenvalues.min() > 1e-3 * eigenvalues.max());
         let (lambda, report) = solve(&problem, FRICTIONLESS_BUDGET, Some(1e-9), ContactOrder::Sequential, 0);
         prop_assert!(report.converged, "not converged: {report:?}");
-        prop_assert!(report.residual < 1e-8);
+        // Converged means the residual reached the tolerance asked for, 1e-9 m/s.
+        prop_assert!(report.residual <= 1e-9);
         most_sweeps.set(most_sweeps.get().max(report.iterations));
         solved.set(solved.get() + 1);
         // The complementarity conditions themselves, with w computed independently (dense A).

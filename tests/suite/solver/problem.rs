@@ -153,6 +153,38 @@ fn validation_rejects_a_negative_or_infinite_compliance() {
     });
 }
 
+/// What a problem file could carry that no solver would read as written is refused (not
+/// silently symmetrised, ignored or dropped): a non-symmetric or indefinite inverse mass, a
+/// non-zero Jacobian block for the static world, a friction coefficient on free (joint) rows.
+/// Each message names the body or contact and what is wrong; the unchanged problem passes.
+#[test]
+fn validation_refuses_what_a_solver_would_silently_read_differently() {
+    use rigidref::problem::RowBounds;
+    proptest!(common::seeded(5), |(s in spec(1..3, 1..4))| {
+        let problem = build(&s, 0.5, 0.0, FrictionModel::Box);
+        prop_assert!(problem.validate().is_ok());
+        let mut skew = problem.clone();
+        skew.bodies[0].inverse_mass[(0, 1)] += 0.5;
+        let e = skew.validate().unwrap_err();
+        prop_assert!(e.contains("body 0") && e.contains("not symmetric"), "{}", e);
+        let mut indefinite = problem.clone();
+        indefinite.bodies[0].inverse_mass[(2, 2)] = -1.0;
+        let e = indefinite.validate().unwrap_err();
+        prop_assert!(e.contains("body 0") && e.contains("positive semi-definite"), "{}", e);
+        let mut grounded = problem.clone();
+        grounded.contacts[0].bodies[1] = None;
+        grounded.contacts[0].jacobian[1][(0, 0)] = 1.0;
+        let e = grounded.validate().unwrap_err();
+        prop_assert!(e.contains("contact 0") && e.contains("J2 must be zero"), "{}", e);
+        let mut joint = problem.clone();
+        joint.contacts[0].bounds = RowBounds::Free;
+        let e = joint.validate().unwrap_err();
+        prop_assert!(e.contains("contact 0") && e.contains("free rows"), "{}", e);
+        joint.contacts[0].mu = 0.0;
+        prop_assert!(joint.validate().is_ok());
+    });
+}
+
 #[test]
 fn a_row_no_impulse_can_move_counts_in_the_residual_only_as_far_as_it_is_violated() {
     // A contact between two pinned bodies has a zero Delassus diagonal: its rows cannot be
