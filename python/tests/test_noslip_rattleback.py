@@ -85,3 +85,30 @@ def test_rigidref_reverses_the_way_the_noslip_model_does(tmp_path):
             assert abs(ours - reference) < 1.0, (ours, reference)
         else:
             assert reference is None and ours is None, (ours, reference)
+
+
+def test_rigidrefs_noslip_reference_is_this_model():
+    # `rigidref converge` measures the rattleback's reversal against its own Rust port of this
+    # model (src/verify/references/noslip.rs). The two are written independently; the first sign
+    # change of ω_y (interpolated between steps) must agree: numpy's RK4 at 1 ms (5 s: the change
+    # is at 4.79 s) against the Rust reference at 0.25 ms. The Rust reference moves 3e-6 s when
+    # its step doubles to 0.5 ms, so RK4's O(h⁴) error at 1 ms is about 16 times that, 5e-5 s
+    # (measured difference 6.4e-5 s); bound 2e-4 s.
+    body = nr.rattleback(0.8)
+    series = nr.simulate(body, [0.05, -3.0, 0.05], 5.0, 1e-3)
+    previous = (0.0, -3.0)
+    crossing = None
+    for t, wy, _, _ in series:
+        if previous[1] < 0 <= wy:
+            crossing = previous[0] + (t - previous[0]) * previous[1] / (previous[1] - wy)
+            break
+        previous = (t, wy)
+    assert crossing is not None
+    run = subprocess.run([rigidref_bin(), "converge", str(ROOT / "scenes" / "rattleback.json"),
+                          "--dt", "1e-3,5e-4", "--observable", "first_reversal", "--time",
+                          str(SECONDS), "--json", "--quiet"],
+                         capture_output=True, text=True, check=True)
+    reference = json.loads(run.stdout)[0]["reference"]
+    assert "without slipping" in reference["how"]
+    print("no-slip reversal: numpy", crossing, "rigidref", reference["value"])
+    assert abs(reference["value"] - crossing) < 2e-4, (reference["value"], crossing)

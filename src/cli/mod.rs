@@ -8,6 +8,7 @@ mod compare;
 mod contacts;
 mod contacts2d;
 mod contacts3d;
+mod converge;
 mod crosscheck;
 mod crosscheck_report;
 mod factory;
@@ -51,6 +52,9 @@ enum Command {
     /// Solve every contact problem of a run (or problem files) with PGS and clarabel and compare;
     /// or, with --rapier, compare the run with a rapier3d mirror.
     Crosscheck(crosscheck::CrosscheckArgs),
+    /// Run a 3D scene at several step sizes and report each observable's observed order of
+    /// convergence against a closed form, an independent integration or Richardson extrapolation.
+    Converge(converge::ConvergeArgs),
     /// Compare fresh runs of the canonical scenes with golden/ (or regenerate it with --update).
     Golden(golden::GoldenArgs),
     /// Time rigidref against the rapier3d mirror on the same scenes, side by side.
@@ -88,6 +92,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
             _ => contacts3d::contacts(&args),
         },
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
+        Some(Command::Converge(args)) => converge::converge_command(args),
         Some(Command::Golden(args)) => golden::golden(args),
         Some(Command::Bench(args)) => bench::bench(args),
         Some(Command::Render(args)) => render::render_command(args),

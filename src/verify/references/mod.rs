@@ -3,4 +3,5 @@
 
 pub mod compare;
 pub mod euler;
+pub mod noslip;
 pub mod rapier;

@@ -670,7 +670,8 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--white-threshold") => &["0.05"],
             (_, "--max-travel") => &["0.25"],
             (_, "--impulse") => &["0:0:1,0"],
-            (_, "--shake") => &["0:1,0:0:1"],
+            // Body 12 of stack.png is its pinned (all-blue) floor: only a pinned body is shaken.
+            (_, "--shake") => &["12:1,0:0:1"],
             (_, "--rest-threshold") => &["0.001"],
             (_, "--nut-report") => &["nuts.csv"],
             (_, "--scaling-csv") => &["scaling.csv"],
@@ -1096,4 +1097,210 @@ fn contacts_json_traces_and_problem_files_carry_the_physical_criteria() {
     for key in KEYS {
         assert!(per_contact[0][key].as_f64().is_some());
     }
+}
+
+/// `rigidref converge` (docs/verification.md §"Convergence order"): the sliding cube's stopping
+/// distance at three step sizes, as a table and as JSON, with its closed form and first-order
+/// errors; `--expect 1` accepts its orders and `--expect 2` fails with status 1 naming them; a
+/// given number as reference, `--body`, `--set` and `--quiet` are honoured; bad input (an unknown
+/// observable, one step size, a 2D scene, a missing file, a number for two observables) is a
+/// one-line error with status 1.
+#[test]
+fn converge_reports_observed_orders_and_refuses_what_it_cannot_measure() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = common::project_root().join("scenes/sliding_cube.json");
+    let cube = cube.to_str().unwrap();
+    let base = [
+        "converge",
+        cube,
+        "--dt",
+        "1e-3,5e-4,2.5e-4",
+        "--observable",
+        "stop_distance",
+    ];
+    let out = common::rigidref(&base, dir.path());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        text.contains("closed form v₀²/(2μg)") && text.contains("1.000"),
+        "{text}"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("stop_distance: dt 0.0005 s"));
+
+    let json = common::rigidref(&[&base[..], &["--json", "--quiet"]].concat(), dir.path());
+    assert!(json.status.success());
+    assert!(
+        json.stderr.is_empty(),
+        "--quiet: {}",
+        String::from_utf8_lossy(&json.stderr)
+    );
+    let reports: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let report = &reports[0];
+    assert_eq!(report["observable"], "stop_distance");
+    assert_eq!(report["unit"], "m");
+    assert_eq!(report["runs"].as_array().unwrap().len(), 3);
+    // v₀²/(2μg) with v₀ = 1 m/s, μ = 0.4, g = 9.81 m/s².
+    let exact = 1.0 / (2.0 * 0.4 * 9.81);
+    assert!((report["reference"]["value"].as_f64().unwrap() - exact).abs() < 1e-15);
+    assert!((report["runs"][2]["order"].as_f64().unwrap() - 1.0).abs() < 0.01);
+
+    let expect = |p: &str| {
+        common::rigidref(
+            &[&base[..], &["-q", "--expect", p, "--band", "0.05"]].concat(),
+            dir.path(),
+        )
+    };
+    assert!(expect("1").status.success());
+    let failed = expect("2");
+    assert_eq!(failed.status.code(), Some(1));
+    let message = String::from_utf8_lossy(&failed.stderr);
+    assert!(
+        message.contains("outside 2 ± 0.05") && message.contains("stop_distance 1.000"),
+        "{message}"
+    );
+
+    // A reference given as a number (0.12742 m: the closed form to 5 digits), --body 0, --set.
+    let given = common::rigidref(
+        &[
+            &base[..],
+            &[
+                "-q",
+                "--reference",
+                "0.12742",
+                "--body",
+                "0",
+                "--set",
+                "mu=0.4",
+                "--time",
+                "1",
+            ],
+        ]
+        .concat(),
+        dir.path(),
+    );
+    assert!(
+        given.status.success(),
+        "{}",
+        String::from_utf8_lossy(&given.stderr)
+    );
+    assert!(String::from_utf8_lossy(&given.stdout).contains("reference 0.12742 m (given)"));
+
+    let stack = common::project_root().join("scenes/blocks/stack.png");
+    for (args, wanted) in [
+        (
+            vec![
+                "converge",
+                cube,
+                "--dt",
+                "1e-3,5e-4",
+                "--observable",
+                "stop_speed",
+            ],
+            "unknown observable `stop_speed`",
+        ),
+        (
+            vec![
+                "converge",
+                cube,
+                "--dt",
+                "1e-3",
+                "--observable",
+                "stop_time",
+            ],
+            "at least two different step sizes",
+        ),
+        (
+            vec![
+                "converge",
+                stack.to_str().unwrap(),
+                "--dt",
+                "1e-3,5e-4",
+                "--observable",
+                "stop_time",
+            ],
+            "this is a 2D scene",
+        ),
+        (
+            vec![
+                "converge",
+                "missing.json",
+                "--dt",
+                "1e-3,5e-4",
+                "--observable",
+                "stop_time",
+            ],
+            "missing.json",
+        ),
+        (
+            vec![
+                "converge",
+                cube,
+                "--dt",
+                "1e-3,5e-4",
+                "--observable",
+                "stop_time",
+                "--observable",
+                "stop_distance",
+                "--reference",
+                "1",
+            ],
+            "give one --observable",
+        ),
+        (
+            vec![
+                "converge",
+                cube,
+                "--dt",
+                "1e-3,5e-4",
+                "--observable",
+                "stop_time",
+                "--body",
+                "3",
+            ],
+            "--body 3",
+        ),
+    ] {
+        let out = common::rigidref(&args, dir.path());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.contains(wanted) && err.trim().lines().count() == 1,
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// A `--time` that is not a whole number of steps is not rounded silently: the run takes the
+/// whole steps (at least one) and a note says how many and where it ends (sliding_box, dt 0.01 s:
+/// 0.015 s is 1 step ending at 0.01 s); a whole number of steps gives no note.
+#[test]
+fn a_time_that_is_not_whole_steps_says_where_the_run_ends() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/sliding_box.json");
+    let run = |time: &str| {
+        let out = common::rigidref(
+            &[
+                "run",
+                scene.to_str().unwrap(),
+                "--time",
+                time,
+                "--out",
+                "t.jsonl",
+                "-q",
+            ],
+            tmp.path(),
+        );
+        assert!(out.status.success());
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    let err = run("0.015");
+    assert!(
+        err.contains("note: --time 0.015 is not a whole number of steps of dt = 0.01; the run takes 1 steps and ends at t = 0.01"),
+        "{err}"
+    );
+    assert!(!run("0.02").contains("note: --time"));
 }

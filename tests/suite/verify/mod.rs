@@ -1,6 +1,7 @@
 //! The checks: clarabel cross-check, golden traces, snapshots, the rapier3d mirror, the teeth
 //! tests, and the docs' references.
 
+mod convergence;
 mod crosscheck;
 mod docs;
 mod golden;
