@@ -142,7 +142,11 @@ impl Pin2 {
     ) -> ProblemContact<3, 2> {
         let block = |r: &Vector2<f64>| SMatrix::<f64, 2, 3>::new(1.0, 0.0, -r.y, 0.0, 1.0, r.x);
         let j1 = block(&self.ends[0].arm(bodies));
-        let j2 = -block(&self.ends[1].arm(bodies));
+        // The static world's block is zero (a problem's J₂ for `None`; ContactProblem::validate).
+        let j2 = match self.ends[1].body {
+            Some(_) => -block(&self.ends[1].arm(bodies)),
+            None => SMatrix::zeros(),
+        };
         let mut b = -bias;
         for (end, j) in self.ends.iter().zip([&j1, &j2]) {
             if let Some(i) = end.body {

@@ -423,6 +423,7 @@ pub fn load_2d(path: &Path, cli: &CommandLine2) -> Result<Scene2, SceneError> {
     }
     world.impulses.extend(cli.impulses.iter().copied());
     world.shakes.extend(cli.shakes.iter().copied());
+    check_scripts(&world, "--impulse", "--shake", &source)?;
     Ok(Scene2 {
         image: path.to_path_buf(),
         world,
@@ -540,6 +541,7 @@ pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, Sc
             frequency: s.frequency.0,
         });
     }
+    check_scripts(&world, "impulses", "shakes", &source)?;
     add_pins_and_springs(&mut world, &file.pins, &file.springs, &source)?;
     Ok(Scene2 {
         image,
@@ -683,4 +685,33 @@ pub fn parse_shake(text: &str) -> Result<Shake, String> {
         angular,
         frequency,
     })
+}
+
+/// Refuses scripts that would silently do nothing or something else than asked: an impulse on a
+/// pinned body (its inverse mass is zero: the impulse would be lost) and a shake of a body that
+/// is not pinned (a shake prescribes a pinned body's motion; on a free body it would overwrite
+/// the velocity that contacts and gravity give it every substep). docs/blocks2d.md §"Bodies".
+fn check_scripts(
+    world: &World2,
+    impulses: &str,
+    shakes: &str,
+    source: &str,
+) -> Result<(), SceneError> {
+    for i in &world.impulses {
+        if world.bodies[i.body].pinned {
+            return Err(SceneError(format!(
+                "{source}: {impulses}: body {} is pinned (all blue): an impulse cannot move it",
+                i.body
+            )));
+        }
+    }
+    for s in &world.shakes {
+        if !world.bodies[s.body].pinned {
+            return Err(SceneError(format!(
+                "{source}: {shakes}: body {} is not pinned: a shake prescribes a pinned (all-blue) body's motion",
+                s.body
+            )));
+        }
+    }
+    Ok(())
 }

@@ -88,6 +88,10 @@ pub struct World2 {
     pub substeps_in_step: u32,
     /// With shock propagation: the most layers a pass has met so far.
     pub shock_layers: u32,
+    /// The largest residual of the post-stabilisation solves so far, blocks per time unit
+    /// (docs/contact.md §"Residual" on the position problem, μ = 0): how far the last position
+    /// correction was from removing the overlap beyond the slop. Reported in the run summary.
+    pub post_stabilization_residual: f64,
     /// The most substeps any step took so far.
     pub most_substeps: u32,
     /// Steps whose adaptive substep count hit [`MAX_ADAPTIVE_SUBSTEPS`] (a body moved further
@@ -133,6 +137,7 @@ impl World2 {
             substeps_in_step: params.substeps,
             most_substeps: params.substeps,
             shock_layers: 0,
+            post_stabilization_residual: 0.0,
             capped_steps: 0,
             impulses: Vec::new(),
             shakes: Vec::new(),
@@ -430,12 +435,13 @@ impl World2 {
             pc.lambda0 = SVector::zeros();
         }
         let settings = self.solver_settings();
-        crate::solve::solve(
+        let report = crate::solve::solve(
             &self.position_problem,
             &settings,
             &mut self.position_workspace,
             &mut self.position_lambda,
         );
+        self.post_stabilization_residual = self.post_stabilization_residual.max(report.residual);
     }
 
     /// The starter's penalty contact: a spring k d plus damping c (approach speed) along the

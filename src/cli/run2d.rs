@@ -109,6 +109,14 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     if let Some(warning) = run_totals.unresolved_warning("blocks per time unit") {
         eprintln!("{}: {warning}", image.display());
     }
+    if let Some(first) = world.impulses.iter().map(|i| i.time).reduce(f64::min) {
+        eprintln!(
+            "warning: {}: {} scripted impulse(s) from t = {first} were never applied: the run ended at t = {}",
+            image.display(),
+            world.impulses.len(),
+            world.time()
+        );
+    }
     if !args.quiet {
         let summary = Summary2 {
             image,
@@ -326,6 +334,12 @@ impl Summary2<'_> {
             e.kinetic,
             e.potential
         );
+        if p.post_stabilization {
+            eprintln!(
+                "post-stab.     worst residual {:.3e} blocks per time unit (the position solve's, {} iterations)",
+                world.post_stabilization_residual, p.iterations
+            );
+        }
         eprintln!(
             "at rest        {resting} of {moving} bodies below kinetic energy {}",
             self.rest_threshold

@@ -252,7 +252,11 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
             if (m - m.transpose()).amax() > 1e-9 * scale {
                 return Err(format!("body {i}: the inverse mass is not symmetric"));
             }
-            if DMatrix::from_iterator(D, D, m.iter().copied()).symmetric_eigenvalues().min() < -1e-9 * scale {
+            if DMatrix::from_iterator(D, D, m.iter().copied())
+                .symmetric_eigenvalues()
+                .min()
+                < -1e-9 * scale
+            {
                 return Err(format!(
                     "body {i}: the inverse mass is not positive semi-definite"
                 ));

@@ -265,6 +265,11 @@ fn midpoint_rotation(
         let (lb, qb) = midpoint_rotation(inertia_body_inv, &la, 0.5 * h, depth + 1);
         return (lb, qa * qb);
     }
+    if !converged {
+        // Not silently an unconverged midpoint: NaN stops the run naming the body and quantity,
+        // as the implicit gyroscopic step does.
+        return (Vector3::repeat(f64::NAN), Matrix3::repeat(f64::NAN));
+    }
     let w = skew(&(inertia_body_inv * ((l0 + l1) * 0.5))) * (0.5 * h);
     let q = (Matrix3::identity() - w)
         .lu()

@@ -52,10 +52,22 @@ impl Ellipsoid {
         let unbounded = (0..3).any(|k| smallest(k) && y[k] != 0.0);
         let x = if !unbounded && {
             // On the ridge t = −a_min²: the terms of the smallest axes vanish (y_k = 0 there).
-            let ridge = Vector3::from_fn(|k, _| if smallest(k) { 0.0 } else { a2[k] * y[k] / (a2[k] - a_min2) });
+            let ridge = Vector3::from_fn(|k, _| {
+                if smallest(k) {
+                    0.0
+                } else {
+                    a2[k] * y[k] / (a2[k] - a_min2)
+                }
+            });
             ridge.component_div(&a).norm_squared() < 1.0
         } {
-            let mut x = Vector3::from_fn(|k, _| if smallest(k) { 0.0 } else { a2[k] * y[k] / (a2[k] - a_min2) });
+            let mut x = Vector3::from_fn(|k, _| {
+                if smallest(k) {
+                    0.0
+                } else {
+                    a2[k] * y[k] / (a2[k] - a_min2)
+                }
+            });
             let rest = 1.0 - x.component_div(&a).norm_squared();
             let k = (0..3).find(|&k| smallest(k)).unwrap_or(0);
             x[k] = a[k] * rest.sqrt();
@@ -67,7 +79,11 @@ impl Ellipsoid {
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                if excess(mid) > 0.0 { lo = mid } else { hi = mid }
+                if excess(mid) > 0.0 {
+                    lo = mid
+                } else {
+                    hi = mid
+                }
             }
             at(0.5 * (lo + hi))
         };

@@ -261,6 +261,16 @@ pub fn parse_scene(
         });
     }
     warnings.extend(slop_warnings(source, &params, &bodies));
+    if params.check_collisions && bodies.len() > 1 {
+        // Not silent about what the ellipsoid replaces: its surface is exact against the ground
+        // and other meshes' vertices, its mesh stands in for it everywhere else.
+        for b in bodies.iter().filter(|b| b.ellipsoid.is_some()) {
+            warnings.push(format!(
+                "note: {source}: body {:?}'s ellipsoid is its surface against the ground and against other bodies' vertices; its own mesh's vertices stand for it against other bodies, and `collision: complete` and the penetration measure use its mesh (docs/contact.md §\"Ellipsoid contact\")",
+                b.name
+            ));
+        }
+    }
     Ok(Scene {
         source: source.to_string(),
         params,

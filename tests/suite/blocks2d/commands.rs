@@ -387,6 +387,26 @@ fn bad_2d_input_is_a_one_line_error() {
             ],
             "--shake",
         ),
+        // Scripts that would silently do nothing or something else: an impulse on the pinned
+        // floor (body 12) is lost; a shake of a free body (0) would overwrite its velocity.
+        (
+            vec![
+                "run".into(),
+                "stack.png".into(),
+                "--impulse".into(),
+                "0:12:1,0".into(),
+            ],
+            "body 12 is pinned",
+        ),
+        (
+            vec![
+                "run".into(),
+                "stack.png".into(),
+                "--shake".into(),
+                "0:1,0:0:1".into(),
+            ],
+            "body 0 is not pinned",
+        ),
         (
             vec![
                 "run".into(),
@@ -574,7 +594,9 @@ fn a_2d_run_that_overflows_stops_naming_the_step_and_keeps_its_trace() {
     );
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    // One error line (a step longer than --time is also noted, on its own line).
+    let errors: Vec<&str> = stderr.lines().filter(|l| !l.starts_with("note:")).collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
     assert!(
         stderr.contains("non-finite") && stderr.contains("at step 1"),
         "{stderr}"
@@ -730,4 +752,55 @@ fn a_scene_file_preset_starts_from_the_starter_and_its_keys_override_it() {
         }
     );
     assert_ne!(Params2::starter(), Params2::demonstration());
+}
+
+/// The 2D summary is not silent about what the run changed (docs/blocks2d.md §"Running"): it
+/// leads the energy line with the total and its change (in a pile the potential dominates), gives
+/// the post-stabilisation solve's worst residual, and warns when a scripted impulse falls after
+/// the end of the run (stack.json's impulse at t = 15, run for 0.5).
+#[test]
+fn a_2d_summary_reports_total_energy_post_stabilisation_and_unapplied_impulses() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/blocks/stack.json");
+    let out = common::rigidref(
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--time",
+            "0.5",
+            "--out",
+            "t.jsonl",
+        ],
+        tmp.path(),
+    );
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    let energy = err.lines().find(|l| l.starts_with("energy")).unwrap();
+    assert!(
+        energy.contains(" → ") && energy.contains("change") && energy.contains("potential"),
+        "{energy}"
+    );
+    assert!(err.contains("post-stab.     worst residual"), "{err}");
+    assert!(
+        err.contains(
+            "1 scripted impulse(s) from t = 15 were never applied: the run ended at t = 0.5"
+        ),
+        "{err}"
+    );
+    // Run past the impulse: no warning.
+    let out = common::rigidref(
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--time",
+            "15.05",
+            "--every",
+            "100",
+            "--out",
+            "t.jsonl",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("never applied"));
 }

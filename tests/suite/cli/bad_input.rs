@@ -409,6 +409,37 @@ fn open_body_mesh_is_reported_not_a_panic() {
     expect_error(&case, "block.obj", &["open surface"]);
 }
 
+/// A vertex no face uses is not part of the body: the OBJ reader keeps only the vertices the
+/// object's faces use, so a stray vertex 5 m below the block is neither a contact point nor in its
+/// bounding box (the mesh read is the original one, vertex for vertex).
+#[test]
+fn a_mesh_vertex_no_face_uses_is_not_part_of_the_body() {
+    use rigidref::rigid3d::mesh::TriMesh;
+    let path = common::project_root().join("scenes/data/block.obj");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // The stray vertex first, the faces renumbered past it.
+    let mut shifted = vec!["v 0 -5 0".to_string()];
+    for l in text.lines() {
+        shifted.push(match l.strip_prefix("f ") {
+            Some(rest) => format!(
+                "f {}",
+                rest.split_whitespace()
+                    .map(
+                        |t| (t.split('/').next().unwrap().parse::<usize>().unwrap() + 1)
+                            .to_string()
+                    )
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ),
+            None => l.to_string(),
+        });
+    }
+    let original = TriMesh::parse_obj(&text, "block.obj").unwrap();
+    let stray = TriMesh::parse_obj(&shifted.join("\n"), "stray.obj").unwrap();
+    assert_eq!(stray.vertices, original.vertices);
+    assert_eq!(stray.triangles, original.triangles);
+}
+
 /// A closed, consistently oriented mesh with one zero-area triangle: the mesh still bounds a
 /// solid, so it loads, and the degenerate face is reported as a warning.
 #[test]

@@ -120,10 +120,27 @@ fn the_ellipsoid_depth_is_the_distance_to_the_nearest_surface_point() {
         let (depth, n) = e.inside(&p).expect("inside");
         let q = p + n * depth;
         let f = (q - e.centre).component_div(&e.semi_axes).norm_squared();
-        prop_assert!((f - 1.0).abs() < 1e-9, "p + depth n off the surface: f = {}", f);
-        let nearest = samples.iter().map(|s| (s - p).norm()).fold(f64::INFINITY, f64::min);
-        prop_assert!(nearest >= depth - 1e-12, "a sample {} nearer than depth {}", nearest, depth);
-        prop_assert!(nearest - depth < 2e-3, "depth {} far below the sampled {}", depth, nearest);
+        prop_assert!(
+            (f - 1.0).abs() < 1e-9,
+            "p + depth n off the surface: f = {}",
+            f
+        );
+        let nearest = samples
+            .iter()
+            .map(|s| (s - p).norm())
+            .fold(f64::INFINITY, f64::min);
+        prop_assert!(
+            nearest >= depth - 1e-12,
+            "a sample {} nearer than depth {}",
+            nearest,
+            depth
+        );
+        prop_assert!(
+            nearest - depth < 2e-3,
+            "depth {} far below the sampled {}",
+            depth,
+            nearest
+        );
         Ok(depth)
     };
     proptest!(common::seeded(40), |(u in proptest::array::uniform3(-1.0..1.0f64), s in 0.05..0.999f64)| {
@@ -139,7 +156,10 @@ fn the_ellipsoid_depth_is_the_distance_to_the_nearest_surface_point() {
         ((x - 0.15f64).powi(2) + y * y).sqrt()
     };
     // 1e-15 m: the ridge point is a closed form, a few roundings from the test's own.
-    assert!((ridge - expected).abs() < 1e-15, "ridge depth {ridge}, expected {expected}");
+    assert!(
+        (ridge - expected).abs() < 1e-15,
+        "ridge depth {ridge}, expected {expected}"
+    );
     assert!((ridge - 0.01314).abs() < 1e-5, "{ridge}");
 }
 
@@ -293,4 +313,41 @@ fn the_rapier_mirror_on_the_same_mesh_and_inertia() {
             "rapier's spin: {samples:?}"
         );
     }
+}
+
+/// An ellipsoid body among other bodies is noted at load (docs/contact.md §"Ellipsoid contact"):
+/// its surface is exact against the ground and the others' vertices, and its mesh stands in for
+/// it elsewhere. The rattleback alone gets no such note.
+#[test]
+fn an_ellipsoid_among_other_bodies_is_noted_at_load() {
+    let root = common::project_root();
+    let text = std::fs::read_to_string(root.join("scenes/rattleback.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let data = root.join("scenes/data/rattleback");
+    v["bodies"][0]["file_root"] = data.to_str().unwrap().into();
+    let mut second = v["bodies"][0].clone();
+    second["name"] = "a plain copy".into();
+    second["x0"] = serde_json::json!([1.0, 0.5, 0.0]);
+    second.as_object_mut().unwrap().remove("ellipsoid");
+    let tmp = tempfile::tempdir().unwrap();
+    let alone = tmp.path().join("alone.json");
+    std::fs::write(&alone, v.to_string()).unwrap();
+    v["bodies"].as_array_mut().unwrap().push(second);
+    let pair = tmp.path().join("pair.json");
+    std::fs::write(&pair, v.to_string()).unwrap();
+    let noted = |path: &std::path::Path| {
+        load_scene(path)
+            .unwrap()
+            .warnings
+            .into_iter()
+            .filter(|w| w.contains("ellipsoid is its surface"))
+            .collect::<Vec<_>>()
+    };
+    let notes = noted(&pair);
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert!(
+        notes[0].starts_with("note: ") && notes[0].contains("\"rattleback\""),
+        "{notes:?}"
+    );
+    assert!(noted(&alone).is_empty());
 }
