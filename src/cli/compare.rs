@@ -33,7 +33,14 @@ Dzhanibekov flip times of a lone spinning body. Impacts make multi-body scenes c
 correct simulators diverge after a few impacts; compare such scenes in outcome mode
 (docs/grading.md says which mode fits which scene).
 
-Exit status: 0 the traces agree, 1 they differ, 2 a trace is unreadable.")]
+Before comparing, OTHER is refused (a verdict of its own, exit status 1) when it cannot be
+judged fairly: no records; other bodies than REF's; a non-finite number or a matrix that is not a
+rotation; a time repeated or going back; a start later or an end earlier than REF's by more than
+one of REF's steps (\"ends at 0.5 s of 2 s\"); or records further apart than REF's own spacing
+or 10 of REF's steps, whichever is larger.
+
+Exit status: 0 the traces agree, 1 they differ or OTHER is refused, 2 a trace is unreadable (or
+REF itself is malformed).")]
 pub struct CompareArgs {
     /// The reference trace (rigidref's run of the scene).
     pub reference: PathBuf,
@@ -59,10 +66,23 @@ pub struct CompareArgs {
 fn read(path: &Path) -> Result<Trace, Unreadable> {
     let file = std::fs::File::open(path)
         .map_err(|e| Unreadable(format!("{}: cannot open: {e}", path.display())))?;
-    read_trace(std::io::BufReader::new(file), &path.display().to_string()).map_err(Unreadable)
+    let trace = read_trace(std::io::BufReader::new(file), &path.display().to_string())
+        .map_err(Unreadable)?;
+    for note in &trace.notes {
+        eprintln!("note: {note}");
+    }
+    Ok(trace)
 }
 
 fn print_comparison(c: &Comparison) {
+    if let Some(r) = &c.refused {
+        println!(
+            "mode             {} — the trace is refused, not compared",
+            c.mode
+        );
+        println!("refused          {}: {}", r.kind, r.message);
+        return;
+    }
     println!(
         "mode             {} (bodies matched by {}; t = {} … {} s)",
         c.mode, c.matched_by, c.span.0, c.span.1
@@ -267,7 +287,12 @@ SUBMISSIONS holds one folder per submission. For scene NAME.json a submission pr
 as NAME.jsonl and, optionally, its first contact's problem as NAME.problem.json. The reference
 runs each scene once (for --time, recording every frame); every submission is compared with it
 (in parallel over --jobs threads). A missing or malformed file is reported in its row and never
-stops the batch. Writes grade.csv (submission, scene, observable, result, figure) and grade.md
+stops the batch. A submission's files are judged before they are opened: a symbolic link leaving
+the submission folder, a FIFO, a device or a folder, and a file larger than --max-file-mb are
+refused unopened. A trace that stops early, repeats or reorders its times, is too sparse, or has
+other bodies or non-finite numbers is refused with its reason (`rigidref compare --help`). A
+header without the descriptive keys scene, source, integrator or substeps is noted, not
+refused. Writes grade.csv (submission, scene, observable, result, figure) and grade.md
 (a verdict per submission and scene, then every row that did not pass) to --out, and prints the
 Markdown. For more submissions than one machine handles, run one `rigidref grade` per submission
 folder as a job array (docs/grading.md §\"Grading a batch\").")]
@@ -289,6 +314,9 @@ pub struct GradeArgs {
     /// Threads [default: the machine's cores].
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// The largest submission file opened, MB; a larger one is refused unopened.
+    #[arg(long, default_value_t = 512)]
+    pub max_file_mb: u64,
     /// Scene parameters for the reference runs (e.g. `--set solver=newton` for exact contact
     /// solves), applied to every scene.
     #[command(flatten)]
@@ -315,7 +343,10 @@ pub fn grade(args: GradeArgs) -> anyhow::Result<()> {
     let threads = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let rows = grade_all(&folders, &references, args.mode, threads);
+    let limits = rigidref::tools::grade::Limits {
+        max_file_bytes: args.max_file_mb.saturating_mul(1 << 20),
+    };
+    let rows = grade_all(&folders, &references, args.mode, threads, &limits);
     let names: Vec<String> = references.iter().map(|r| r.name.clone()).collect();
     let markdown = to_markdown(&rows, &names);
     std::fs::create_dir_all(&args.out)

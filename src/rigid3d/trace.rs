@@ -20,9 +20,11 @@ pub struct TraceHeader {
     pub version: u32,
     /// 3 for mesh bodies, 2 for image-block bodies.
     pub dimension: u32,
-    /// The scene's `name`.
+    /// The scene's `name` (descriptive: may be absent in a trace read).
+    #[serde(default)]
     pub scene: String,
-    /// Where the scene came from.
+    /// Where the scene came from (descriptive: may be absent in a trace read).
+    #[serde(default)]
     pub source: String,
     /// Parameters set on the command line (`--set KEY=VALUE`), as `KEY=VALUE`; the key is
     /// present only when some were given.
@@ -30,11 +32,13 @@ pub struct TraceHeader {
     pub overrides: Vec<String>,
     /// Frame step, s.
     pub dt: f64,
-    /// Substeps per frame.
+    /// Substeps per frame (descriptive: may be absent in a trace read; then 1).
+    #[serde(default = "one")]
     pub substeps: u32,
     /// Gravity, m/s².
     pub gravity: [f64; 3],
-    /// The angular integrator's scene name.
+    /// The angular integrator's scene name (descriptive: may be absent in a trace read).
+    #[serde(default)]
     pub integrator: String,
     /// The collision method's scene name (`vertices` or `complete`); absent from version 1
     /// traces, which were all `vertices`.
@@ -323,7 +327,14 @@ pub struct Trace {
     pub header: TraceHeader,
     /// The records in file order.
     pub records: Vec<TraceRecord>,
+    /// What the reader noticed without refusing the trace: the descriptive header keys
+    /// ([`DESCRIPTIVE_KEYS`]) it lacks.
+    pub notes: Vec<String>,
 }
+
+/// Header keys that only describe the run (nothing is compared from them): a trace written by
+/// another simulator may leave them out, and the reader notes it instead of refusing the trace.
+pub const DESCRIPTIVE_KEYS: [&str; 4] = ["scene", "source", "integrator", "substeps"];
 
 /// Reads a JSON Lines trace; errors name the line.
 pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
@@ -334,6 +345,19 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let first = first.map_err(|e| format!("{source}: {e}"))?;
     let header: TraceHeader =
         serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
+    let given: serde_json::Value = serde_json::from_str(&first).unwrap_or_default();
+    let missing: Vec<&str> = DESCRIPTIVE_KEYS
+        .into_iter()
+        .filter(|k| given.get(k).is_none())
+        .collect();
+    let notes = if missing.is_empty() {
+        Vec::new()
+    } else {
+        vec![format!(
+            "{source}: the header has no {} (descriptive keys; nothing is compared from them)",
+            missing.join(", ")
+        )]
+    };
     if header.format != FORMAT_NAME || !(1..=FORMAT_VERSION).contains(&header.version) {
         return Err(format!(
             "{source}:1: not a {FORMAT_NAME} trace of version 1 to {FORMAT_VERSION}"
@@ -345,7 +369,49 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
         if line.trim().is_empty() {
             continue; // a trailing newline too many, from a hand-written or concatenated file
         }
-        records.push(serde_json::from_str(&line).map_err(|e| format!("{source}:{}: {e}", i + 1))?);
+        records.push(serde_json::from_str(&line).map_err(|e| {
+            // JSON has no NaN or Infinity; writers that print them anyway (Python's json module
+            // does) get the reason, not only the column.
+            if has_non_finite_token(&line) {
+                format!(
+                    "{source}:{}: a number is NaN or Infinity (not finite): a trace holds finite numbers",
+                    i + 1
+                )
+            } else {
+                format!("{source}:{}: {e}", i + 1)
+            }
+        })?);
     }
-    Ok(Trace { header, records })
+    Ok(Trace {
+        header,
+        records,
+        notes,
+    })
+}
+
+/// Whether a JSON line holds a bare `NaN`, `Infinity` or `-Infinity` outside strings.
+fn has_non_finite_token(line: &str) -> bool {
+    let mut in_string = false;
+    let mut escaped = false;
+    let bytes = line.as_bytes();
+    for (k, &c) in bytes.iter().enumerate() {
+        if in_string {
+            match (escaped, c) {
+                (true, _) => escaped = false,
+                (false, b'\\') => escaped = true,
+                (false, b'"') => in_string = false,
+                _ => {}
+            }
+        } else if c == b'"' {
+            in_string = true;
+        } else if bytes[k..].starts_with(b"NaN") || bytes[k..].starts_with(b"Infinity") {
+            return true;
+        }
+    }
+    false
+}
+
+/// The default substep count of a trace header that does not give one.
+fn one() -> u32 {
+    1
 }

@@ -73,13 +73,47 @@ pub struct Comparison {
     pub errors: Vec<QuantityError>,
     /// Outcome mode: the observables.
     pub outcomes: Vec<Outcome>,
-    /// True when nothing exceeds its tolerance.
+    /// True when nothing exceeds its tolerance (false when the candidate was refused).
     pub agree: bool,
+    /// Why the candidate trace was not compared at all, when it was refused (a trace that stops
+    /// early, repeats or reorders its times, is too sparse, has other bodies or non-finite
+    /// numbers); then `errors` and `outcomes` are empty. docs/grading.md §"Refused traces".
+    pub refused: Option<Refusal>,
 }
 
+/// Why a candidate trace is refused before any comparison: its own verdict.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Refusal {
+    /// `empty`, `wrong bodies`, `not finite`, `not a rotation`, `repeated times`,
+    /// `times out of order`, `late start`, `incomplete` or `too sparse`.
+    pub kind: &'static str,
+    /// What is wrong, in one line, e.g. "ends at 0.5 s of 2 s".
+    pub message: String,
+}
+
+/// How far apart a candidate's records may be, in reference steps (dt), where the reference
+/// itself records more often: the comparison samples at the sparser trace's record times, so a
+/// trace of a handful of records would otherwise be judged on a handful of states.
+pub const MAX_GAP_STEPS: f64 = 10.0;
+
 impl Comparison {
+    fn refused(mode: &'static str, refusal: Refusal) -> Comparison {
+        Comparison {
+            mode,
+            span: (f64::NAN, f64::NAN),
+            matched_by: "",
+            errors: Vec::new(),
+            outcomes: Vec::new(),
+            agree: false,
+            refused: Some(refusal),
+        }
+    }
+
     /// The first failing quantity or observable, as a sentence.
     pub fn first_failure(&self) -> Option<String> {
+        if let Some(r) = &self.refused {
+            return Some(format!("refused ({}): {}", r.kind, r.message));
+        }
         let by_time = self
             .errors
             .iter()
@@ -283,49 +317,134 @@ pub fn match_bodies(
     }
 }
 
-fn check_traces(reference: &Trace, other: &Trace) -> Result<(f64, f64), String> {
-    for (what, t) in [("reference", reference), ("other", other)] {
-        if t.header.dimension != 3 {
-            return Err(format!(
-                "the {what} trace is {}D: compare reads 3D traces",
-                t.header.dimension
-            ));
+/// The grader's own trace must be well formed: a 3D trace with records, each with the header's
+/// bodies, finite states and rotations, times increasing. What is wrong is an error (the
+/// comparison cannot be made: exit status 2), not a verdict on the candidate.
+fn check_reference(reference: &Trace) -> Result<(), String> {
+    if reference.header.dimension != 3 {
+        return Err(format!(
+            "the reference trace is {}D: compare reads 3D traces",
+            reference.header.dimension
+        ));
+    }
+    match candidate_defect(reference, reference) {
+        Some(r) => Err(format!("the reference trace: {}", r.message)),
+        None => Ok(()),
+    }
+}
+
+/// The checks of a candidate trace against the reference (docs/grading.md §"Refused traces"),
+/// in order: records at all, the reference's bodies, finite numbers and rotations, strictly
+/// increasing times, the reference's time span covered to one reference step at each end, and
+/// records at most max(the reference's own spacing, [`MAX_GAP_STEPS`] reference steps) apart.
+fn candidate_defect(reference: &Trace, other: &Trace) -> Option<Refusal> {
+    let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
+    let (Some(first), Some(last)) = (other.records.first(), other.records.last()) else {
+        return refuse("empty", "the trace has no records".into());
+    };
+    let bodies = reference.header.bodies.len();
+    if other.header.bodies.len() != bodies {
+        return refuse(
+            "wrong bodies",
+            format!(
+                "the trace has {} bodies, the reference {bodies}",
+                other.header.bodies.len()
+            ),
+        );
+    }
+    for r in &other.records {
+        if r.bodies.len() != bodies {
+            return refuse(
+                "wrong bodies",
+                format!(
+                    "the record at step {} has {} bodies, the header {bodies}",
+                    r.step,
+                    r.bodies.len()
+                ),
+            );
         }
-        if t.records.is_empty() {
-            return Err(format!("the {what} trace has no records"));
+        if !r.t.is_finite() {
+            return refuse(
+                "not finite",
+                format!("the time of the record at step {} is not finite", r.step),
+            );
         }
-        if let Some(r) = t
-            .records
-            .iter()
-            .find(|r| r.bodies.len() != t.header.bodies.len())
-        {
-            return Err(format!(
-                "the {what} trace's record at step {} has {} bodies, its header {}",
-                r.step,
-                r.bodies.len(),
-                t.header.bodies.len()
-            ));
-        }
-        if t.records.windows(2).any(|w| w[1].t < w[0].t) {
-            return Err(format!("the {what} trace's times decrease"));
-        }
-        for r in &t.records {
-            for (i, b) in r.bodies.iter().enumerate() {
-                let finite = |a: &[f64; 3]| a.iter().all(|x| x.is_finite());
-                if !(finite(&b.x) && finite(&b.v) && finite(&b.omega)) {
-                    return Err(format!(
-                        "the {what} trace's body {i} is not finite at step {}",
-                        r.step
-                    ));
-                }
-                if let Some(why) = not_a_rotation(b) {
-                    return Err(format!(
-                        "the {what} trace's body {i} at step {}: {why}",
-                        r.step
-                    ));
-                }
+        for (i, b) in r.bodies.iter().enumerate() {
+            let finite = |a: &[f64; 3]| a.iter().all(|x| x.is_finite());
+            if !(finite(&b.x) && finite(&b.v) && finite(&b.omega)) {
+                return refuse(
+                    "not finite",
+                    format!("body {i} is not finite at step {} (t = {} s)", r.step, r.t),
+                );
+            }
+            if let Some(why) = not_a_rotation(b) {
+                return refuse(
+                    "not a rotation",
+                    format!("body {i} at step {} (t = {} s): {why}", r.step, r.t),
+                );
             }
         }
+    }
+    if let Some(w) = other.records.windows(2).find(|w| w[1].t <= w[0].t) {
+        if w[1].t == w[0].t {
+            let repeats = other.records.iter().filter(|r| r.t == w[0].t).count();
+            return refuse(
+                "repeated times",
+                format!("time {} s repeated {repeats} times", w[0].t),
+            );
+        }
+        return refuse(
+            "times out of order",
+            format!(
+                "the time goes back from {} s to {} s at step {}",
+                w[0].t, w[1].t, w[1].step
+            ),
+        );
+    }
+    let dt = reference.header.dt;
+    // One reference step at each end, with room for the round-off of a time written as k·dt.
+    let slack = dt * (1.0 + 1e-9);
+    let (start, end) = (reference.records[0].t, reference.records.last().unwrap().t);
+    if first.t > start + slack {
+        return refuse(
+            "late start",
+            format!("starts at {} s, the reference at {start} s", first.t),
+        );
+    }
+    if last.t < end - slack {
+        return refuse("incomplete", format!("ends at {} s of {end} s", last.t));
+    }
+    let largest_gap = |t: &Trace| {
+        t.records
+            .windows(2)
+            .map(|w| w[1].t - w[0].t)
+            .fold(0.0, f64::max)
+    };
+    let allowed = largest_gap(reference).max(MAX_GAP_STEPS * dt) * (1.0 + 1e-9);
+    if let Some(w) = other.records.windows(2).find(|w| w[1].t - w[0].t > allowed) {
+        return refuse(
+            "too sparse",
+            format!(
+                "records {} s apart (from t = {} s); at most {allowed:.6} s is compared (the reference's own spacing or {MAX_GAP_STEPS} of its steps)",
+                w[1].t - w[0].t,
+                w[0].t
+            ),
+        );
+    }
+    None
+}
+
+/// The reference checked (an error), then the candidate (a refusal); the common span otherwise.
+fn check_traces(reference: &Trace, other: &Trace) -> Result<Result<(f64, f64), Refusal>, String> {
+    check_reference(reference)?;
+    if other.header.dimension != 3 {
+        return Err(format!(
+            "the other trace is {}D: compare reads 3D traces",
+            other.header.dimension
+        ));
+    }
+    if let Some(r) = candidate_defect(reference, other) {
+        return Ok(Err(r));
     }
     let start = reference.records[0].t.max(other.records[0].t);
     let end = reference
@@ -334,16 +453,7 @@ fn check_traces(reference: &Trace, other: &Trace) -> Result<(f64, f64), String> 
         .unwrap()
         .t
         .min(other.records.last().unwrap().t);
-    if end < start {
-        return Err(format!(
-            "the traces do not overlap in time (reference {}–{} s, other {}–{} s)",
-            reference.records[0].t,
-            reference.records.last().unwrap().t,
-            other.records[0].t,
-            other.records.last().unwrap().t
-        ));
-    }
-    Ok((start, end))
+    Ok(Ok((start, end)))
 }
 
 /// The energy scale of a trace, J: the largest of its largest kinetic energy, the range of its
@@ -381,7 +491,10 @@ pub fn compare_trajectories(
     other: &Trace,
     tol: &TrajectoryTolerances,
 ) -> Result<Comparison, String> {
-    let span = check_traces(reference, other)?;
+    let span = match check_traces(reference, other)? {
+        Ok(span) => span,
+        Err(refusal) => return Ok(Comparison::refused("trajectory", refusal)),
+    };
     let (map, matched_by) = match_bodies(reference, other)?;
     // Sample at the record times of the sparser trace (within the common span) and interpolate
     // the denser one, so that a trace recorded every K frames is compared where it has data.
@@ -520,6 +633,7 @@ pub fn compare_trajectories(
         errors,
         outcomes: Vec::new(),
         agree,
+        refused: None,
     })
 }
 
@@ -635,11 +749,15 @@ pub fn compare_outcomes(
     scene: Option<&Scene>,
     tol: &OutcomeTolerances,
 ) -> Result<Comparison, String> {
-    let span = check_traces(reference, other)?;
+    let span = match check_traces(reference, other)? {
+        Ok(span) => span,
+        Err(refusal) => return Ok(Comparison::refused("outcome", refusal)),
+    };
     let (map, matched_by) = match_bodies(reference, other)?;
     // Only what both traces cover: a trace that runs longer must not count flips, contacts or
     // rest the other could not show.
     let within = |t: &Trace| Trace {
+        notes: Vec::new(),
         header: t.header.clone(),
         records: t
             .records
@@ -854,5 +972,6 @@ pub fn compare_outcomes(
         errors: Vec::new(),
         outcomes,
         agree,
+        refused: None,
     })
 }

@@ -56,9 +56,81 @@ pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, Strin
     Ok(Reference {
         name: name.to_string(),
         scene,
-        trace: Trace { header, records },
+        trace: Trace {
+            header,
+            records,
+            notes: Vec::new(),
+        },
         first_problem,
     })
+}
+
+/// What `grade` opens of a submission (docs/grading.md §"Untrusted submissions").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// The largest file opened, bytes (`--max-file-mb`).
+    pub max_file_bytes: u64,
+}
+
+impl Default for Limits {
+    /// 512 MB: a 3D trace of 20 bodies recorded every step for 10 minutes at 1 ms is ~300 MB.
+    fn default() -> Limits {
+        Limits {
+            max_file_bytes: 512 << 20,
+        }
+    }
+}
+
+/// Whether `path` may be opened, judged from its metadata alone (never opening it): it must be a
+/// regular file (a symbolic link only if it resolves to a regular file inside `dir`) of at most
+/// `limits.max_file_bytes`. Err((result, why)): `missing` when there is nothing at `path`,
+/// `refused` otherwise.
+pub fn admissible(dir: &Path, path: &Path, limits: &Limits) -> Result<(), (&'static str, String)> {
+    let shown = path.display();
+    let Ok(meta) = std::fs::symlink_metadata(path) else {
+        return Err(("missing", format!("no {shown}")));
+    };
+    let meta = if meta.file_type().is_symlink() {
+        let (Ok(target), Ok(inside)) = (std::fs::canonicalize(path), std::fs::canonicalize(dir))
+        else {
+            return Err((
+                "refused",
+                format!("{shown}: a symbolic link to nothing readable; not opened"),
+            ));
+        };
+        if !target.starts_with(&inside) {
+            return Err((
+                "refused",
+                format!(
+                    "{shown}: a symbolic link leaving the submission folder (to {}); not opened",
+                    target.display()
+                ),
+            ));
+        }
+        match std::fs::metadata(&target) {
+            Ok(m) => m,
+            Err(e) => return Err(("refused", format!("{shown}: {e}; not opened"))),
+        }
+    } else {
+        meta
+    };
+    if !meta.is_file() {
+        return Err((
+            "refused",
+            format!("{shown}: not a regular file (a folder, FIFO or device); not opened"),
+        ));
+    }
+    if meta.len() > limits.max_file_bytes {
+        return Err((
+            "refused",
+            format!(
+                "{shown}: {:.1} MB is more than the limit of {} MB (raise it with --max-file-mb); not opened",
+                meta.len() as f64 / (1u64 << 20) as f64,
+                limits.max_file_bytes >> 20
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// One row of the grade table.
@@ -70,7 +142,8 @@ pub struct GradeRow {
     pub scene: String,
     /// The observable or quantity (`trace` for the file as a whole).
     pub observable: String,
-    /// `pass`, `fail`, `missing` or `unreadable`.
+    /// `pass`, `fail`, `refused` (the trace is too short, degenerate or for other bodies:
+    /// [`crate::tools::compare::Refusal`]), `missing` or `unreadable`.
     pub result: String,
     /// The figure: the error, the observable's values, or what is wrong with the file.
     pub figure: String,
@@ -87,6 +160,15 @@ fn row(submission: &str, scene: &str, observable: &str, result: &str, figure: St
 }
 
 fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRow> {
+    if let Some(r) = &c.refused {
+        return vec![row(
+            submission,
+            scene,
+            "trace",
+            "refused",
+            format!("{}: {}", r.kind, r.message),
+        )];
+    }
     let mut rows = Vec::new();
     for e in &c.errors {
         let result = if e.first_exceeded.is_none() {
@@ -124,7 +206,12 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
 
 /// Grades one submission folder against every reference. Never fails: a missing or unreadable
 /// file becomes its row.
-pub fn grade_submission(dir: &Path, references: &[Reference], mode: GradeMode) -> Vec<GradeRow> {
+pub fn grade_submission(
+    dir: &Path,
+    references: &[Reference],
+    mode: GradeMode,
+    limits: &Limits,
+) -> Vec<GradeRow> {
     let submission = dir.file_name().map_or_else(
         || dir.display().to_string(),
         |n| n.to_string_lossy().to_string(),
@@ -132,18 +219,23 @@ pub fn grade_submission(dir: &Path, references: &[Reference], mode: GradeMode) -
     let mut rows = Vec::new();
     for r in references {
         let path = dir.join(format!("{}.jsonl", r.name));
-        if !path.is_file() {
-            rows.push(row(
-                &submission,
-                &r.name,
-                "trace",
-                "missing",
-                format!("no {}", path.display()),
-            ));
+        if let Err((result, why)) = admissible(dir, &path, limits) {
+            rows.push(row(&submission, &r.name, "trace", result, why));
         } else {
             let read = std::fs::File::open(&path)
                 .map_err(|e| format!("{}: cannot open: {e}", path.display()))
                 .and_then(|f| read_trace(std::io::BufReader::new(f), &path.display().to_string()));
+            if let Ok(trace) = &read {
+                for note in &trace.notes {
+                    rows.push(row(
+                        &submission,
+                        &r.name,
+                        "trace header",
+                        "note",
+                        note.clone(),
+                    ));
+                }
+            }
             let compared = read.and_then(|trace| match mode {
                 GradeMode::Trajectory => {
                     compare_trajectories(&r.trace, &trace, &TrajectoryTolerances::default())
@@ -161,7 +253,18 @@ pub fn grade_submission(dir: &Path, references: &[Reference], mode: GradeMode) -
             }
         }
         let problem_path = dir.join(format!("{}.problem.json", r.name));
-        if let (true, Some(reference_problem)) = (problem_path.is_file(), &r.first_problem) {
+        let problem_given = std::fs::symlink_metadata(&problem_path).is_ok();
+        if let (true, Some(_)) = (problem_given, &r.first_problem)
+            && let Err((result, why)) = admissible(dir, &problem_path, limits)
+        {
+            rows.push(row(
+                &submission,
+                &r.name,
+                "first contact problem",
+                result,
+                why,
+            ));
+        } else if let (true, Some(reference_problem)) = (problem_given, &r.first_problem) {
             let result = ProblemFile::read(&problem_path)
                 .and_then(|p| compare_problems(reference_problem, &p, ProblemTolerance::default()));
             rows.push(match result {
@@ -215,6 +318,7 @@ pub fn grade_all(
     references: &[Reference],
     mode: GradeMode,
     threads: usize,
+    limits: &Limits,
 ) -> Vec<GradeRow> {
     let next = std::sync::atomic::AtomicUsize::new(0);
     let results: Vec<std::sync::Mutex<Vec<GradeRow>>> =
@@ -225,7 +329,7 @@ pub fn grade_all(
                 loop {
                     let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
                     let Some(dir) = submissions.get(k) else { break };
-                    let rows = grade_submission(dir, references, mode);
+                    let rows = grade_submission(dir, references, mode, limits);
                     *results[k].lock().unwrap_or_else(|e| e.into_inner()) = rows;
                 }
             });
@@ -238,7 +342,7 @@ pub fn grade_all(
 }
 
 /// A submission's verdict for a scene: `pass` when every row passes, else the worst result
-/// (`missing`, `unreadable`, `fail`).
+/// (`missing`, `unreadable`, `refused`, `fail`).
 pub fn verdict(rows: &[GradeRow], submission: &str, scene: &str) -> &'static str {
     let mine = rows
         .iter()
@@ -250,6 +354,8 @@ pub fn verdict(rows: &[GradeRow], submission: &str, scene: &str) -> &'static str
             ("missing", _) => "missing",
             (_, "unreadable") => "unreadable",
             ("unreadable", _) => "unreadable",
+            (_, "refused") => "refused",
+            ("refused", _) => "refused",
             (_, "fail") => "fail",
             (v, _) => v,
         };

@@ -46,7 +46,11 @@ pub fn record(scene: &Scene, source: &str) -> Result<Trace, String> {
         Ok::<_, String>(Flow::Continue)
     })
     .map_err(|e| format!("{source}: {e}"))?;
-    Ok(Trace { header, records })
+    Ok(Trace {
+        header,
+        records,
+        notes: Vec::new(),
+    })
 }
 
 /// Records the golden trace of the scene at `scene_path` (its source named relative to the
