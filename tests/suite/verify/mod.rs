@@ -7,4 +7,5 @@ mod docs;
 mod golden;
 mod rapier;
 mod snapshots;
+mod soak;
 mod teeth;
