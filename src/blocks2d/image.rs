@@ -57,6 +57,18 @@ pub fn is_blue(colour: [u8; 3]) -> bool {
 
 /// Reads a PNG and splits it into bodies. Errors name the file.
 pub fn load_image(path: &Path, settings: &ImageSettings) -> Result<Vec<BlockGroup>, String> {
+    crate::common::input::check_size(path)
+        .map_err(|e| format!("{}: cannot open: {e}", path.display()))?;
+    let reader = image::ImageReader::open(path)
+        .map_err(|e| format!("{}: cannot open: {e}", path.display()))?
+        .with_guessed_format()
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    // The pixel limit from the header, before anything is decoded.
+    let (w, h) = reader
+        .into_dimensions()
+        .map_err(|e| format!("{}: not a readable image: {e}", path.display()))?;
+    crate::common::input::check_pixels(u64::from(w), u64::from(h))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
     let img = image::ImageReader::open(path)
         .map_err(|e| format!("{}: cannot open: {e}", path.display()))?
         .with_guessed_format()

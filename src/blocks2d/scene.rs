@@ -357,7 +357,8 @@ pub fn is_2d_scene(path: &Path) -> bool {
         path.extension()
             .is_some_and(|e| e.eq_ignore_ascii_case(ext))
     };
-    has("png") || (has("json") && std::fs::read_to_string(path).is_ok_and(|t| is_scene2(&t)))
+    has("png")
+        || (has("json") && crate::common::input::read_text(path).is_ok_and(|t| is_scene2(&t)))
 }
 
 /// What the command line adds to a 2D scene: parameters (for images only: a scene file sets its
@@ -467,7 +468,7 @@ pub fn load_scene2(path: &Path) -> Result<Scene2, SceneError> {
 /// as the file's value of that key would be.
 pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, SceneError> {
     let source = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let text = crate::common::input::read_text(path)
         .map_err(|e| SceneError(format!("{source}: cannot read scene: {e}")))?;
     let mut warnings = Vec::new();
     let mut file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;

@@ -11,7 +11,7 @@ pub(crate) fn load_scene_or_default(
         Some(p) => {
             // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say
             // both, rather than only the 3D reader's "missing field `sim_parameters`".
-            if let Ok(text) = std::fs::read_to_string(p)
+            if let Ok(text) = rigidref::common::input::read_text(p)
                 && let Ok(serde_json::Value::Object(map)) = serde_json::from_str(&text)
                 && !map.contains_key("sim_parameters")
                 && !map.contains_key("image")

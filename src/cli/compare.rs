@@ -64,7 +64,7 @@ pub struct CompareArgs {
 }
 
 fn read(path: &Path) -> Result<Trace, Unreadable> {
-    let file = std::fs::File::open(path)
+    let file = rigidref::common::input::open(path)
         .map_err(|e| Unreadable(format!("{}: cannot open: {e}", path.display())))?;
     let trace = read_trace(std::io::BufReader::new(file), &path.display().to_string())
         .map_err(Unreadable)?;
@@ -241,6 +241,10 @@ pub fn compare_problem(args: CompareProblemArgs) -> anyhow::Result<()> {
     if args.tolerance.is_nan() || args.tolerance <= 0.0 {
         let message = format!("--tolerance must be positive, got {}", args.tolerance);
         return Err(Unreadable(message).into());
+    }
+    for path in [&args.reference, &args.other] {
+        rigidref::common::input::check_size(path)
+            .map_err(|e| Unreadable(format!("{}: {e}", path.display())))?;
     }
     let reference = ProblemFile::read(&args.reference).map_err(Unreadable)?;
     let other = ProblemFile::read(&args.other).map_err(Unreadable)?;

@@ -173,7 +173,7 @@ fn rows_of(
 }
 
 fn is_problem_file(path: &Path) -> bool {
-    std::fs::read_to_string(path)
+    rigidref::common::input::read_text(path)
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .is_some_and(|v| {
@@ -183,6 +183,8 @@ fn is_problem_file(path: &Path) -> bool {
 }
 
 fn check_file(path: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Row> {
+    rigidref::common::input::check_size(path)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
     let file = ProblemFile::read(path).map_err(|e| anyhow::anyhow!(e))?;
     let name = path.display().to_string();
     let check = match (file.dof_per_body, file.rows_per_contact) {

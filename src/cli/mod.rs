@@ -37,6 +37,13 @@ pub struct Cli {
     /// Arguments for `run` when no subcommand is given.
     #[command(flatten)]
     run: run_args::RunArgs,
+    /// The largest input file read (scene, body file, mesh, image, problem file, trace), MB; a
+    /// larger one is a one-line error (docs/scene-format.md §"Input limits").
+    #[arg(long, global = true, value_name = "MB", default_value_t = 1024)]
+    max_input_mb: u64,
+    /// The largest image read by the 2D system, pixels (its blocks grow with them).
+    #[arg(long, global = true, value_name = "PIXELS", default_value_t = rigidref::common::input::DEFAULT_MAX_IMAGE_PIXELS)]
+    max_image_pixels: u64,
 }
 
 #[derive(Subcommand)]
@@ -81,6 +88,8 @@ pub use crosscheck_report::Unverified;
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
 /// default scene).
 pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
+    rigidref::common::input::set_max_input_bytes(cli.max_input_mb.saturating_mul(1 << 20));
+    rigidref::common::input::set_max_image_pixels(cli.max_image_pixels);
     match cli.command {
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Massprops(args)) => massprops::massprops(args),

@@ -217,7 +217,8 @@ pub(crate) fn read_trace_file(
     bodies: &[usize],
 ) -> anyhow::Result<(ViewTrace, Vec<String>)> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).with_context(|| format!("{name}: cannot read"))?;
+    let text =
+        rigidref::common::input::read_text(path).with_context(|| format!("{name}: cannot read"))?;
     let mut warnings = Vec::new();
     let trace = read_view_trace(&text, &name, &mut warnings).map_err(anyhow::Error::msg)?;
     for w in &warnings {

@@ -4,6 +4,7 @@
 //! - [`faults`]: the switch of the teeth tests' deliberate bugs (always off outside them);
 //! - [`broad`]: the broad phase on axis-aligned boxes (3D bodies; 2D bodies as flat boxes);
 //! - [`hash`]: the warm-start maps' fast deterministic hasher;
+//! - [`input`]: the limits on what outside input may make the program allocate;
 //! - [`values`]: scene values that check themselves while they are read (positive, fraction, …);
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
 //! - [`timing`]: wall and thread CPU time of a piece of work;
@@ -12,6 +13,7 @@
 pub mod broad;
 pub mod faults;
 pub mod hash;
+pub mod input;
 pub mod scene_json;
 pub mod timing;
 pub mod trace;

@@ -41,7 +41,7 @@ pub struct MeshError(pub String);
 impl TriMesh {
     /// Reads an OBJ file's first object and triangulates its faces. Errors name the file.
     pub fn load_obj(path: &Path) -> Result<TriMesh, MeshError> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::common::input::read_text(path)
             .map_err(|e| MeshError(format!("{}: cannot read mesh: {e}", path.display())))?;
         Self::parse_obj(&text, &path.display().to_string())
     }

@@ -119,7 +119,7 @@ impl BodyFiles for DiskBodyFiles {
             if json.is_file() {
                 let obj = dir.join(format!("{file_root}.obj"));
                 let read = |p: &Path| {
-                    std::fs::read_to_string(p)
+                    crate::common::input::read_text(p)
                         .map_err(|e| SceneError(format!("{}: cannot read: {e}", p.display())))
                 };
                 if !obj.is_file() {
@@ -151,7 +151,7 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// Loads the scene at `path` with `overrides` of its `sim_parameters[0]` (`--set KEY=VALUE`),
 /// each checked as the file's value of that key would be.
 pub fn load_scene_with(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::common::input::read_text(path)
         .map_err(|e| SceneError(format!("{}: cannot read scene: {e}", path.display())))?;
     let stem = path
         .file_stem()

@@ -592,3 +592,84 @@ fn unknown_collision_method_is_rejected_naming_the_allowed_values() {
         "{line}"
     );
 }
+
+/// Input beyond the limits is a one-line error naming the file and the option that raises it
+/// (docs/scene-format.md §"Input limits"), never an allocation the machine cannot hold: a mesh
+/// of 2.1 MB under `--max-input-mb 1` (the scene itself is small), a trace under
+/// `--max-input-mb 0` in `compare` (exit 2, unreadable), and a 30 × 41 image under
+/// `--max-image-pixels 100` (judged from its header, before decoding). Raised, the same inputs run.
+#[test]
+fn inputs_beyond_the_limits_are_one_line_errors_naming_the_option() {
+    let case = Case::new(GOOD_SCENE);
+    let obj = case.path("data/block.obj");
+    let mut text = std::fs::read_to_string(&obj).unwrap();
+    text.push_str(&"# padding to two megabytes\n".repeat(80_000));
+    std::fs::write(&obj, text).unwrap();
+    let run = |limit: &str| {
+        Command::new(common::rigidref_bin())
+            .args([
+                "run",
+                "--steps",
+                "2",
+                "--quiet",
+                "--max-input-mb",
+                limit,
+                "--out",
+            ])
+            .arg(case.path("trace.jsonl"))
+            .arg(case.path("scenes/s.json"))
+            .output()
+            .unwrap()
+    };
+    let out = run("1");
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out);
+    assert!(
+        line.contains("block.obj")
+            && line.contains(
+                "2.1 MB is more than the input limit of 1.0 MB (raise it with --max-input-mb)"
+            ),
+        "{line}"
+    );
+    assert!(run("3").status.success());
+
+    let out = Command::new(common::rigidref_bin())
+        .args(["compare", "--max-input-mb", "0"])
+        .arg(case.path("trace.jsonl"))
+        .arg(case.path("trace.jsonl"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let line = error_line(&out);
+    assert!(
+        line.contains("trace.jsonl") && line.contains("--max-input-mb"),
+        "{line}"
+    );
+
+    let image = common::project_root().join("scenes/blocks/stack.png");
+    let run_image = |pixels: &str| {
+        Command::new(common::rigidref_bin())
+            .args([
+                "run",
+                "--steps",
+                "1",
+                "--quiet",
+                "--max-image-pixels",
+                pixels,
+                "--out",
+            ])
+            .arg(case.path("t2.jsonl"))
+            .arg(&image)
+            .output()
+            .unwrap()
+    };
+    let out = run_image("100");
+    assert_eq!(out.status.code(), Some(1));
+    let line = error_line(&out);
+    assert!(
+        line.contains("stack.png")
+            && line.contains("30 × 41 = 1230 pixels, more than the limit of 100 (raise it with --max-image-pixels)"),
+        "{line}"
+    );
+    assert!(run_image("1230").status.success());
+}

@@ -700,6 +700,8 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--pieces") => &["tetris"],
             (_, "--pgs-local-solve") => &["exact"],
             (_, "--piece-scale") => &["2"],
+            (_, "--max-input-mb") => &["1024"],
+            (_, "--max-image-pixels") => &["16777216"],
             // Flags.
             (
                 _,
