@@ -245,7 +245,10 @@ impl Piece {
     /// The convex hull of `points` as a piece; `None` when the points span no volume.
     pub fn hull(points: &[Vector3<f64>]) -> Option<Piece> {
         let parry_points: Vec<PVector> = points.iter().map(to_parry).collect();
-        let (hull_points, triangles) = parry3d_f64::transformation::convex_hull(&parry_points);
+        // The fallible hull: points that span no volume (a flat or degenerate piece) are no piece,
+        // not a panic (found by fuzzing: tests/fuzz-regressions/scene3d/flat-piece).
+        let (hull_points, triangles) =
+            parry3d_f64::transformation::try_convex_hull(&parry_points).ok()?;
         let shape = ConvexPolyhedron::from_convex_hull(&parry_points)?;
         let vertices: Vec<Vector3<f64>> = hull_points.into_iter().map(from_parry).collect();
         let mut normals = Vec::with_capacity(triangles.len());

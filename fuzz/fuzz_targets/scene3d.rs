@@ -1,0 +1,45 @@
+//! 3D scenes with their body files: the input is the scene JSON, the body JSON and the OBJ text,
+//! separated by 0xFF bytes. Parse (every body's `file_root` finds the two texts), make the world
+//! and step it twice when it is small. Nothing may panic.
+#![no_main]
+use libfuzzer_sys::fuzz_target;
+use rigidref::rigid3d::scene::{BodyFileTexts, BodyFiles, Overrides, SceneError, parse_scene};
+
+struct InMemory {
+    json: String,
+    obj: String,
+}
+
+impl BodyFiles for InMemory {
+    fn find(&self, _file_root: &str) -> Result<BodyFileTexts, SceneError> {
+        Ok(BodyFileTexts {
+            json: (self.json.clone(), "body.json".into()),
+            obj: (self.obj.clone(), "body.obj".into()),
+        })
+    }
+}
+
+fuzz_target!(|data: &[u8]| {
+    let parts: Vec<&[u8]> = data.splitn(3, |&b| b == 0xFF).collect();
+    let [scene, json, obj] = parts[..] else { return };
+    let (Ok(scene), Ok(json), Ok(obj)) =
+        (std::str::from_utf8(scene), std::str::from_utf8(json), std::str::from_utf8(obj))
+    else {
+        return;
+    };
+    let files = InMemory { json: json.into(), obj: obj.into() };
+    let Ok(scene) = parse_scene(scene, "fuzz.json", "fuzz", &files, &Overrides::default()) else {
+        return;
+    };
+    let vertices: usize = scene.bodies.iter().map(|b| b.mesh.vertices.len()).sum();
+    if scene.bodies.len() > 8 || vertices > 2000 {
+        return;
+    }
+    if let Ok(mut world) = rigidref::rigid3d::world::World::new(&scene) {
+        for _ in 0..2 {
+            if rigidref::sim::Simulation::step(&mut world).is_err() {
+                break;
+            }
+        }
+    }
+});
