@@ -363,6 +363,21 @@ fn candidate_defect(reference: &Trace, other: &Trace) -> Option<Refusal> {
                 ),
             );
         }
+        // A contact names its bodies by index (negative: the ground); found by fuzzing
+        // (tests/fuzz-regressions/trace/contact-body-out-of-range): outcome mode named them.
+        if let Some(c) = r
+            .contacts
+            .iter()
+            .find(|c| c.bodies.iter().any(|&b| b >= bodies as i64))
+        {
+            return refuse(
+                "wrong bodies",
+                format!(
+                    "a contact at step {} names bodies {:?}; the trace has {bodies}",
+                    r.step, c.bodies
+                ),
+            );
+        }
         if !r.t.is_finite() {
             return refuse(
                 "not finite",

@@ -52,19 +52,39 @@ fn scene3d(data: &[u8]) -> bool {
     true
 }
 
-/// scene3d/flat-piece: a mutated ball mesh whose convex decomposition yields a piece spanning no
-/// volume; parry's panicking hull used to abort the run (now the fallible one: the piece is
-/// dropped).
+/// The trace harness (fuzz/fuzz_targets/trace.rs): read, then compare with itself in both
+/// modes. Returns whether the trace was read.
+fn trace(data: &[u8]) -> bool {
+    use rigidref::tools::compare::{
+        OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
+    };
+    let Ok(trace) = rigidref::rigid3d::trace::read_trace(std::io::Cursor::new(data), "fuzz.jsonl")
+    else {
+        return false;
+    };
+    let _ = compare_trajectories(&trace, &trace, &TrajectoryTolerances::default());
+    let _ = compare_outcomes(&trace, &trace, None, &OutcomeTolerances::default());
+    true
+}
+
+/// The inputs, by target:
+/// - scene3d/flat-piece: a mutated ball mesh whose convex decomposition yields a piece spanning
+///   no volume; parry's panicking hull used to abort the run (now the fallible one: the piece is
+///   dropped).
+/// - trace/contact-body-out-of-range: a trace whose contact names body 2 of 1; outcome mode
+///   indexed the header's bodies with it (now the trace is refused as naming other bodies).
 #[test]
 fn every_fuzz_crash_replays_without_a_panic() {
-    let dir = common::project_root().join("tests/fuzz-regressions/scene3d");
+    let root = common::project_root().join("tests/fuzz-regressions");
     let mut n = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        let data = std::fs::read(&path).unwrap();
-        let made = scene3d(&data);
-        println!("{}: world made: {made}", path.display());
-        n += 1;
+    for (target, harness) in [("scene3d", scene3d as fn(&[u8]) -> bool), ("trace", trace)] {
+        for entry in std::fs::read_dir(root.join(target)).unwrap() {
+            let path = entry.unwrap().path();
+            let data = std::fs::read(&path).unwrap();
+            let done = harness(&data);
+            println!("{}: read and run: {done}", path.display());
+            n += 1;
+        }
     }
-    assert!(n >= 1, "no regression inputs in {}", dir.display());
+    assert!(n >= 2, "regression inputs missing in {}", root.display());
 }
