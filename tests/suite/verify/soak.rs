@@ -47,6 +47,17 @@ impl Steady {
     }
 }
 
+/// The largest distance of a body now (`now`, in body order) from where it settled, in any
+/// dimension.
+fn largest_distance<const N: usize>(
+    now: impl Iterator<Item = nalgebra::SVector<f64, N>>,
+    settled: &[nalgebra::SVector<f64, N>],
+) -> f64 {
+    now.zip(settled)
+        .map(|(x, x0)| (x - x0).norm())
+        .fold(0.0, f64::max)
+}
+
 /// scenes/cube_stack.json (four equal 0.5 m boxes, `collision: complete`) for `steps` steps of
 /// 10 ms after 100 settling steps.
 fn soak_cube_stack(steps: u64) -> Steady {
@@ -56,12 +67,7 @@ fn soak_cube_stack(steps: u64) -> Steady {
     let settled: Vec<_> = world.bodies.iter().map(|b| b.x).collect();
     let mut steady = Steady::new();
     common::run(&mut world, steps, |w, _| {
-        let drift = w
-            .bodies
-            .iter()
-            .zip(&settled)
-            .map(|(b, x)| (b.x - x).norm())
-            .fold(0.0, f64::max);
+        let drift = largest_distance(w.bodies.iter().map(|b| b.x), &settled);
         let energy = rigidref::sim::Simulation::energy(w).total;
         let contacts = w.solves.last().map_or(0, |s| s.contacts.len());
         steady.see(drift, energy, w.deepest_penetration(), contacts);
@@ -91,12 +97,7 @@ fn soak_tower(name: &str, settle: u64, steps: u64) -> Option<Steady> {
     let settled: Vec<_> = world.bodies.iter().map(|b| b.x).collect();
     let mut steady = Steady::new();
     common::run(&mut world, steps, |w, _| {
-        let drift = w
-            .bodies
-            .iter()
-            .zip(&settled)
-            .map(|(b, x)| (b.x - x).norm())
-            .fold(0.0, f64::max);
+        let drift = largest_distance(w.bodies.iter().map(|b| b.x), &settled);
         steady.see(
             drift,
             w.energy().total,
