@@ -5,12 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 c=fuzz/corpus
-mkdir -p $c/scene3d $c/obj $c/scene2d $c/png $c/trace $c/problem $c/compare
+mkdir -p $c/scene3d $c/world3d $c/obj $c/scene2d $c/png $c/trace $c/problem $c/compare
 for s in scenes/*.json; do
   root=$(python3 -c "import json,sys; print(json.load(open('$s'))['bodies'][0]['file_root'])")
   body=scenes/$root
   [ -f "$body.json" ] || continue
   { cat "$s"; printf '\xff'; cat "$body.json"; printf '\xff'; cat "$body.obj"; } > "$c/scene3d/$(basename "$s" .json)"
+  # world3d makes worlds of meshes of at most 64 vertices only
+  if [ "$(grep -c '^v ' "$body.obj")" -le 64 ]; then cp "$c/scene3d/$(basename "$s" .json)" "$c/world3d/"; fi
 done
 for o in scenes/data/*.obj; do
   [ "$(stat -c %s "$o")" -lt 100000 ] && cp "$o" "$c/obj/"
