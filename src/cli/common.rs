@@ -8,21 +8,7 @@ pub(crate) fn load_scene_or_default(
 ) -> anyhow::Result<rigidref::rigid3d::scene::Scene> {
     let overrides = sets.overrides()?;
     let scene = match path {
-        Some(p) => {
-            // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say
-            // both, rather than only the 3D reader's "missing field `sim_parameters`".
-            if let Ok(text) = rigidref::common::input::read_text(p)
-                && let Ok(serde_json::Value::Object(map)) = serde_json::from_str(&text)
-                && !map.contains_key("sim_parameters")
-                && !map.contains_key("image")
-            {
-                anyhow::bail!(
-                    "{}: neither a 3D scene (no \"sim_parameters\") nor a 2D scene (no \"image\")",
-                    p.display()
-                );
-            }
-            rigidref::rigid3d::scene::load_scene_with(p, &overrides)?
-        }
+        Some(p) => rigidref::rigid3d::scene::load_scene_with(p, &overrides)?,
         None => rigidref::rigid3d::scene::embedded::default_scene_with(&overrides)?,
     };
     for w in &scene.warnings {

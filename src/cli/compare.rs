@@ -4,10 +4,10 @@
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::problem::json::ProblemFile;
-use rigidref::rigid3d::scene::{Scene, load_scene};
-use rigidref::rigid3d::trace::{Trace, read_trace};
+use rigidref::rigid3d::trace::{Trace, read_trace_file};
 use rigidref::tools::compare::{
     Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
+    outcome_scene,
 };
 use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
 use rigidref::tools::grade::{GradeMode, grade_all, reference, submissions, to_csv, to_markdown};
@@ -64,10 +64,7 @@ pub struct CompareArgs {
 }
 
 fn read(path: &Path) -> Result<Trace, Unreadable> {
-    let file = rigidref::common::input::open(path)
-        .map_err(|e| Unreadable(format!("{}: cannot open: {e}", path.display())))?;
-    let trace = read_trace(std::io::BufReader::new(file), &path.display().to_string())
-        .map_err(Unreadable)?;
+    let trace = read_trace_file(path).map_err(Unreadable)?;
     for note in &trace.notes {
         eprintln!("note: {note}");
     }
@@ -133,26 +130,6 @@ fn print_comparison(c: &Comparison) {
 
 /// The scene for outcome mode and where it came from: --scene, else the reference header's
 /// source, looked up as written and then beside the reference trace, when it is a file.
-fn outcome_scene(
-    args: &CompareArgs,
-    reference: &Trace,
-) -> Result<Option<(Scene, PathBuf)>, Unreadable> {
-    if let Some(path) = &args.scene {
-        let scene = load_scene(path).map_err(|e| Unreadable(format!("--scene: {}", e.0)))?;
-        return Ok(Some((scene, path.clone())));
-    }
-    let source = Path::new(&reference.header.source);
-    let beside = args
-        .reference
-        .parent()
-        .map(|d| d.join(source))
-        .unwrap_or_default();
-    Ok([source.to_path_buf(), beside]
-        .into_iter()
-        .filter(|p| p.is_file())
-        .find_map(|p| load_scene(&p).ok().map(|s| (s, p))))
-}
-
 /// Runs `rigidref compare`.
 pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
     if args.tolerance.is_nan() || args.tolerance <= 0.0 {
@@ -162,7 +139,8 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
     let reference = read(&args.reference)?;
     let other = read(&args.other)?;
     let comparison = if args.outcome {
-        let scene = outcome_scene(&args, &reference)?;
+        let scene = outcome_scene(&reference, &args.reference, args.scene.as_deref())
+            .map_err(|e| Unreadable(format!("--scene: {e}")))?;
         match &scene {
             Some((_, path)) => eprintln!(
                 "scene            {} (sizes, symmetries, flip axis)",

@@ -336,6 +336,15 @@ pub struct Trace {
 /// another simulator may leave them out, and the reader notes it instead of refusing the trace.
 pub const DESCRIPTIVE_KEYS: [&str; 4] = ["scene", "source", "integrator", "substeps"];
 
+/// Reads the JSON Lines trace in the file `path`, judged by its size first
+/// ([`crate::common::input::open`]); errors name the file (and the line). `rigidref compare` and
+/// the Python bindings' `compare_traces` read traces with this.
+pub fn read_trace_file(path: &std::path::Path) -> Result<Trace, String> {
+    let file = crate::common::input::open(path)
+        .map_err(|e| format!("{}: cannot open: {e}", path.display()))?;
+    read_trace(std::io::BufReader::new(file), &path.display().to_string())
+}
+
 /// Reads a JSON Lines trace; errors name the line.
 pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let mut lines = reader.lines().enumerate();

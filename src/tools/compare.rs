@@ -755,6 +755,30 @@ fn number(x: Option<f64>) -> String {
     x.map_or("never".into(), |x| format!("{x:.4}"))
 }
 
+/// The scene outcome mode reads the bodies' sizes, symmetries and axes from: `given` when it is
+/// given (an error when it does not load), else the scene the reference trace's header names as
+/// its source, where that file exists as named or beside the reference trace (`reference_path`);
+/// `None` when there is none. Returns the scene and the path it came from.
+pub fn outcome_scene(
+    reference: &Trace,
+    reference_path: &std::path::Path,
+    given: Option<&std::path::Path>,
+) -> Result<Option<(Scene, std::path::PathBuf)>, String> {
+    if let Some(path) = given {
+        let scene = crate::rigid3d::scene::load_scene(path).map_err(|e| e.0)?;
+        return Ok(Some((scene, path.to_path_buf())));
+    }
+    let source = std::path::Path::new(&reference.header.source);
+    let beside = reference_path
+        .parent()
+        .map(|d| d.join(source))
+        .unwrap_or_default();
+    Ok([source.to_path_buf(), beside]
+        .into_iter()
+        .filter(|p| p.is_file())
+        .find_map(|p| crate::rigid3d::scene::load_scene(&p).ok().map(|s| (s, p))))
+}
+
 /// Outcome mode: what happened, compared observable by observable. `scene` (the reference's)
 /// gives the bodies' meshes and inertia, for sizes, symmetries and the Dzhanibekov axis; without
 /// it rest orientations are compared without symmetries and no flips are sought.

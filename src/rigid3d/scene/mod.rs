@@ -153,6 +153,17 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 pub fn load_scene_with(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
     let text = crate::common::input::read_text(path)
         .map_err(|e| SceneError(format!("{}: cannot read scene: {e}", path.display())))?;
+    // A JSON object with neither a 3D scene's parameters nor a 2D scene's image: say both,
+    // rather than only the 3D reader's "missing field `sim_parameters`".
+    if let Ok(serde_json::Value::Object(map)) = serde_json::from_str(&text)
+        && !map.contains_key("sim_parameters")
+        && !map.contains_key("image")
+    {
+        return Err(SceneError(format!(
+            "{}: neither a 3D scene (no \"sim_parameters\") nor a 2D scene (no \"image\")",
+            path.display()
+        )));
+    }
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

@@ -3,7 +3,8 @@
 A course's Python starter calls this from its step loop, so that `rigidref compare` and
 `rigidref compare-problem` can check its output against the reference:
 
-    from rigidref_trace import TraceWriter, write_problem
+    from rigidref import TraceWriter, write_problem    # the installed package, or
+    from rigidref_trace import TraceWriter, write_problem   # this one file, copied beside the starter
 
     trace = TraceWriter("scene1.jsonl", scene="scene1", dt=dt, gravity=g,
                         bodies=[(b.name, b.mass, b.J0) for b in bodies])

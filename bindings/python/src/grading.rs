@@ -1,0 +1,173 @@
+//! `compare_traces` and `grade`: the library's `tools::compare` and `tools::grade`, the same
+//! verdicts and numbers as `rigidref compare` and `rigidref grade`, as Python dicts.
+
+use crate::errors;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rigidref::common::scene_json::Overrides;
+use rigidref::rigid3d::scene::load_scene_with;
+use rigidref::rigid3d::trace::read_trace_file;
+use rigidref::tools::compare::{
+    OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories, outcome_scene,
+};
+use rigidref::tools::grade::{GradeMode, Limits, grade_all, reference, submissions, verdict};
+use std::path::PathBuf;
+
+/// A serialisable value as Python objects (dicts, lists, floats, str), through JSON.
+fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(|e| errors::trace(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// Compares a candidate trace with the reference trace, as `rigidref compare` does: mode
+/// "trajectory" (every quantity over time, to `tolerance`: m, rad, m/s, rad/s and relative for
+/// energies and momenta) or "outcome" (what happened; `scene` gives the bodies' sizes and
+/// symmetries, by default the scene the reference names). Returns the report as a dict: "agree"
+/// (bool), "mode", "refused" (None, or {"kind", "message"} when the candidate cannot be judged:
+/// too short, degenerate, other bodies, non-finite), "errors" (trajectory mode) and "outcomes"
+/// (outcome mode). Raises TraceError when a trace cannot be read.
+#[pyfunction]
+#[pyo3(signature = (reference, candidate, mode = "trajectory", tolerance = 1e-3, scene = None))]
+pub fn compare_traces<'py>(
+    py: Python<'py>,
+    reference: PathBuf,
+    candidate: PathBuf,
+    mode: &str,
+    tolerance: f64,
+    scene: Option<PathBuf>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if !(tolerance > 0.0) {
+        return Err(errors::trace(format!(
+            "--tolerance must be positive, got {tolerance}"
+        )));
+    }
+    let reference_trace = read_trace_file(&reference).map_err(errors::trace)?;
+    let other = read_trace_file(&candidate).map_err(errors::trace)?;
+    let against = |e: String| {
+        errors::trace(format!(
+            "{} against {}: {e}",
+            candidate.display(),
+            reference.display()
+        ))
+    };
+    let comparison = match mode {
+        "trajectory" => {
+            let t = tolerance;
+            let tol = TrajectoryTolerances {
+                position: t,
+                angle: t,
+                velocity: t,
+                omega: t,
+                energy: t,
+                momentum: t,
+            };
+            py.detach(|| compare_trajectories(&reference_trace, &other, &tol))
+                .map_err(against)?
+        }
+        "outcome" => {
+            let scene = outcome_scene(&reference_trace, &reference, scene.as_deref())
+                .map_err(|e| errors::trace(format!("--scene: {e}")))?;
+            py.detach(|| {
+                compare_outcomes(
+                    &reference_trace,
+                    &other,
+                    scene.as_ref().map(|(s, _)| s),
+                    &OutcomeTolerances::default(),
+                )
+            })
+            .map_err(against)?
+        }
+        m => {
+            return Err(errors::trace(format!(
+                "mode {m:?}: expected \"trajectory\" or \"outcome\""
+            )));
+        }
+    };
+    let d = to_python(py, &comparison)?;
+    let notes: Vec<String> = reference_trace
+        .notes
+        .iter()
+        .chain(&other.notes)
+        .cloned()
+        .collect();
+    d.set_item("notes", notes)?;
+    if let Some(first) = comparison.first_failure() {
+        d.set_item("first_failure", first)?;
+    } else {
+        d.set_item("first_failure", py.None())?;
+    }
+    Ok(d)
+}
+
+/// Grades a folder of submission folders against reference runs of `scenes` (3D scene files,
+/// each naming the submissions' files SCENE.jsonl by its stem), as `rigidref grade` does:
+/// `time` s of simulation per reference, mode "trajectory" or "outcome", `overrides` (the
+/// `--set` pairs) applied to every scene, `max_file_mb` the largest file opened, `jobs` threads.
+/// Returns {"rows": [{"submission", "scene", "observable", "result", "figure"}, ...],
+/// "verdicts": {submission: {scene: "pass" | "fail" | "refused" | "missing" | "unreadable"}}}.
+#[pyfunction]
+#[pyo3(signature = (submissions_dir, scenes, time = 5.0, mode = "trajectory", overrides = None, max_file_mb = 512, jobs = None))]
+pub fn grade<'py>(
+    py: Python<'py>,
+    submissions_dir: PathBuf,
+    scenes: Vec<PathBuf>,
+    time: f64,
+    mode: &str,
+    overrides: Option<&Bound<'_, PyDict>>,
+    max_file_mb: u64,
+    jobs: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let mode = match mode {
+        "trajectory" => GradeMode::Trajectory,
+        "outcome" => GradeMode::Outcome,
+        m => {
+            return Err(errors::trace(format!(
+                "mode {m:?}: expected \"trajectory\" or \"outcome\""
+            )));
+        }
+    };
+    let folders = submissions(&submissions_dir).map_err(errors::trace)?;
+    if folders.is_empty() {
+        return Err(errors::trace(format!(
+            "{}: no submission folders",
+            submissions_dir.display()
+        )));
+    }
+    let overrides =
+        Overrides::parse(&crate::world::override_texts(overrides)?).map_err(errors::scene)?;
+    let mut references = Vec::new();
+    for path in &scenes {
+        let scene = load_scene_with(path, &overrides).map_err(|e| errors::scene(e.0))?;
+        let name = path.file_stem().map_or_else(
+            || path.display().to_string(),
+            |s| s.to_string_lossy().to_string(),
+        );
+        references.push(
+            py.detach(|| reference(&name, scene, time))
+                .map_err(errors::scene)?,
+        );
+    }
+    let threads =
+        jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let limits = Limits {
+        max_file_bytes: max_file_mb.saturating_mul(1 << 20),
+    };
+    let rows = py.detach(|| grade_all(&folders, &references, mode, threads, &limits));
+    let out = PyDict::new(py);
+    out.set_item("rows", to_python(py, &rows)?)?;
+    let verdicts = PyDict::new(py);
+    for folder in &folders {
+        let name = folder
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy()
+            .to_string();
+        let per_scene = PyDict::new(py);
+        for r in &references {
+            per_scene.set_item(&r.name, verdict(&rows, &name, &r.name))?;
+        }
+        verdicts.set_item(name, per_scene)?;
+    }
+    out.set_item("verdicts", verdicts)?;
+    Ok(out)
+}

@@ -1,0 +1,761 @@
+//! `rigidref.ContactProblem`, the solvers, the residuals and the criteria: the library's
+//! [`rigidref::problem::ContactProblem`] (3D: 6 degrees of freedom per body, 3 rows per contact;
+//! 2D: 3 and 2) seen as arrays. docs/contact.md defines every quantity; docs/python.md the API.
+
+use crate::arrays;
+use crate::errors;
+use nalgebra::{SMatrix, SVector};
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use rigidref::problem::json::ProblemFile;
+use rigidref::problem::{
+    ContactProblem as Problem, FrictionModel, ProblemBody, ProblemContact, RowBounds, SolveReport,
+};
+use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
+use rigidref::solve::{
+    ContactOrder, LocalSolve, NewtonSettings, NewtonWorkspace, PgsSettings, PgsWorkspace,
+    solve_newton as newton, solve_pgs as pgs,
+};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A problem of either system.
+#[derive(Clone, Debug)]
+pub enum AnyProblem {
+    /// 3D: 6 degrees of freedom per body (v, ω), 3 rows per contact (n, t1, t2).
+    P3(Problem<6, 3>),
+    /// 2D: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
+    P2(Problem<3, 2>),
+}
+
+/// Runs `$body` with `$p` bound to the problem inside, whichever system it is.
+macro_rules! with_problem {
+    ($any:expr, $p:ident => $body:expr) => {
+        match $any {
+            AnyProblem::P3($p) => $body,
+            AnyProblem::P2($p) => $body,
+        }
+    };
+}
+pub(crate) use with_problem;
+
+/// One contact problem (docs/contact.md §"The contact problem"): find impulses λ with
+/// w = (A + C) λ + b, A = J M⁻¹ Jᵀ, and each contact's complementarity and friction conditions.
+/// Matrices are float64 arrays (a `CooMatrix` when the dense one would exceed `DENSE_LIMIT`
+/// entries); rows are grouped per contact (normal first), columns per body.
+#[pyclass(module = "rigidref", name = "ContactProblem")]
+#[derive(Clone)]
+pub struct ContactProblem {
+    pub inner: AnyProblem,
+}
+
+/// λ (N·s) per contact from an array of shape (contacts, R).
+fn lambdas<const R: usize>(
+    obj: &Bound<'_, PyAny>,
+    contacts: usize,
+    what: &str,
+) -> PyResult<Vec<SVector<f64, R>>> {
+    let (data, _) = arrays::shaped(obj, what, &[Some(contacts), Some(R)])?;
+    if let Some(x) = data.iter().find(|x| !x.is_finite()) {
+        return Err(errors::problem(format!("{what}: not finite ({x})")));
+    }
+    Ok(data
+        .chunks(R)
+        .map(SVector::<f64, R>::from_column_slice)
+        .collect())
+}
+
+/// λ per contact as an array of shape (contacts, R).
+pub fn lambda_array<'py, const R: usize>(
+    py: Python<'py>,
+    lambda: &[SVector<f64, R>],
+) -> Bound<'py, PyArray2<f64>> {
+    let data = lambda.iter().flat_map(|l| l.iter().copied()).collect();
+    arrays::matrix(py, lambda.len(), R, data)
+}
+
+/// The Jacobian J (R·contacts × D·bodies) as triplets.
+fn jacobian_triplets<const D: usize, const R: usize>(
+    p: &Problem<D, R>,
+) -> Vec<(usize, usize, f64)> {
+    let mut t = Vec::new();
+    for (k, c) in p.contacts.iter().enumerate() {
+        for side in 0..2 {
+            if let Some(body) = c.bodies[side] {
+                for r in 0..R {
+                    for d in 0..D {
+                        t.push((R * k + r, D * body + d, c.jacobian[side][(r, d)]));
+                    }
+                }
+            }
+        }
+    }
+    t
+}
+
+/// The Delassus operator A = J M⁻¹ Jᵀ (R·contacts square) as triplets: block (k, l) is the sum,
+/// over the bodies contacts k and l share, of J_k,b M_b⁻¹ J_l,bᵀ.
+fn delassus_triplets<const D: usize, const R: usize>(
+    p: &Problem<D, R>,
+) -> Vec<(usize, usize, f64)> {
+    let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); p.bodies.len()];
+    for (k, c) in p.contacts.iter().enumerate() {
+        for side in 0..2 {
+            if let Some(body) = c.bodies[side] {
+                touching[body].push((k, side));
+            }
+        }
+    }
+    let mut blocks: BTreeMap<(usize, usize), SMatrix<f64, R, R>> = BTreeMap::new();
+    for (body, list) in touching.iter().enumerate() {
+        let m = &p.bodies[body].inverse_mass;
+        for &(k, sk) in list {
+            let left = p.contacts[k].jacobian[sk] * m;
+            for &(l, sl) in list {
+                *blocks.entry((k, l)).or_insert_with(SMatrix::zeros) +=
+                    left * p.contacts[l].jacobian[sl].transpose();
+            }
+        }
+    }
+    let mut t = Vec::new();
+    for ((k, l), block) in blocks {
+        for i in 0..R {
+            for j in 0..R {
+                t.push((R * k + i, R * l + j, block[(i, j)]));
+            }
+        }
+    }
+    t
+}
+
+/// The inverse mass M⁻¹ (D·bodies square, block diagonal) as triplets.
+fn inverse_mass_triplets<const D: usize, const R: usize>(
+    p: &Problem<D, R>,
+) -> Vec<(usize, usize, f64)> {
+    let mut t = Vec::new();
+    for (b, body) in p.bodies.iter().enumerate() {
+        for i in 0..D {
+            for j in 0..D {
+                t.push((D * b + i, D * b + j, body.inverse_mass[(i, j)]));
+            }
+        }
+    }
+    t
+}
+
+/// Builds a problem of D dof per body and R rows per contact from dense arrays.
+#[allow(clippy::too_many_arguments)]
+fn build<const D: usize, const R: usize>(
+    jacobian: &Bound<'_, PyAny>,
+    inverse_mass: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    mu: &Bound<'_, PyAny>,
+    friction: FrictionModel,
+    compliance: Option<&Bound<'_, PyAny>>,
+    lambda0: Option<&Bound<'_, PyAny>>,
+    velocity: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Problem<D, R>> {
+    let (j, shape) = arrays::numbers(jacobian, "J")?;
+    if shape.len() != 2 || shape[0] % R != 0 || shape[1] % D != 0 || shape[1] == 0 {
+        return Err(errors::problem(format!(
+            "J: shape {shape:?}, expected ({R}·contacts, {D}·bodies) with at least one body"
+        )));
+    }
+    let (rows, cols) = (shape[0], shape[1]);
+    let (m, n) = (rows / R, cols / D);
+    let (minv, mshape) = arrays::numbers(inverse_mass, "Minv")?;
+    // Minv: the block-diagonal matrix (D·bodies square) or its blocks (bodies, D, D).
+    let block = |b: usize, i: usize, jj: usize| -> f64 {
+        if mshape.len() == 3 {
+            minv[(b * D + i) * D + jj]
+        } else {
+            minv[(D * b + i) * cols + D * b + jj]
+        }
+    };
+    if mshape == [cols, cols] {
+        for r in 0..cols {
+            for c in 0..cols {
+                if r / D != c / D && minv[r * cols + c] != 0.0 {
+                    return Err(errors::problem(format!(
+                        "Minv: entry ({r}, {c}) is {} outside the bodies' {D} × {D} diagonal blocks; a body's inverse mass couples only its own velocities",
+                        minv[r * cols + c]
+                    )));
+                }
+            }
+        }
+    } else if mshape != [n, D, D] {
+        return Err(errors::problem(format!(
+            "Minv: shape {mshape:?}, expected ({cols}, {cols}) or ({n}, {D}, {D}) for the {n} bodies of J"
+        )));
+    }
+    let (b, _) = arrays::numbers(b, "b")?;
+    if b.len() != rows {
+        return Err(errors::problem(format!(
+            "b: {} entries, expected {rows} (J's rows)",
+            b.len()
+        )));
+    }
+    let per_contact =
+        |obj: Option<&Bound<'_, PyAny>>, what: &str, default: f64| -> PyResult<Vec<f64>> {
+            let Some(obj) = obj else {
+                return Ok(vec![default; m]);
+            };
+            let (v, s) = arrays::numbers(obj, what)?;
+            match s.len() {
+                0 => Ok(vec![v[0]; m]),
+                1 if v.len() == m => Ok(v),
+                _ => Err(errors::problem(format!(
+                    "{what}: shape {s:?}, expected a number or ({m},), one per contact"
+                ))),
+            }
+        };
+    let mu = per_contact(Some(mu), "mu", 0.0)?;
+    let compliance = per_contact(compliance, "compliance", 0.0)?;
+    let lambda0 = match lambda0 {
+        Some(l) => arrays::shaped(l, "lambda0", &[Some(m), Some(R)])?.0,
+        None => vec![0.0; rows],
+    };
+    let velocity = match velocity {
+        Some(u) => {
+            let (u, _) = arrays::numbers(u, "velocity")?;
+            if u.len() != cols {
+                return Err(errors::problem(format!(
+                    "velocity: {} entries, expected {cols} (J's columns)",
+                    u.len()
+                )));
+            }
+            u
+        }
+        None => vec![0.0; cols],
+    };
+    let bodies = (0..n)
+        .map(|i| ProblemBody {
+            inverse_mass: SMatrix::<f64, D, D>::from_fn(|r, c| block(i, r, c)),
+            velocity: SVector::<f64, D>::from_column_slice(&velocity[D * i..D * i + D]),
+        })
+        .collect();
+    let mut contacts = Vec::with_capacity(m);
+    for k in 0..m {
+        let entry = |r: usize, c: usize| j[(R * k + r) * cols + c];
+        let touched: Vec<usize> = (0..n)
+            .filter(|&body| (0..R).any(|r| (0..D).any(|d| entry(r, D * body + d) != 0.0)))
+            .collect();
+        if touched.len() > 2 {
+            return Err(errors::problem(format!(
+                "J: contact {k}'s rows act on bodies {touched:?}; a contact acts on at most two bodies"
+            )));
+        }
+        let side = |s: usize| -> (Option<usize>, SMatrix<f64, R, D>) {
+            match touched.get(s) {
+                Some(&body) => (Some(body), SMatrix::from_fn(|r, d| entry(r, D * body + d))),
+                None => (None, SMatrix::zeros()),
+            }
+        };
+        let ((b1, j1), (b2, j2)) = (side(0), side(1));
+        contacts.push(ProblemContact {
+            bodies: [b1, b2],
+            jacobian: [j1, j2],
+            b: SVector::from_column_slice(&b[R * k..R * k + R]),
+            mu: mu[k],
+            compliance: compliance[k],
+            lambda0: SVector::from_column_slice(&lambda0[R * k..R * k + R]),
+            bounds: RowBounds::Contact,
+        });
+    }
+    let problem = Problem {
+        friction,
+        bodies,
+        contacts,
+    };
+    problem.validate().map_err(errors::problem)?;
+    Ok(problem)
+}
+
+fn friction_model(name: &str) -> PyResult<FrictionModel> {
+    match name {
+        "box" => Ok(FrictionModel::Box),
+        "cone" => Ok(FrictionModel::Cone),
+        other => Err(errors::problem(format!(
+            "friction_model {other:?}: expected \"box\" or \"cone\""
+        ))),
+    }
+}
+
+impl ContactProblem {
+    fn dims(&self) -> (usize, usize) {
+        match &self.inner {
+            AnyProblem::P3(_) => (6, 3),
+            AnyProblem::P2(_) => (3, 2),
+        }
+    }
+}
+
+#[pymethods]
+impl ContactProblem {
+    /// Reads a contact-problem file (docs/contact-problem-format.md), 3D or 2D. Raises
+    /// ProblemError naming the file and what is wrong.
+    #[staticmethod]
+    fn read(path: PathBuf) -> PyResult<ContactProblem> {
+        let file = ProblemFile::read(&path).map_err(errors::problem)?;
+        let named = |e: String| errors::problem(format!("{}: {e}", path.display()));
+        let inner = match (file.dof_per_body, file.rows_per_contact) {
+            (3, 2) => AnyProblem::P2(file.to_problem::<3, 2>().map_err(named)?),
+            _ => AnyProblem::P3(file.to_problem::<6, 3>().map_err(named)?),
+        };
+        Ok(ContactProblem { inner })
+    }
+
+    /// Writes the problem as a contact-problem file (no provenance, no solution).
+    fn write(&self, path: PathBuf) -> PyResult<()> {
+        let file = with_problem!(&self.inner, p => ProblemFile::new(p));
+        let text = serde_json::to_string(&file)
+            .map_err(|e| errors::problem(format!("{}: {e}", path.display())))?;
+        std::fs::write(&path, text + "\n")
+            .map_err(|e| errors::problem(format!("{}: cannot write: {e}", path.display())))
+    }
+
+    /// A problem from arrays: J (R·contacts × D·bodies; each contact's rows act on at most two
+    /// bodies), Minv (block diagonal, D·bodies square, or its blocks as (bodies, D, D)), b
+    /// (R·contacts, or (contacts, R)), mu (a number or one per contact, ≥ 0); optionally
+    /// friction_model ("box" or "cone"), compliance (kg⁻¹, a number or one per contact),
+    /// lambda0 ((contacts, R), the warm start) and velocity (the bodies' u before contact,
+    /// D·bodies). dof_per_body is 6 (3D: R = 3) or 3 (2D: R = 2). Checked as a problem file is:
+    /// a ProblemError says what is wrong (shapes, non-finite numbers, negative μ, ...).
+    #[staticmethod]
+    #[pyo3(signature = (J, Minv, b, mu, *, friction_model = "box", compliance = None, lambda0 = None, velocity = None, dof_per_body = 6))]
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    fn from_arrays(
+        J: &Bound<'_, PyAny>,
+        Minv: &Bound<'_, PyAny>,
+        b: &Bound<'_, PyAny>,
+        mu: &Bound<'_, PyAny>,
+        friction_model: &str,
+        compliance: Option<&Bound<'_, PyAny>>,
+        lambda0: Option<&Bound<'_, PyAny>>,
+        velocity: Option<&Bound<'_, PyAny>>,
+        dof_per_body: usize,
+    ) -> PyResult<ContactProblem> {
+        let friction = self::friction_model(friction_model)?;
+        let inner = match dof_per_body {
+            6 => AnyProblem::P3(build::<6, 3>(
+                J, Minv, b, mu, friction, compliance, lambda0, velocity,
+            )?),
+            3 => AnyProblem::P2(build::<3, 2>(
+                J, Minv, b, mu, friction, compliance, lambda0, velocity,
+            )?),
+            d => {
+                return Err(errors::problem(format!(
+                    "dof_per_body {d}: expected 6 (3D) or 3 (2D)"
+                )));
+            }
+        };
+        Ok(ContactProblem { inner })
+    }
+
+    /// Degrees of freedom per body D: 6 in 3D (v, ω), 3 in 2D (vx, vy, ω).
+    #[getter]
+    fn dof_per_body(&self) -> usize {
+        self.dims().0
+    }
+    /// Rows per contact R: 3 in 3D (n, t1, t2), 2 in 2D (n, t).
+    #[getter]
+    fn rows_per_contact(&self) -> usize {
+        self.dims().1
+    }
+    /// Number of contacts.
+    #[getter]
+    fn num_contacts(&self) -> usize {
+        with_problem!(&self.inner, p => p.contacts.len())
+    }
+    /// Number of bodies.
+    #[getter]
+    fn num_bodies(&self) -> usize {
+        with_problem!(&self.inner, p => p.bodies.len())
+    }
+    /// "box" or "cone".
+    #[getter]
+    fn friction_model(&self) -> &'static str {
+        with_problem!(&self.inner, p => p.friction.name())
+    }
+    /// The Jacobian J (R·contacts × D·bodies): J u is the contacts' relative velocity (m/s).
+    #[getter(J)]
+    fn jacobian<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let (d, r) = self.dims();
+        let shape = (r * self.num_contacts(), d * self.num_bodies());
+        arrays::dense_or_sparse(
+            py,
+            shape,
+            with_problem!(&self.inner, p => jacobian_triplets(p)),
+        )
+    }
+    /// The inverse mass M⁻¹ (D·bodies square, block diagonal; kg⁻¹ and (kg·m²)⁻¹).
+    #[getter(Minv)]
+    fn inverse_mass<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dims().0 * self.num_bodies();
+        arrays::dense_or_sparse(
+            py,
+            (n, n),
+            with_problem!(&self.inner, p => inverse_mass_triplets(p)),
+        )
+    }
+    /// The Delassus operator A = J M⁻¹ Jᵀ (R·contacts square, kg⁻¹), without compliance.
+    #[getter(A)]
+    fn delassus<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dims().1 * self.num_contacts();
+        arrays::dense_or_sparse(
+            py,
+            (n, n),
+            with_problem!(&self.inner, p => delassus_triplets(p)),
+        )
+    }
+    /// The matrix `name` ("J", "Minv" or "A") as a CooMatrix, whatever its size.
+    fn sparse(&self, py: Python<'_>, name: &str) -> PyResult<Py<arrays::CooMatrix>> {
+        let (d, r) = self.dims();
+        let (m, n) = (self.num_contacts(), self.num_bodies());
+        let coo = with_problem!(&self.inner, p => match name {
+            "J" => arrays::CooMatrix::new((r * m, d * n), jacobian_triplets(p)),
+            "Minv" => arrays::CooMatrix::new((d * n, d * n), inverse_mass_triplets(p)),
+            "A" => arrays::CooMatrix::new((r * m, r * m), delassus_triplets(p)),
+            other => return Err(errors::problem(format!("matrix {other:?}: expected \"J\", \"Minv\" or \"A\""))),
+        });
+        Py::new(py, coo)
+    }
+    /// b = J u − bias (R·contacts, m/s): w when λ = 0.
+    #[getter]
+    fn b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(
+            py,
+            with_problem!(&self.inner, p => p.dense_b().iter().copied().collect()),
+        )
+    }
+    /// Friction coefficient μ per contact.
+    #[getter]
+    fn mu<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(
+            py,
+            with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.mu).collect()),
+        )
+    }
+    /// Compliance c per contact (kg⁻¹), on its normal row.
+    #[getter]
+    fn compliance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(
+            py,
+            with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.compliance).collect()),
+        )
+    }
+    /// The warm start λ0 (contacts × R, N·s).
+    #[getter]
+    fn lambda0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+        with_problem!(&self.inner, p => {
+            let l: Vec<_> = p.contacts.iter().map(|c| c.lambda0).collect();
+            lambda_array(py, &l)
+        })
+    }
+    /// The bodies' velocities u before contact (D·bodies).
+    #[getter]
+    fn velocity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        arrays::vector(
+            py,
+            with_problem!(&self.inner, p => p.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect()),
+        )
+    }
+    /// Each contact's two bodies (contacts × 2, int64; −1 is the static world). The normal
+    /// points from the second into the first.
+    #[getter]
+    fn bodies<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
+        let pairs: Vec<i64> = with_problem!(&self.inner, p => p.contacts.iter().flat_map(|c| c.bodies.map(|b| b.map_or(-1, |b| b as i64))).collect());
+        let m = pairs.len() / 2;
+        numpy::IntoPyArray::into_pyarray(
+            numpy::ndarray::Array2::from_shape_vec((m, 2), pairs).expect("pairs"),
+            py,
+        )
+    }
+    /// w = (A + C) λ + b for impulses λ (contacts × R): the contacts' velocities after them.
+    fn w<'py>(
+        &self,
+        py: Python<'py>,
+        lam: &Bound<'_, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        with_problem!(&self.inner, p => {
+            let l = lambdas(lam, p.contacts.len(), "lam")?;
+            Ok(lambda_array(py, &p.constraint_velocity(&l)))
+        })
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "ContactProblem({}D, {} bodies, {} contacts, friction_model={:?})",
+            if self.dims().0 == 6 { 3 } else { 2 },
+            self.num_bodies(),
+            self.num_contacts(),
+            self.friction_model()
+        )
+    }
+}
+
+/// A solver's answer: λ and what the solver reports.
+#[pyclass(module = "rigidref", frozen, get_all)]
+pub struct Solution {
+    /// λ per contact (contacts × R, N·s).
+    pub lam: Py<PyArray2<f64>>,
+    /// Iterations (PGS sweeps, Newton iterations, interior-point iterations).
+    pub iterations: u32,
+    /// The natural-map residual of λ (m/s; docs/contact.md §"Residual").
+    pub residual: f64,
+    /// Whether the solver reached its tolerance (clarabel: status Solved or AlmostSolved).
+    pub converged: bool,
+    /// For cone friction, the exact Coulomb residual (m/s); None for box friction.
+    pub coulomb_residual: Option<f64>,
+    /// "pgs", "newton", "proximal", "pgs_shock" or "clarabel".
+    pub method: String,
+    /// clarabel's status (e.g. "Solved"); None for the other solvers.
+    pub status: Option<String>,
+}
+
+#[pymethods]
+impl Solution {
+    fn __repr__(&self) -> String {
+        format!(
+            "Solution(method={:?}, iterations={}, residual={:e}, converged={})",
+            self.method, self.iterations, self.residual, self.converged
+        )
+    }
+}
+
+/// The method's snake_case name.
+pub fn method_name(report: &SolveReport) -> String {
+    serde_json::to_value(report.method)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
+}
+
+/// A Solution from a report and λ.
+pub fn solution<const R: usize>(
+    py: Python<'_>,
+    report: &SolveReport,
+    lambda: &[SVector<f64, R>],
+) -> Solution {
+    Solution {
+        lam: lambda_array(py, lambda).unbind(),
+        iterations: report.iterations,
+        residual: report.residual,
+        converged: report.converged,
+        coulomb_residual: report.coulomb_residual,
+        method: method_name(report),
+        status: None,
+    }
+}
+
+/// The problem with its warm start replaced by `warm_start` (contacts × R), when given.
+fn warm<const D: usize, const R: usize>(
+    p: &Problem<D, R>,
+    warm_start: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Problem<D, R>> {
+    let mut p = p.clone();
+    if let Some(ws) = warm_start {
+        let l = lambdas::<R>(ws, p.contacts.len(), "warm_start")?;
+        for (c, l) in p.contacts.iter_mut().zip(l) {
+            c.lambda0 = l;
+        }
+    }
+    Ok(p)
+}
+
+/// Projected Gauss–Seidel (src/solve/pgs.rs, docs/contact.md §"Projected Gauss–Seidel"): at most
+/// `iterations` sweeps, stopping at `tolerance` (m/s) when given; warm_start (contacts × R)
+/// replaces the problem's λ0 (None keeps it: the step's own warm start); order "sequential" or
+/// "random" (seeded by `seed`); local "rows" (the assignment's) or "exact". With the settings of
+/// `World.solver_settings()` it reproduces a step's λ to the bit.
+#[pyfunction]
+#[pyo3(signature = (problem, iterations = 100, tolerance = None, warm_start = None, order = "sequential", local = "rows", seed = 0))]
+pub fn solve_pgs(
+    py: Python<'_>,
+    problem: &ContactProblem,
+    iterations: u32,
+    tolerance: Option<f64>,
+    warm_start: Option<&Bound<'_, PyAny>>,
+    order: &str,
+    local: &str,
+    seed: u64,
+) -> PyResult<Solution> {
+    let order = match order {
+        "sequential" => ContactOrder::Sequential,
+        "random" => ContactOrder::Random,
+        o => {
+            return Err(errors::problem(format!(
+                "order {o:?}: expected \"sequential\" or \"random\""
+            )));
+        }
+    };
+    let local = match local {
+        "rows" => LocalSolve::Rows,
+        "exact" => LocalSolve::Exact,
+        o => {
+            return Err(errors::problem(format!(
+                "local {o:?}: expected \"rows\" or \"exact\""
+            )));
+        }
+    };
+    if tolerance.is_some_and(|t| !(t > 0.0)) {
+        return Err(errors::problem(format!(
+            "tolerance {tolerance:?}: expected a positive number"
+        )));
+    }
+    let settings = PgsSettings {
+        max_iterations: iterations,
+        tolerance,
+        order,
+        local,
+    };
+    with_problem!(&problem.inner, p => {
+        let p = warm(p, warm_start)?;
+        let (report, lambda) = py.detach(|| {
+            let mut lambda = Vec::new();
+            let report = pgs(&p, &settings, &mut PgsWorkspace::new(seed), &mut lambda);
+            (report, lambda)
+        });
+        Ok(solution(py, &report, &lambda))
+    })
+}
+
+/// The exact solver (src/solve/newton.rs, docs/contact.md §"Newton solver"): semismooth Newton
+/// on the Alart–Curnier function with a proximal-point fallback, to `tolerance` (m/s).
+#[pyfunction]
+#[pyo3(signature = (problem, max_iterations = 50, tolerance = 1e-10, proximal_iterations = 60, warm_start = None))]
+pub fn solve_newton(
+    py: Python<'_>,
+    problem: &ContactProblem,
+    max_iterations: u32,
+    tolerance: f64,
+    proximal_iterations: u32,
+    warm_start: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Solution> {
+    if !(tolerance > 0.0) {
+        return Err(errors::problem(format!(
+            "tolerance {tolerance}: expected a positive number"
+        )));
+    }
+    let settings = NewtonSettings {
+        max_iterations,
+        tolerance,
+        proximal_iterations,
+        ..Default::default()
+    };
+    with_problem!(&problem.inner, p => {
+        let p = warm(p, warm_start)?;
+        let (report, lambda) = py.detach(|| {
+            let mut lambda = Vec::new();
+            let report = newton(&p, &settings, &mut NewtonWorkspace::default(), &mut lambda);
+            (report, lambda)
+        });
+        Ok(solution(py, &report, &lambda))
+    })
+}
+
+/// The problem as a convex program solved by clarabel (src/solve/qp.rs, docs/contact.md
+/// §"Convex formulations"): formulation "cone" (Anitescu's relaxation; the default),
+/// "frictionless", or "box_fixed" / "cone_fixed" with the friction bounds frozen at
+/// `fixed_normal` (one λn per contact, e.g. PGS's), which checks an answer rather than finding one.
+#[pyfunction]
+#[pyo3(signature = (problem, formulation = "cone", fixed_normal = None, tolerance = 1e-10, max_iterations = 200))]
+pub fn solve_clarabel(
+    py: Python<'_>,
+    problem: &ContactProblem,
+    formulation: &str,
+    fixed_normal: Option<&Bound<'_, PyAny>>,
+    tolerance: f64,
+    max_iterations: u32,
+) -> PyResult<Solution> {
+    let m = problem.num_contacts();
+    let fixed = || -> PyResult<Vec<f64>> {
+        let Some(f) = fixed_normal else {
+            return Err(errors::problem(format!(
+                "formulation {formulation:?} needs fixed_normal, one λn per contact"
+            )));
+        };
+        Ok(arrays::shaped(f, "fixed_normal", &[Some(m)])?.0)
+    };
+    let formulation = match formulation {
+        "cone" => QpFormulation::Cone,
+        "frictionless" => QpFormulation::Frictionless,
+        "box_fixed" => QpFormulation::BoxFixed(fixed()?),
+        "cone_fixed" => QpFormulation::ConeFixed(fixed()?),
+        f => {
+            return Err(errors::problem(format!(
+                "formulation {f:?}: expected \"cone\", \"frictionless\", \"box_fixed\" or \"cone_fixed\""
+            )));
+        }
+    };
+    let settings = QpSettings {
+        tolerance,
+        max_iterations,
+    };
+    with_problem!(&problem.inner, p => {
+        let solved = py.detach(|| solve_qp(p, &formulation, &settings)).map_err(errors::problem)?;
+        let residual = rigidref::solve::residual(p, &solved.lambda);
+        let coulomb = (p.friction == FrictionModel::Cone)
+            .then(|| rigidref::solve::residual::coulomb_residual(p, &solved.lambda));
+        Ok(Solution {
+            lam: lambda_array(py, &solved.lambda).unbind(),
+            iterations: solved.iterations,
+            residual,
+            converged: solved.solved,
+            coulomb_residual: coulomb,
+            method: "clarabel".into(),
+            status: Some(solved.status),
+        })
+    })
+}
+
+/// The natural-map residual of impulses `lam` (contacts × R) for `problem`, m/s
+/// (docs/contact.md §"Residual"): 0 exactly at a solution of the problem's friction model.
+#[pyfunction]
+pub fn residual(problem: &ContactProblem, lam: &Bound<'_, PyAny>) -> PyResult<f64> {
+    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual(p, &lambdas(lam, p.contacts.len(), "lam")?)))
+}
+
+/// The exact Coulomb law's residual of `lam` (De Saxcé's natural map, m/s; docs/contact.md
+/// §"The exact Coulomb residual"), whatever the problem's friction model.
+#[pyfunction]
+pub fn coulomb_residual(problem: &ContactProblem, lam: &Bound<'_, PyAny>) -> PyResult<f64> {
+    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual::coulomb_residual(p, &lambdas(lam, p.contacts.len(), "lam")?)))
+}
+
+/// The physical criteria of `lam` against Coulomb's law, per contact (docs/contact.md §"Physical
+/// criteria"): a dict of arrays "primal", "dual", "complementarity", "signorini",
+/// "cone_boundary", "max_dissipation" (one entry per contact) and "max", their largest values.
+#[pyfunction]
+pub fn criteria<'py>(
+    py: Python<'py>,
+    problem: &ContactProblem,
+    lam: &Bound<'_, PyAny>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (each, max) = with_problem!(&problem.inner, p => rigidref::solve::criteria::criteria(p, &lambdas(lam, p.contacts.len(), "lam")?));
+    criteria_dict(py, &each, &max)
+}
+
+/// The criteria as a dict of arrays (see [`criteria`]).
+pub fn criteria_dict<'py>(
+    py: Python<'py>,
+    each: &[rigidref::problem::ContactCriteria],
+    max: &rigidref::problem::ContactCriteria,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let fields: [(&str, fn(&rigidref::problem::ContactCriteria) -> f64); 6] = [
+        ("primal", |c| c.primal),
+        ("dual", |c| c.dual),
+        ("complementarity", |c| c.complementarity),
+        ("signorini", |c| c.signorini),
+        ("cone_boundary", |c| c.cone_boundary),
+        ("max_dissipation", |c| c.max_dissipation),
+    ];
+    let largest = PyDict::new(py);
+    for (name, f) in fields {
+        d.set_item(name, arrays::vector(py, each.iter().map(f).collect()))?;
+        largest.set_item(name, f(max))?;
+    }
+    d.set_item("max", largest)?;
+    Ok(d)
+}
