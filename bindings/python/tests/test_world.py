@@ -97,3 +97,21 @@ def test_step_releases_the_interpreter_to_other_threads(root):
     alone.step(40)
     for w in worlds:
         assert w.state()["x"].tolist() == alone.state()["x"].tolist()
+
+
+def test_ctrl_c_stops_a_long_step_and_keeps_the_steps_done(root):
+    import _thread
+    import threading
+    world = rigidref.World.load(root / "scenes" / "box_stack.json")
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        world.step(10**9)
+    timer.cancel()
+    assert 0 < world.steps < 10**9
+    # The world is whole: it steps on from where it was stopped, as one that was never stopped.
+    k = world.steps
+    world.step(3)
+    again = rigidref.World.load(root / "scenes" / "box_stack.json")
+    again.step(k + 3)
+    assert world.state()["x"].tolist() == again.state()["x"].tolist()
