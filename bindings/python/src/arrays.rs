@@ -10,6 +10,9 @@ use pyo3::types::IntoPyDict;
 /// a [`CooMatrix`].
 pub const DENSE_LIMIT: usize = 1 << 22;
 
+/// `CooMatrix.to_dense` makes no matrix of more entries than this (1 GiB of float64).
+pub const MAX_DENSE: usize = 1 << 27;
+
 /// An array-like converted to float64 by `numpy.asarray`: its entries in C order and its shape.
 /// Fails with a `ProblemError` naming `what` when numpy cannot make numbers of it.
 pub fn numbers(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, Vec<usize>)> {
@@ -69,7 +72,8 @@ pub fn matrix<'py>(
 
 /// A sparse matrix as coordinate triplets (`scipy.sparse.coo_matrix((data, (row, col)), shape)`
 /// reads them): what a matrix property gives when the dense matrix would have more than
-/// `DENSE_LIMIT` entries. Duplicate (row, col) pairs do not occur.
+/// `DENSE_LIMIT` entries. A (row, col) pair repeats only where a problem names the same body on
+/// both sides of a contact; its values are then to be summed (as scipy and `to_dense` do).
 #[pyclass(module = "rigidref", frozen)]
 pub struct CooMatrix {
     data: Vec<f64>,
@@ -138,14 +142,19 @@ impl CooMatrix {
             Some(&[("shape", self.shape)].into_py_dict(py)?),
         )
     }
-    /// The matrix dense (float64, C order).
-    fn to_dense<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
+    /// The matrix dense (float64, C order); a ProblemError above `MAX_DENSE` entries.
+    fn to_dense<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let (rows, cols) = self.shape;
+        if rows.saturating_mul(cols) > MAX_DENSE {
+            return Err(crate::errors::problem(format!(
+                "a {rows} × {cols} matrix is too large to make dense (at most {MAX_DENSE} entries, 1 GiB); use its triplets"
+            )));
+        }
         let mut data = vec![0.0; rows * cols];
         for ((&i, &j), &v) in self.row.iter().zip(&self.col).zip(&self.data) {
             data[i as usize * cols + j as usize] += v;
         }
-        matrix(py, rows, cols, data)
+        Ok(matrix(py, rows, cols, data))
     }
     fn __repr__(&self) -> String {
         format!("CooMatrix(shape={:?}, nnz={})", self.shape, self.data.len())
@@ -161,7 +170,7 @@ pub fn dense_or_sparse<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let coo = CooMatrix::new(shape, triplets);
     if shape.0.saturating_mul(shape.1) <= DENSE_LIMIT {
-        Ok(coo.to_dense(py).into_any())
+        Ok(coo.to_dense(py)?.into_any())
     } else {
         Ok(Bound::new(py, coo)?.into_any())
     }

@@ -155,6 +155,7 @@ fn build<const D: usize, const R: usize>(
     compliance: Option<&Bound<'_, PyAny>>,
     lambda0: Option<&Bound<'_, PyAny>>,
     velocity: Option<&Bound<'_, PyAny>>,
+    bounds: Option<Vec<RowBounds>>,
 ) -> PyResult<Problem<D, R>> {
     let (j, shape) = arrays::numbers(jacobian, "J")?;
     if shape.len() != 2 || shape[0] % R != 0 || shape[1] % D != 0 || shape[1] == 0 {
@@ -229,6 +230,14 @@ fn build<const D: usize, const R: usize>(
         }
         None => vec![0.0; cols],
     };
+    if let Some(b) = &bounds
+        && b.len() != m
+    {
+        return Err(errors::problem(format!(
+            "bounds: {} entries, expected {m}, one per contact",
+            b.len()
+        )));
+    }
     let bodies = (0..n)
         .map(|i| ProblemBody {
             inverse_mass: SMatrix::<f64, D, D>::from_fn(|r, c| block(i, r, c)),
@@ -260,7 +269,7 @@ fn build<const D: usize, const R: usize>(
             mu: mu[k],
             compliance: compliance[k],
             lambda0: SVector::from_column_slice(&lambda0[R * k..R * k + R]),
-            bounds: RowBounds::Contact,
+            bounds: bounds.as_ref().map_or(RowBounds::Contact, |b| b[k]),
         });
     }
     let problem = Problem {
@@ -270,6 +279,16 @@ fn build<const D: usize, const R: usize>(
     };
     problem.validate().map_err(errors::problem)?;
     Ok(problem)
+}
+
+fn row_bounds(name: &str) -> PyResult<RowBounds> {
+    match name {
+        "contact" => Ok(RowBounds::Contact),
+        "free" => Ok(RowBounds::Free),
+        other => Err(errors::problem(format!(
+            "bounds {other:?}: expected \"contact\" or \"free\""
+        ))),
+    }
 }
 
 fn friction_model(name: &str) -> PyResult<FrictionModel> {
@@ -297,11 +316,19 @@ impl ContactProblem {
     /// ProblemError naming the file and what is wrong.
     #[staticmethod]
     fn read(path: PathBuf) -> PyResult<ContactProblem> {
+        let name = path.display().to_string();
+        rigidref::common::input::check_size(&path)
+            .map_err(|e| errors::problem(format!("{name}: {e}")))?;
         let file = ProblemFile::read(&path).map_err(errors::problem)?;
-        let named = |e: String| errors::problem(format!("{}: {e}", path.display()));
+        let named = |e: String| errors::problem(format!("{name}: {e}"));
         let inner = match (file.dof_per_body, file.rows_per_contact) {
+            (6, 3) => AnyProblem::P3(file.to_problem::<6, 3>().map_err(named)?),
             (3, 2) => AnyProblem::P2(file.to_problem::<3, 2>().map_err(named)?),
-            _ => AnyProblem::P3(file.to_problem::<6, 3>().map_err(named)?),
+            (d, r) => {
+                return Err(errors::problem(format!(
+                    "{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"
+                )));
+            }
         };
         Ok(ContactProblem { inner })
     }
@@ -316,14 +343,16 @@ impl ContactProblem {
     }
 
     /// A problem from arrays: J (R·contacts × D·bodies; each contact's rows act on at most two
-    /// bodies), Minv (block diagonal, D·bodies square, or its blocks as (bodies, D, D)), b
-    /// (R·contacts, or (contacts, R)), mu (a number or one per contact, ≥ 0); optionally
-    /// friction_model ("box" or "cone"), compliance (kg⁻¹, a number or one per contact),
-    /// lambda0 ((contacts, R), the warm start) and velocity (the bodies' u before contact,
-    /// D·bodies). dof_per_body is 6 (3D: R = 3) or 3 (2D: R = 2). Checked as a problem file is:
+    /// bodies, which are read off J's nonzero column blocks and kept in ascending order, so the
+    /// normal's direction is J's), Minv (block diagonal, D·bodies square, or its blocks as
+    /// (bodies, D, D)), b (R·contacts entries in contact order, any shape), mu (a number or one
+    /// per contact, ≥ 0); optionally friction_model ("box" or "cone"), compliance (kg⁻¹, a
+    /// number or one per contact), lambda0 ((contacts, R), the warm start), velocity (the
+    /// bodies' u before contact, D·bodies entries) and bounds ("contact" or "free" per
+    /// constraint, default all "contact"). dof_per_body is 6 (3D: R = 3) or 3 (2D: R = 2). Checked as a problem file is:
     /// a ProblemError says what is wrong (shapes, non-finite numbers, negative μ, ...).
     #[staticmethod]
-    #[pyo3(signature = (J, Minv, b, mu, *, friction_model = "box", compliance = None, lambda0 = None, velocity = None, dof_per_body = 6))]
+    #[pyo3(signature = (J, Minv, b, mu, *, friction_model = "box", compliance = None, lambda0 = None, velocity = None, bounds = None, dof_per_body = 6))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn from_arrays(
         J: &Bound<'_, PyAny>,
@@ -334,15 +363,23 @@ impl ContactProblem {
         compliance: Option<&Bound<'_, PyAny>>,
         lambda0: Option<&Bound<'_, PyAny>>,
         velocity: Option<&Bound<'_, PyAny>>,
+        bounds: Option<Vec<String>>,
         dof_per_body: usize,
     ) -> PyResult<ContactProblem> {
         let friction = self::friction_model(friction_model)?;
+        let bounds = bounds
+            .map(|b| {
+                b.iter()
+                    .map(|s| row_bounds(s))
+                    .collect::<PyResult<Vec<_>>>()
+            })
+            .transpose()?;
         let inner = match dof_per_body {
             6 => AnyProblem::P3(build::<6, 3>(
-                J, Minv, b, mu, friction, compliance, lambda0, velocity,
+                J, Minv, b, mu, friction, compliance, lambda0, velocity, bounds,
             )?),
             3 => AnyProblem::P2(build::<3, 2>(
-                J, Minv, b, mu, friction, compliance, lambda0, velocity,
+                J, Minv, b, mu, friction, compliance, lambda0, velocity, bounds,
             )?),
             d => {
                 return Err(errors::problem(format!(
@@ -460,6 +497,12 @@ impl ContactProblem {
             py,
             with_problem!(&self.inner, p => p.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect()),
         )
+    }
+    /// Each constraint's row bounds: "contact" (λn ≥ 0, friction bounded by μ λn) or "free" (a
+    /// joint's rows, unbounded; docs/contact.md §"Row bounds").
+    #[getter]
+    fn bounds(&self) -> Vec<&'static str> {
+        with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.bounds.name()).collect())
     }
     /// Each contact's two bodies (contacts × 2, int64; −1 is the static world). The normal
     /// points from the second into the first.
@@ -675,8 +718,19 @@ pub fn solve_clarabel(
                 "formulation {formulation:?} needs fixed_normal, one λn per contact"
             )));
         };
-        Ok(arrays::shaped(f, "fixed_normal", &[Some(m)])?.0)
+        let (f, _) = arrays::shaped(f, "fixed_normal", &[Some(m)])?;
+        if let Some(x) = f.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+            return Err(errors::problem(format!(
+                "fixed_normal: {x} is not a normal impulse (finite, ≥ 0)"
+            )));
+        }
+        Ok(f)
     };
+    if !(tolerance > 0.0) {
+        return Err(errors::problem(format!(
+            "tolerance {tolerance}: expected a positive number"
+        )));
+    }
     let formulation = match formulation {
         "cone" => QpFormulation::Cone,
         "frictionless" => QpFormulation::Frictionless,

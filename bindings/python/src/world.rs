@@ -26,12 +26,15 @@ enum System {
 }
 
 /// A scene, loaded and ready to step: a 3D scene file (the assignment's JSON) or a 2D image or
-/// 2D scene file, exactly as `rigidref run` loads it.
+/// 2D scene file, exactly as `rigidref run` loads it. One thread at a time: another thread that
+/// touches the world while it steps gets a RuntimeError ("Already borrowed").
 #[pyclass(module = "rigidref")]
 pub struct World {
     system: System,
     source: String,
     warnings: Vec<String>,
+    /// Why the world cannot step on: a step ended in a non-finite state (the message raised).
+    failed: Option<String>,
 }
 
 /// The `--set KEY=VALUE` texts of an overrides dict: a str value as it is, anything else as JSON
@@ -83,43 +86,53 @@ impl World {
                 system: System::D2(Box::new(scene.world)),
                 source,
                 warnings: scene.warnings,
+                failed: None,
             });
         }
         let scene = load_scene_with(&path, &overrides).map_err(|e| errors::scene(e.0))?;
-        let world = World3::new(&scene).map_err(|e| errors::scene(format!("{source}: {e}")))?;
+        let world = World3::new(&scene).map_err(errors::scene)?;
         Ok(World {
             system: System::D3(Box::new(world)),
             source,
             warnings: scene.warnings,
+            failed: None,
         })
     }
 
     /// Steps the world `n` times (the interpreter's lock is released meanwhile). A state that
     /// becomes non-finite raises SceneError saying which quantity of which body, at which step;
-    /// the world keeps the steps before it. Ctrl-C (KeyboardInterrupt) is honoured between
+    /// the world then holds that state (inspect it with `state()`) and refuses further steps
+    /// with the same error. Ctrl-C (KeyboardInterrupt) is honoured between
     /// steps, at most about 0.2 s late; the world keeps the steps done.
     #[pyo3(signature = (n = 1))]
     fn step(&mut self, py: Python<'_>, n: u64) -> PyResult<()> {
+        if let Some(why) = &self.failed {
+            return Err(errors::scene(why.clone()));
+        }
         let source = &self.source;
         let system = &mut self.system;
         let mut done = 0;
         while done < n {
             // Steps for up to CHECK_EVERY without the interpreter, then look for a signal.
-            let ran = py
-                .detach(|| -> Result<u64, String> {
-                    let start = std::time::Instant::now();
-                    let mut ran = 0;
-                    while done + ran < n && (ran == 0 || start.elapsed() < CHECK_EVERY) {
-                        match system {
-                            System::D3(w) => w.step(),
-                            System::D2(w) => w.step(),
-                        }
-                        .map_err(|e| format!("{source}: the run stopped: {e}"))?;
-                        ran += 1;
+            let ran = match py.detach(|| -> Result<u64, String> {
+                let start = std::time::Instant::now();
+                let mut ran = 0;
+                while done + ran < n && (ran == 0 || start.elapsed() < CHECK_EVERY) {
+                    match system {
+                        System::D3(w) => w.step(),
+                        System::D2(w) => w.step(),
                     }
-                    Ok(ran)
-                })
-                .map_err(errors::scene)?;
+                    .map_err(|e| format!("{source}: the run stopped: {e}"))?;
+                    ran += 1;
+                }
+                Ok(ran)
+            }) {
+                Ok(ran) => ran,
+                Err(why) => {
+                    self.failed = Some(why.clone());
+                    return Err(errors::scene(why));
+                }
+            };
             done += ran;
             py.check_signals()?;
         }
@@ -304,7 +317,9 @@ impl World {
     }
 
     /// The solver settings the steps use, as keyword arguments of solve_pgs ("pgs") and
-    /// solve_newton ("newton"), and which one the scene picked ("solver").
+    /// solve_newton ("newton"), and which one the scene picked ("solver"). solve_pgs with
+    /// "pgs" reproduces a step's λ to the bit when the step used PGS in sequential order (the
+    /// default): a random order's generator has moved on from its seed by then.
     fn solver_settings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s: SolverSettings = match &self.system {
             System::D3(w) => w.solver_settings(),

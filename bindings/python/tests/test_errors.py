@@ -25,7 +25,7 @@ def test_a_malformed_scene_is_a_scene_error_with_the_clis_message(cli, tmp_path)
         rigidref.World.load(neither)
 
 
-def test_an_unknown_override_is_a_scene_error_with_the_clis_message(root, cli, tmp_path):
+def test_a_bad_override_value_is_a_scene_error_with_the_clis_message(root, cli, tmp_path):
     scene = root / "scenes" / "box_stack.json"
     with pytest.raises(rigidref.SceneError) as e:
         rigidref.World.load(scene, {"pgs_iterations": -3})
@@ -33,12 +33,13 @@ def test_an_unknown_override_is_a_scene_error_with_the_clis_message(root, cli, t
                                      "--out", tmp_path / "t.jsonl")
 
 
-def test_a_broken_image_is_a_scene_error(tmp_path):
+def test_a_broken_image_is_a_scene_error_with_the_clis_message(cli, tmp_path):
     png = tmp_path / "broken.png"
     png.write_bytes(b"\x89PNG\r\n\x1a\n not an image")
     with pytest.raises(rigidref.SceneError) as e:
         rigidref.World.load(png)
     assert str(png) in str(e.value)
+    assert str(e.value) == cli_error(cli, "run", png, "--quiet", "--out", tmp_path / "t.jsonl")
 
 
 def test_bad_solver_options_are_errors_not_crashes():
@@ -51,5 +52,9 @@ def test_bad_solver_options_are_errors_not_crashes():
         rigidref.solve_pgs(p, tolerance=float("nan"))
     with pytest.raises(rigidref.ProblemError, match="fixed_normal"):
         rigidref.solve_clarabel(p, formulation="box_fixed")
+    with pytest.raises(rigidref.ProblemError, match="fixed_normal: NaN is not a normal impulse"):
+        rigidref.solve_clarabel(p, formulation="box_fixed", fixed_normal=[float("nan")])
+    with pytest.raises(rigidref.ProblemError, match="tolerance"):
+        rigidref.solve_clarabel(p, tolerance=0.0)
     with pytest.raises(rigidref.ProblemError, match="friction_model"):
         rigidref.ContactProblem.from_arrays(J, np.eye(6), [-1, 0, 0], 0.3, friction_model="pyramid")

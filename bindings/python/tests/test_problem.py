@@ -43,10 +43,13 @@ def test_solve_pgs_on_the_steps_problem_reproduces_the_steps_lambda(stack):
 
 def test_a_cold_start_changes_pgs_answer_but_not_its_problem(stack):
     world, solve = stack
-    cold = rigidref.solve_pgs(solve.problem, warm_start=np.zeros_like(solve.lam),
-                              **{k: v for k, v in world.solver_settings()["pgs"].items()})
+    p = solve.problem
+    before = p.lambda0.copy()
+    cold = rigidref.solve_pgs(p, warm_start=np.zeros_like(solve.lam), **world.solver_settings()["pgs"])
     assert cold.lam.shape == solve.lam.shape
     assert cold.lam.tolist() != solve.lam.tolist()
+    assert np.array_equal(p.lambda0, before)  # the warm start replaced a copy's, not the problem's
+    assert rigidref.solve_pgs(p, **world.solver_settings()["pgs"]).lam.tolist() == solve.lam.tolist()
 
 
 def test_newton_and_clarabel_answer_the_same_problem(stack):
@@ -67,18 +70,26 @@ def test_newton_and_clarabel_answer_the_same_problem(stack):
     assert c["signorini"].shape == (p.num_contacts,)
 
 
-def test_from_arrays_round_trips_through_a_file(tmp_path, stack):
+@pytest.mark.parametrize("friction_model", ["box", "cone"])
+def test_from_arrays_round_trips_through_a_file(tmp_path, stack, friction_model):
     _, solve = stack
     p = solve.problem
+    compliance = np.linspace(0.0, 1e-6, p.num_contacts)
     q = rigidref.ContactProblem.from_arrays(p.J, p.Minv, p.b, p.mu, lambda0=p.lambda0,
-                                            velocity=p.velocity, compliance=p.compliance)
+                                            velocity=p.velocity, compliance=compliance,
+                                            friction_model=friction_model)
     path = tmp_path / "p.json"
     q.write(path)
     r = rigidref.ContactProblem.read(path)
-    for name in ("J", "Minv", "A", "b", "mu", "compliance", "lambda0", "velocity"):
+    for name in ("J", "Minv", "A", "b", "mu", "lambda0", "velocity"):
         assert np.array_equal(getattr(r, name), getattr(p, name)), name
-    assert r.friction_model == p.friction_model
-    assert rigidref.solve_pgs(r, iterations=50).lam.tolist() == rigidref.solve_pgs(p, iterations=50).lam.tolist()
+    # from_arrays reads each contact's bodies off J's columns, in ascending order (the static
+    # world last): the same pairs as the step's, and the same after the file.
+    assert np.array_equal(r.bodies, q.bodies)
+    assert [sorted(b) for b in q.bodies.tolist()] == [sorted(b) for b in p.bodies.tolist()]
+    assert np.array_equal(r.compliance, compliance)
+    assert r.friction_model == friction_model and r.bounds == ["contact"] * p.num_contacts
+    assert rigidref.solve_pgs(r, iterations=50).lam.tolist() == rigidref.solve_pgs(q, iterations=50).lam.tolist()
 
 
 def test_a_dumped_problem_file_reads_as_the_steps_problem(root, cli, tmp_path):
@@ -136,7 +147,7 @@ def test_a_hand_made_problem_is_solved_by_every_solver():
     (dict(J=np.zeros((4, 6))), "J: shape [4, 6], expected (3·contacts, 6·bodies)"),
     (dict(b=[1.0, 2.0]), "b: 2 entries, expected 3"),
     (dict(Minv=np.eye(5)), "Minv: shape [5, 5], expected (6, 6) or (1, 6, 6)"),
-    (dict(mu=-0.5), "contact 0"),
+    (dict(mu=-0.5), "contact 0: mu must be ≥ 0, got -0.5"),
     (dict(J=np.full((3, 6), np.nan)), "contact 0: non-finite"),
     (dict(Minv=np.diag([np.nan, 1, 1, 6, 6, 6])), "body 0: non-finite inverse mass"),
     (dict(J="not numbers"), "J: not an array of numbers"),
@@ -162,9 +173,9 @@ def test_a_negative_friction_coefficient_is_refused_as_a_problem_file_is(tmp_pat
     assert str(from_file.value) == f"{path}: {from_arrays.value}"
 
 
-def test_nan_in_a_delassus_operator_cannot_reach_a_solver():
+def test_a_nan_in_j_or_minv_and_so_in_a_cannot_reach_a_solver():
     # A is J M⁻¹ Jᵀ: a NaN in it comes from J or M⁻¹, and both are refused when the problem is
-    # made, so a solver never sees one.
+    # made (the J case is in the table above), so a solver never sees one.
     with pytest.raises(rigidref.ProblemError):
         rigidref.ContactProblem.from_arrays(**box_on_ground(Minv=np.diag([1, 1, 1, np.nan, 6, 6])))
     p = rigidref.ContactProblem.from_arrays(**box_on_ground())
@@ -174,14 +185,30 @@ def test_nan_in_a_delassus_operator_cannot_reach_a_solver():
         rigidref.solve_pgs(p, warm_start=np.zeros((2, 3)))
 
 
-def test_a_missing_or_malformed_problem_file_is_a_problem_error(tmp_path, cli):
+def test_a_missing_or_malformed_problem_file_is_a_problem_error_with_the_clis_message(tmp_path, cli):
     from conftest import cli_error
+    good = tmp_path / "good.json"
+    rigidref.ContactProblem.from_arrays(**box_on_ground()).write(good)
     missing = tmp_path / "none.json"
-    with pytest.raises(rigidref.ProblemError) as e:
-        rigidref.ContactProblem.read(missing)
-    assert str(missing) in str(e.value)
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "rigidref-contact-problem", "version": 1,')
+    for path in (missing, bad):
+        with pytest.raises(rigidref.ProblemError) as e:
+            rigidref.ContactProblem.read(path)
+        assert str(e.value) == cli_error(cli, "compare-problem", path, good)
+    odd = tmp_path / "odd.json"
+    odd.write_text(good.read_text().replace('"dof_per_body":6', '"dof_per_body":4'))
     with pytest.raises(rigidref.ProblemError) as e:
-        rigidref.ContactProblem.read(bad)
-    assert str(bad) in str(e.value)
+        rigidref.ContactProblem.read(odd)
+    assert "dof_per_body 4 with rows_per_contact 3 is not a problem rigidref knows" in str(e.value)
+    assert str(e.value) == cli_error(cli, "crosscheck", odd)
+
+
+def test_joint_rows_round_trip_and_are_not_bounded():
+    J = np.zeros((2, 3)); J[0, 0] = 1.0; J[1, 1] = 1.0
+    p = rigidref.ContactProblem.from_arrays(J, np.eye(3), [-1.0, 0.5], 0.0, bounds=["free"], dof_per_body=3)
+    assert p.bounds == ["free"] and (p.dof_per_body, p.rows_per_contact) == (3, 2)
+    s = rigidref.solve_pgs(p, iterations=50, tolerance=1e-14)
+    assert s.lam.tolist() == [[1.0, -0.5]]  # w = λ + b = 0 on both rows, any sign
+    with pytest.raises(rigidref.ProblemError, match="mu has no meaning on free rows"):
+        rigidref.ContactProblem.from_arrays(J, np.eye(3), [-1.0, 0.5], 0.3, bounds=["free"], dof_per_body=3)

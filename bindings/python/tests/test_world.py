@@ -1,6 +1,7 @@
 """World: a scene loaded and stepped from Python is the CLI's run, to the bit."""
 
 import json
+import time
 
 import numpy as np
 import pytest
@@ -85,8 +86,24 @@ def test_state_contacts_and_solves_have_their_documented_shapes(root):
 
 
 def test_step_releases_the_interpreter_to_other_threads(root):
-    # Two worlds stepped on two threads end as one world stepped alone: nothing shared.
+    # While one thread steps, another counts in Python. Were the interpreter held for the whole
+    # step, the counter would move only at the 0.2 s signal checks (a few thousand counts);
+    # released, it counts all along: 10⁵ is far below what one core counts in the time (≥ 10⁶ in
+    # 0.5 s even on a loaded machine) and far above what the checks alone allow.
     import threading
+    world = rigidref.World.load(root / "scenes" / "box_stack.json")
+    world.step(10)
+    start = time.perf_counter()
+    world.step(200)
+    per_step = (time.perf_counter() - start) / 200
+    stepping = threading.Thread(target=world.step, args=(max(200, int(0.5 / per_step)),))
+    count = 0
+    stepping.start()
+    while stepping.is_alive():
+        count += 1
+    stepping.join()
+    assert count > 100_000, count
+    # And two worlds on two threads end as each alone: nothing is shared between worlds.
     worlds = [rigidref.World.load(root / "scenes" / "box_stack.json") for _ in range(2)]
     threads = [threading.Thread(target=w.step, args=(40,)) for w in worlds]
     for t in threads:
@@ -97,6 +114,30 @@ def test_step_releases_the_interpreter_to_other_threads(root):
     alone.step(40)
     for w in worlds:
         assert w.state()["x"].tolist() == alone.state()["x"].tolist()
+
+
+def test_a_step_that_ends_non_finite_raises_and_the_world_refuses_to_go_on(root, cli, tmp_path):
+    # The explicit gyroscopic term's energy grows without bound at this spin and overflows at
+    # step 39 (as in the CLI's test of the same scene).
+    (tmp_path / "scenes").mkdir()
+    scene = tmp_path / "scenes" / "s.json"
+    scene.write_text(json.dumps({
+        "sim_parameters": [{"name": "t", "dt": 0.01, "gravity": [0, -9.8, 0], "substeps": 1,
+                            "check_collisions": False}],
+        "bodies": [{"name": "b", "file_root": str(root / "scenes" / "data" / "block"),
+                    "x0": [0, 1, 0], "omega0": [60, 40, 20]}]}))
+    world = rigidref.World.load(scene)
+    with pytest.raises(rigidref.SceneError) as e:
+        world.step(100)
+    message = str(e.value)
+    assert "non-finite" in message and 'body 0 ("b")' in message and "at step" in message
+    from conftest import cli_error
+    assert message == cli_error(cli, "run", scene, "--steps", 100, "--quiet", "--out", tmp_path / "t.jsonl").split(
+        "; the trace up to")[0]
+    assert world.steps < 100
+    with pytest.raises(rigidref.SceneError) as again:
+        world.step()
+    assert str(again.value) == message
 
 
 def test_ctrl_c_stops_a_long_step_and_keeps_the_steps_done(root):

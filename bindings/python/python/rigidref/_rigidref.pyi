@@ -3,7 +3,7 @@ unless said; R is the rows per contact (3 in 3D, 2 in 2D), D the degrees of free
 in 3D, 3 in 2D)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, List, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,7 @@ class ContactProblem:
         compliance: Optional[npt.ArrayLike] = None,
         lambda0: Optional[npt.ArrayLike] = None,
         velocity: Optional[npt.ArrayLike] = None,
+        bounds: Optional[Sequence[Literal["contact", "free"]]] = None,
         dof_per_body: Literal[6, 3] = 6,
     ) -> "ContactProblem":
         """A problem from J (R*contacts x D*bodies), Minv (block diagonal, or (bodies, D, D)),
@@ -102,6 +103,11 @@ class ContactProblem:
     @property
     def bodies(self) -> _I64:
         """Each contact's two bodies (contacts x 2; -1 the static world)."""
+    @property
+    def bounds(self) -> List[Literal["contact", "free"]]:
+        """Each constraint's row bounds."""
+    def sparse(self, name: Literal["J", "Minv", "A"]) -> CooMatrix:
+        """The matrix as coordinate triplets, whatever its size."""
     def w(self, lam: npt.ArrayLike) -> _F64:
         """w = (A + C) lam + b (contacts x R), m/s."""
 
@@ -153,7 +159,7 @@ class Solve:
 class World:
     """A scene loaded as `rigidref run` loads it: a 3D scene file, a PNG image or a 2D scene file."""
     @staticmethod
-    def load(path: _Path, overrides: Optional[Mapping[str, Any]] = None) -> "World":
+    def load(path: _Path, overrides: Optional[Dict[str, Any]] = None) -> "World":
         """Loads a scene; overrides are the CLI's --set pairs."""
     def step(self, n: int = 1) -> None:
         """Steps n times, the interpreter's lock released."""
@@ -217,7 +223,7 @@ def grade(
     scenes: Sequence[_Path],
     time: float = 5.0,
     mode: Literal["trajectory", "outcome"] = "trajectory",
-    overrides: Optional[Mapping[str, Any]] = None,
+    overrides: Optional[Dict[str, Any]] = None,
     max_file_mb: int = 512,
     jobs: Optional[int] = None,
 ) -> Dict[str, Any]: ...
