@@ -36,7 +36,7 @@ pub fn compare_traces<'py>(
     tolerance: f64,
     scene: Option<PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    if !(tolerance > 0.0) {
+    if tolerance.is_nan() || tolerance <= 0.0 {
         return Err(errors::trace(format!(
             "--tolerance must be positive, got {tolerance}"
         )));
@@ -106,6 +106,7 @@ pub fn compare_traces<'py>(
 /// Returns {"rows": [{"submission", "scene", "observable", "result", "figure"}, ...],
 /// "verdicts": {submission: {scene: "pass" | "fail" | "refused" | "missing" | "unreadable"}}}.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 #[pyo3(signature = (submissions_dir, scenes, time = 5.0, mode = "trajectory", overrides = None, max_file_mb = 512, jobs = None))]
 pub fn grade<'py>(
     py: Python<'py>,

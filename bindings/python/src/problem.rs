@@ -612,6 +612,7 @@ fn warm<const D: usize, const R: usize>(
 /// "random" (seeded by `seed`); local "rows" (the assignment's) or "exact". With the settings of
 /// `World.solver_settings()` it reproduces a step's λ to the bit.
 #[pyfunction]
+#[allow(clippy::too_many_arguments)]
 #[pyo3(signature = (problem, iterations = 100, tolerance = None, warm_start = None, order = "sequential", local = "rows", seed = 0))]
 pub fn solve_pgs(
     py: Python<'_>,
@@ -641,7 +642,7 @@ pub fn solve_pgs(
             )));
         }
     };
-    if tolerance.is_some_and(|t| !(t > 0.0)) {
+    if tolerance.is_some_and(|t| t.is_nan() || t <= 0.0) {
         return Err(errors::problem(format!(
             "tolerance {tolerance:?}: expected a positive number"
         )));
@@ -675,7 +676,7 @@ pub fn solve_newton(
     proximal_iterations: u32,
     warm_start: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Solution> {
-    if !(tolerance > 0.0) {
+    if tolerance.is_nan() || tolerance <= 0.0 {
         return Err(errors::problem(format!(
             "tolerance {tolerance}: expected a positive number"
         )));
@@ -726,7 +727,7 @@ pub fn solve_clarabel(
         }
         Ok(f)
     };
-    if !(tolerance > 0.0) {
+    if tolerance.is_nan() || tolerance <= 0.0 {
         return Err(errors::problem(format!(
             "tolerance {tolerance}: expected a positive number"
         )));
@@ -797,7 +798,8 @@ pub fn criteria_dict<'py>(
     max: &rigidref::problem::ContactCriteria,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    let fields: [(&str, fn(&rigidref::problem::ContactCriteria) -> f64); 6] = [
+    type Field = fn(&rigidref::problem::ContactCriteria) -> f64;
+    let fields: [(&str, Field); 6] = [
         ("primal", |c| c.primal),
         ("dual", |c| c.dual),
         ("complementarity", |c| c.complementarity),

@@ -205,7 +205,7 @@ impl World {
             System::D3(w) => {
                 let n = w.bodies.len();
                 let flat3 = |f: &dyn Fn(&rigidref::rigid3d::body::RigidBody) -> [f64; 3]| {
-                    arrays::matrix(py, n, 3, w.bodies.iter().flat_map(|b| f(b)).collect())
+                    arrays::matrix(py, n, 3, w.bodies.iter().flat_map(f).collect())
                 };
                 d.set_item("x", flat3(&|b| b.x.into()))?;
                 d.set_item("v", flat3(&|b| b.v.into()))?;

@@ -326,9 +326,19 @@ impl ConvexPieces {
             resolution: DECOMPOSITION_RESOLUTION,
             ..Default::default()
         };
-        let decomposition = VHACD::decompose(&params, &points, &indices, true);
-        let pieces: Vec<Piece> = decomposition
-            .compute_exact_convex_hulls(&points, &indices)
+        // parry's V-HACD unwraps its own convex hulls and panics on some folded meshes (found by
+        // fuzzing: a cube with a vertex pushed through a face); that is a mesh it cannot
+        // decompose, reported as such, not a crash.
+        let hulls = quietly(|| {
+            VHACD::decompose(&params, &points, &indices, true)
+                .compute_exact_convex_hulls(&points, &indices)
+        })
+        .map_err(|why| {
+            format!(
+                "the convex decomposition of the mesh failed ({why}); the mesh may fold over itself"
+            )
+        })?;
+        let pieces: Vec<Piece> = hulls
             .iter()
             .filter_map(|(hull_points, _)| {
                 let v: Vec<Vector3<f64>> = hull_points.iter().map(|p| from_parry(*p)).collect();
@@ -346,4 +356,35 @@ impl ConvexPieces {
             volume_error: (pieces_volume - mesh_volume) / mesh_volume,
         })
     }
+}
+
+thread_local! {
+    /// Whether this thread is inside [`quietly`] (its panics are caught and reported).
+    static QUIET: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Runs `f` (a call into a dependency that may panic on input it cannot handle) and returns its
+/// value, or the panic's message (for the caller to use or drop). The process's panic hook (which prints the message and, under
+/// a fuzzer, aborts) is skipped for a panic inside `f` on this thread and kept for every other:
+/// it is wrapped once, the first time this runs.
+fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    static WRAP: std::sync::Once = std::sync::Once::new();
+    WRAP.call_once(|| {
+        let previous = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !QUIET.with(|q| q.get()) {
+                previous(info)
+            }
+        }));
+    });
+    QUIET.with(|q| q.set(true));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    QUIET.with(|q| q.set(false));
+    result.map_err(|payload| {
+        payload
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| payload.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_else(|| "a panic without a message".into())
+    })
 }

@@ -20,8 +20,10 @@ impl BodyFiles for InMemory {
     }
 }
 
-/// The scene3d harness (fuzz/fuzz_targets/scene3d.rs): scene, body JSON and OBJ separated by
-/// 0xFF; parse, make the world, step twice. Returns whether the world was made.
+/// The 3D harness: scene, body JSON and OBJ separated by 0xFF; parse, make the world, step twice
+/// (what the single 3D target did when it found the crash; it is now split into
+/// fuzz/fuzz_targets/scene3d.rs, parsing, and world3d.rs, the world of small meshes). Returns
+/// whether the world was made.
 fn scene3d(data: &[u8]) -> bool {
     let parts: Vec<&[u8]> = data.splitn(3, |&b| b == 0xFF).collect();
     let [scene, json, obj] = parts[..] else {
@@ -73,11 +75,18 @@ fn trace(data: &[u8]) -> bool {
 ///   dropped).
 /// - trace/contact-body-out-of-range: a trace whose contact names body 2 of 1; outcome mode
 ///   indexed the header's bodies with it (now the trace is refused as naming other bodies).
+/// - world3d/folded-cube-vhacd: a cube with a vertex pushed through a face; parry's V-HACD
+///   unwrapped its own convex hull and panicked (now the world is refused: the mesh cannot be
+///   decomposed).
 #[test]
 fn every_fuzz_crash_replays_without_a_panic() {
     let root = common::project_root().join("tests/fuzz-regressions");
     let mut n = 0;
-    for (target, harness) in [("scene3d", scene3d as fn(&[u8]) -> bool), ("trace", trace)] {
+    for (target, harness) in [
+        ("scene3d", scene3d as fn(&[u8]) -> bool),
+        ("world3d", scene3d),
+        ("trace", trace),
+    ] {
         for entry in std::fs::read_dir(root.join(target)).unwrap() {
             let path = entry.unwrap().path();
             let data = std::fs::read(&path).unwrap();
@@ -86,5 +95,38 @@ fn every_fuzz_crash_replays_without_a_panic() {
             n += 1;
         }
     }
-    assert!(n >= 2, "regression inputs missing in {}", root.display());
+    assert!(n >= 3, "regression inputs missing in {}", root.display());
+}
+
+/// The folded cube's world is refused with a message saying what failed, not a panic (parry's
+/// V-HACD panics inside; `src/rigid3d/collide/pieces.rs` catches it).
+#[test]
+fn a_mesh_the_convex_decomposition_cannot_handle_is_refused_in_one_line() {
+    let data = std::fs::read(
+        common::project_root().join("tests/fuzz-regressions/world3d/folded-cube-vhacd"),
+    )
+    .unwrap();
+    let parts: Vec<&[u8]> = data.splitn(3, |&b| b == 0xFF).collect();
+    let text = |b: &[u8]| String::from_utf8_lossy(b).to_string();
+    let files = InMemory {
+        json: text(parts[1]),
+        obj: text(parts[2]),
+    };
+    let scene = parse_scene(
+        &text(parts[0]),
+        "fuzz.json",
+        "fuzz",
+        &files,
+        &Overrides::default(),
+    )
+    .unwrap();
+    let Err(e) = rigidref::rigid3d::world::World::new(&scene) else {
+        panic!("the folded cube was decomposed");
+    };
+    assert!(
+        e.contains("body.json: body \"light (2 g)\"")
+            && e.contains("the convex decomposition of the mesh failed"),
+        "{e}"
+    );
+    assert!(!e.contains('\n'), "{e}");
 }
