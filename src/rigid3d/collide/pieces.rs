@@ -333,10 +333,8 @@ impl ConvexPieces {
             VHACD::decompose(&params, &points, &indices, true)
                 .compute_exact_convex_hulls(&points, &indices)
         })
-        .map_err(|why| {
-            format!(
-                "the convex decomposition of the mesh failed ({why}); the mesh may fold over itself"
-            )
+        .map_err(|_| {
+            "the convex decomposition of the mesh failed inside parry's V-HACD; the mesh may fold over itself".to_string()
         })?;
         let pieces: Vec<Piece> = hulls
             .iter()
