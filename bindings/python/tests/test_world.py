@@ -142,14 +142,27 @@ def test_a_step_that_ends_non_finite_raises_and_the_world_refuses_to_go_on(root,
 
 def test_ctrl_c_stops_a_long_step_and_keeps_the_steps_done(root):
     import _thread
+    import signal
     import threading
     world = rigidref.World.load(root / "scenes" / "box_stack.json")
+    start = time.perf_counter()
+    world.step(200)
+    per_step = (time.perf_counter() - start) / 200
+    # A process started in the background (as CI may run the suite) inherits SIGINT ignored, and
+    # then Python has no handler and interrupt_main does nothing: install Python's own here.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    # About 30 s of steps if nothing stopped them: long against the 0.5 s the timer waits, short
+    # enough that a broken stop fails the test instead of hanging it.
+    n = world.steps + int(30.0 / per_step)
     timer = threading.Timer(0.5, _thread.interrupt_main)
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        world.step(10**9)
-    timer.cancel()
-    assert 0 < world.steps < 10**9
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            world.step(n - world.steps)
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
+    assert 200 < world.steps < n
     # The world is whole: it steps on from where it was stopped, as one that was never stopped.
     k = world.steps
     world.step(3)
