@@ -80,7 +80,7 @@ pub struct RigidBody {
     /// An analytic ellipsoid contact shape, when the scene gives one (`ellipsoid`): it replaces
     /// the mesh in collision (ground contact at its lowest point; other meshes' vertices against
     /// its implicit surface). The mesh is then for drawing only.
-    pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
+    pub ellipsoid: Option<crate::rigid3d::shape::Ellipsoid>,
     /// A constant applied force at the centre of mass, world frame, N (scene key `force`).
     pub load: Vector3<f64>,
     /// The rate of an applied force growing from zero, F(t) = load_rate · t at the centre of

@@ -1,8 +1,8 @@
-//! One 3D contact's geometry and kinematics: its frame (n, t1, t2), a body's 3×6 Jacobian block,
-//! and a body's 6×6 inverse mass matrix and generalised velocity. docs/contact.md §"Contact
-//! frame", §"Contact Jacobian". The Delassus block A = J M⁻¹ Jᵀ is computed from the assembled
-//! problem ([`crate::problem::ContactProblem::delassus_block`]) and b by assembly
-//! ([`crate::rigid3d::assemble::assemble_problem`]).
+//! One 3D contact's kinematics: a body's 3×6 Jacobian block from the contact's frame
+//! ([`crate::rigid3d::frame::ContactFrame`]), and a body's 6×6 inverse mass matrix and
+//! generalised velocity. docs/contact.md §"Contact Jacobian". The Delassus block A = J M⁻¹ Jᵀ is
+//! computed from the assembled problem ([`crate::problem::ContactProblem::delassus_block`]) and b
+//! by assembly ([`crate::rigid3d::assemble::assemble_problem`]).
 //!
 //! Sign convention: a contact is between body 1 and body 2 (body 2 may be the ground). The normal
 //! n points from body 2 into body 1: it is the direction along which body 1 must move to separate.
@@ -11,7 +11,8 @@
 //! along +n and body 2 along −n.
 
 use crate::rigid3d::body::RigidBody;
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use crate::rigid3d::frame::ContactFrame;
+use nalgebra::{SMatrix, SVector, Vector3};
 
 /// Degrees of freedom of a 3D body: (v, ω).
 pub const DOF_3D: usize = 6;
@@ -20,43 +21,6 @@ pub const ROWS_3D: usize = 3;
 
 /// The 3×6 Jacobian block of one body in one contact: rows n, t1, t2; columns v (3), ω (3).
 pub type JacobianBlock3 = SMatrix<f64, ROWS_3D, DOF_3D>;
-
-/// An orthonormal, right-handed contact frame: t2 = n × t1, so det[n t1 t2] = +1.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactFrame {
-    /// Unit normal, from body 2 into body 1.
-    pub n: Vector3<f64>,
-    /// First unit tangent.
-    pub t1: Vector3<f64>,
-    /// Second unit tangent, n × t1.
-    pub t2: Vector3<f64>,
-}
-
-impl ContactFrame {
-    /// The frame for a unit normal `n`. t1 is n crossed with the world axis least aligned with n,
-    /// normalised, so |n × e| ≥ √(2/3) and the construction never divides by a small number; for
-    /// the ground normal +y this gives t1 = −z, t2 = −x. docs/contact.md §"Contact frame".
-    /// (The starter's version has an operator-precedence slip in its axis choice; this one picks
-    /// the axis by comparing absolute components explicitly.)
-    pub fn from_normal(n: &Vector3<f64>) -> ContactFrame {
-        let (ax, ay, az) = (n.x.abs(), n.y.abs(), n.z.abs());
-        let axis = if ax <= ay && ax <= az {
-            Vector3::x()
-        } else if ay <= az {
-            Vector3::y()
-        } else {
-            Vector3::z()
-        };
-        let t1 = n.cross(&axis).normalize();
-        let t2 = n.cross(&t1);
-        ContactFrame { n: *n, t1, t2 }
-    }
-
-    /// The rows n, t1, t2 as a matrix.
-    pub fn rows(&self) -> Matrix3<f64> {
-        Matrix3::from_rows(&[self.n.transpose(), self.t1.transpose(), self.t2.transpose()])
-    }
-}
 
 /// The Jacobian block of a body at lever arm `r` = p − x (m): rows dᵀ \[I | \[r\]×ᵀ\] for d in
 /// (n, t1, t2), i.e. [dᵀ, (r × d)ᵀ], so that block · (v, ω) = d · (v + ω × r).

@@ -11,7 +11,7 @@ use super::series::{Plot, plots_2d, plots_3d};
 use crate::blocks2d::trace::{Record2, TraceHeader2};
 use crate::blocks2d::world::World2;
 use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION};
-use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::frame::ContactFrame;
 use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::trace::{TraceHeader, TraceRecord};
 use nalgebra::Vector3;

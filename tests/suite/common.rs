@@ -67,7 +67,7 @@ pub mod problems {
     use rigidref::problem::{ContactProblem3, FrictionModel};
     use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     use rigidref::rigid3d::collide::Contact;
-    use rigidref::rigid3d::contact::ContactFrame;
+    use rigidref::rigid3d::frame::ContactFrame;
     use rigidref::rigid3d::rotation::exp_so3;
     use rigidref::rigid3d::warm_start::WarmStart;
 

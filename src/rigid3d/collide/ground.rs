@@ -2,7 +2,7 @@
 
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
-use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::frame::ContactFrame;
 use nalgebra::Vector3;
 
 /// Appends a contact for every vertex of `body` strictly below y = 0: normal +y, point the

@@ -7,7 +7,7 @@ use super::mesh::MeshCollider;
 use super::pieces::{pose, world_point, world_vector};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
-use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::frame::ContactFrame;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::ContactManifold;
 use parry3d_f64::query::details::contact_manifold_pfm_pfm;

@@ -7,7 +7,7 @@ use super::sphere_tree::SphereTree;
 use super::vertex_contact::{Contact, Feature};
 use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
-use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::frame::ContactFrame;
 use crate::rigid3d::mesh::TriMesh;
 use nalgebra::Vector3;
 use parry3d_f64::math::Vector as PVector;

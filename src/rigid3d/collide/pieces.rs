@@ -334,7 +334,11 @@ impl ConvexPieces {
                 .compute_exact_convex_hulls(&points, &indices)
         })
         .map_err(|_| {
-            "the convex decomposition of the mesh failed inside parry's V-HACD; the mesh may fold over itself".to_string()
+            concat!(
+                "the convex decomposition of the mesh failed inside parry's V-HACD; ",
+                "the mesh may fold over itself"
+            )
+            .to_string()
         })?;
         let pieces: Vec<Piece> = hulls
             .iter()
@@ -362,9 +366,9 @@ thread_local! {
 }
 
 /// Runs `f` (a call into a dependency that may panic on input it cannot handle) and returns its
-/// value, or the panic's message (for the caller to use or drop). The process's panic hook (which prints the message and, under
-/// a fuzzer, aborts) is skipped for a panic inside `f` on this thread and kept for every other:
-/// it is wrapped once, the first time this runs.
+/// value, or the panic's message (for the caller to use or drop). The process's panic hook
+/// (which prints the message and, under a fuzzer, aborts) is skipped for a panic inside `f` on
+/// this thread and kept for every other: it is wrapped once, the first time this runs.
 fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     static WRAP: std::sync::Once = std::sync::Once::new();
     WRAP.call_once(|| {

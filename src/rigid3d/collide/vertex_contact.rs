@@ -1,6 +1,6 @@
 //! A contact as 3D collision detection finds it: a point of body 1 inside the ground or body 2.
 
-use crate::rigid3d::contact::ContactFrame;
+use crate::rigid3d::frame::ContactFrame;
 use nalgebra::Vector3;
 
 /// Which features of the two bodies a contact comes from; with the bodies it identifies the

@@ -37,7 +37,7 @@ pub struct BodyDescription {
     pub omega0: Vector3<f64>,
     /// `ellipsoid`: an analytic contact shape in place of the mesh (docs/contact.md
     /// §"Ellipsoid contact").
-    pub ellipsoid: Option<crate::rigid3d::collide::ellipsoid::Ellipsoid>,
+    pub ellipsoid: Option<crate::rigid3d::shape::Ellipsoid>,
     /// `force`: a constant force at the centre of mass, world frame, N (default zero).
     pub force: Vector3<f64>,
     /// `force_rate`: a force growing linearly in time from zero, F(t) = force_rate · t, at the
@@ -261,12 +261,10 @@ pub fn parse_scene(
             r0,
             v0: body.v0.map_or(Vector3::zeros(), |v| v.0),
             omega0: body.omega0.map_or(Vector3::zeros(), |v| v.0),
-            ellipsoid: body
-                .ellipsoid
-                .map(|e| crate::rigid3d::collide::ellipsoid::Ellipsoid {
-                    centre: e.centre.map_or(Vector3::zeros(), |c| c.0),
-                    semi_axes: Vector3::from(e.semi_axes.map(|a| a.0)),
-                }),
+            ellipsoid: body.ellipsoid.map(|e| crate::rigid3d::shape::Ellipsoid {
+                centre: e.centre.map_or(Vector3::zeros(), |c| c.0),
+                semi_axes: Vector3::from(e.semi_axes.map(|a| a.0)),
+            }),
             force: body.force.map_or(Vector3::zeros(), |v| v.0),
             force_rate: body.force_rate.map_or(Vector3::zeros(), |v| v.0),
         });

@@ -8,7 +8,8 @@ use proptest::prelude::*;
 use rigidref::problem::FrictionModel;
 use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
 use rigidref::rigid3d::collide::Contact;
-use rigidref::rigid3d::contact::{ContactFrame, jacobian_block};
+use rigidref::rigid3d::contact::jacobian_block;
+use rigidref::rigid3d::frame::ContactFrame;
 use rigidref::rigid3d::rotation::exp_so3;
 use rigidref::rigid3d::warm_start::WarmStart;
 

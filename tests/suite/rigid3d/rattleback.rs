@@ -4,8 +4,8 @@
 use crate::common;
 
 use nalgebra::{Matrix3, Vector3};
-use rigidref::rigid3d::collide::ellipsoid::Ellipsoid;
 use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::shape::Ellipsoid;
 use rigidref::rigid3d::world::World;
 
 fn scene() -> Scene {

@@ -309,7 +309,7 @@ fn cone_pgs_is_invariant_under_tangent_rotation() {
 fn compliance_with_baumgarte_is_a_spring_damper() {
     use rigidref::rigid3d::assemble::{ProblemSettings, assemble_problem};
     use rigidref::rigid3d::collide::{Contact, Feature};
-    use rigidref::rigid3d::contact::ContactFrame;
+    use rigidref::rigid3d::frame::ContactFrame;
     use rigidref::rigid3d::warm_start::WarmStart;
     // One solve, one contact under a 2 kg body's centre: with e the penetration beyond the slop
     // and v⁺_n the normal velocity after, e⁺ = e − h v⁺_n the penetration at the step's end, the

@@ -86,7 +86,7 @@ fn one_contact(b: [f64; 3], mu: f64) -> ContactProblem3 {
         inverse_mass[(k, k)] = 0.5;
         inverse_mass[(k + 3, k + 3)] = 1.0;
     }
-    let frame = rigidref::rigid3d::contact::ContactFrame::from_normal(&nalgebra::Vector3::y());
+    let frame = rigidref::rigid3d::frame::ContactFrame::from_normal(&nalgebra::Vector3::y());
     ContactProblem {
         friction: FrictionModel::Box,
         bodies: vec![ProblemBody {

@@ -6,6 +6,7 @@ mod crosscheck;
 mod docs;
 mod fuzz_regressions;
 mod golden;
+mod imports;
 mod rapier;
 mod snapshots;
 mod soak;
