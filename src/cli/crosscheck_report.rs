@@ -132,12 +132,8 @@ pub(crate) fn print_table(rows: &[Row]) {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+fn median(v: Vec<f64>) -> f64 {
+    rigidref::common::stats::median(v).unwrap_or(0.0)
 }
 
 /// PGS converged when its residual is at most this (m/s); the run asks for 1e-12.

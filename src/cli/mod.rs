@@ -1,5 +1,7 @@
 //! Command-line interface: argument definitions and dispatch. Each subcommand lives in its own
-//! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1.
+//! file and returns `anyhow::Result`; `main` prints an error as one line and exits with 1 (2 for
+//! an unreadable input to `compare` or `compare-problem`, 3 for problems `crosscheck` could not
+//! check).
 
 mod args;
 mod bench;

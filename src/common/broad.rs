@@ -60,7 +60,9 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
         .filter(|b| is_finite(b) && !is_empty(b))
         .map(|b| (b.max - b.min).max())
         .collect();
-    let cell = median(sides).filter(|c| *c > 0.0).unwrap_or(1.0);
+    let cell = super::stats::median(sides)
+        .filter(|c| *c > 0.0)
+        .unwrap_or(1.0);
     let cell_of =
         |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| (p[k] / cell).floor() as i64) };
     let (mut entries, mut wide) = (Vec::new(), Vec::new());
@@ -131,15 +133,6 @@ fn is_finite(b: &Aabb) -> bool {
 /// Empty or not a number: overlaps nothing ([`Aabb::overlaps`] compares false).
 fn is_empty(b: &Aabb) -> bool {
     (0..3).any(|k| b.min[k].partial_cmp(&b.max[k]).is_none_or(|o| o.is_gt()))
-}
-
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    let middle = v.len() / 2;
-    let (_, m, _) = v.select_nth_unstable_by(middle, f64::total_cmp);
-    Some(*m)
 }
 
 /// The same pairs as [`overlapping_pairs`] by a **sweep and prune along x**: the boxes sorted by

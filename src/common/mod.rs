@@ -7,6 +7,7 @@
 //! - [`input`]: the limits on what outside input may make the program allocate;
 //! - [`values`]: scene values that check themselves while they are read (positive, fraction, …);
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
+//! - [`stats`]: the median;
 //! - [`timing`]: wall and thread CPU time of a piece of work;
 //! - [`trace`]: the trace format's name and version, for both systems' traces.
 
@@ -15,6 +16,7 @@ pub mod faults;
 pub mod hash;
 pub mod input;
 pub mod scene_json;
+pub mod stats;
 pub mod timing;
 pub mod trace;
 pub mod values;

@@ -302,9 +302,8 @@ impl BenchRow {
     }
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+fn median(v: Vec<f64>) -> f64 {
+    crate::common::stats::median(v).unwrap_or(f64::NAN)
 }
 
 fn phase_delta(after: &PhaseTimes, before: &PhaseTimes) -> [f64; 6] {
@@ -444,17 +443,7 @@ pub fn fitted_exponent(points: &[(f64, f64)]) -> Option<f64> {
         .filter(|(x, y)| *x > 0.0 && *y > 0.0)
         .map(|(x, y)| (x.ln(), y.ln()))
         .collect();
-    if logs.len() < 2 {
-        return None;
-    }
-    let n = logs.len() as f64;
-    let (mx, my) = (
-        logs.iter().map(|p| p.0).sum::<f64>() / n,
-        logs.iter().map(|p| p.1).sum::<f64>() / n,
-    );
-    let sxx: f64 = logs.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let sxy: f64 = logs.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    (sxx > 0.0).then(|| sxy / sxx)
+    crate::tools::scaling::linear_fit(&logs).map(|fit| fit.slope)
 }
 
 /// Bodies from which a family's exponent is fitted: the range starts at 100 (below it a
