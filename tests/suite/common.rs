@@ -57,6 +57,23 @@ pub fn rigidref_bin() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_rigidref"))
 }
 
+/// A command's standard error as text.
+pub fn stderr(out: &std::process::Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// Fails the test, at the caller, when the command did not succeed; the message is its exit
+/// status and standard error.
+#[track_caller]
+pub fn assert_success(out: &std::process::Output) {
+    assert!(
+        out.status.success(),
+        "the command failed ({}):\n{}",
+        out.status,
+        stderr(out)
+    );
+}
+
 pub mod problems {
     //! Random contact problems for the solver tests: bodies with random mass, inertia and
     //! orientation; contacts between random bodies or with the ground, at random points with

@@ -26,11 +26,7 @@ fn factory_reaches_two_thousand_bodies_and_ten_thousand_contacts_in_a_sound_pile
         .arg(tmp.path())
         .output()
         .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("report.json")).unwrap())
             .unwrap();
@@ -117,11 +113,7 @@ fn tetris_tube_and_nut_bag_challenges_run() {
         ],
         &common::project_root(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("report.json")).unwrap())
             .unwrap();
@@ -148,11 +140,7 @@ fn tetris_tube_and_nut_bag_challenges_run() {
         ],
         &common::project_root(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let text = std::fs::read_to_string(&csv).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
@@ -207,11 +195,7 @@ fn the_documented_tetris_command_keeps_every_piece_in_the_tube() {
     args.push(tmp.path().display().to_string());
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = rigidref(&args, tmp.path());
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{args:?}: {}", common::stderr(&out));
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(tmp.path().join("report.json")).unwrap())
             .unwrap();
@@ -257,7 +241,7 @@ fn a_factory_run_that_loses_bodies_warns_and_fails() {
         ],
         tmp.path(),
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("warning:") && stderr.contains("outside the container"),
@@ -289,7 +273,7 @@ fn a_factory_pile_that_does_not_hold_warns_and_fails() {
         )
     };
     let out = run("2", "weak");
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("warning: the pile did not hold")
@@ -306,11 +290,7 @@ fn a_factory_pile_that_does_not_hold_warns_and_fails() {
     );
     assert!(tmp.path().join("weak/report.json").is_file());
     let out = run("10", "default");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let report: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(tmp.path().join("default/report.json")).unwrap(),
     )
@@ -365,11 +345,7 @@ fn nut_bag_search_reproduces_the_documented_result() {
                 ],
                 tmp.path(),
             );
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            common::assert_success(&out);
             let text = std::fs::read_to_string(&csv).unwrap();
             let rows: Vec<Vec<f64>> = text
                 .lines()
@@ -403,11 +379,7 @@ fn nut_bag_search_reproduces_the_documented_result() {
 fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
     let tmp = tempfile::tempdir().unwrap();
     let out = rigidref(&["factory", "--bodies", "150", "--out", "fac"], tmp.path());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let png = tmp.path().join("fac/scaling.png");
     let groups = rigidref::blocks2d::image::load_image(&png, &Default::default()).unwrap();
     let pinned = groups.iter().filter(|g| g.pinned).count();

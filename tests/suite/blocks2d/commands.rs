@@ -74,11 +74,7 @@ fn dump_problems_writes_the_2d_problems_the_run_solved() {
         ],
         &common::project_root(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let records: Vec<serde_json::Value> = std::fs::read_to_string(&trace)
         .unwrap()
         .lines()
@@ -151,7 +147,7 @@ fn run_and_render_commands_write_2d_traces_frames_and_gifs() {
         ],
         &scenes,
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(
         stderr.contains("at rest") && stderr.contains("13 bodies, 1 pinned"),
@@ -230,11 +226,7 @@ fn run_and_render_commands_write_2d_traces_frames_and_gifs() {
         ],
         &scenes,
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let n = std::fs::read_dir(&frames).unwrap().count();
     assert_eq!(n, 3, "frames at steps 0, 10, 20");
     let png = image::open(frames.join("frame-00020.png")).unwrap();
@@ -544,7 +536,7 @@ fn bad_2d_input_is_a_one_line_error() {
     for (args, says) in cases.into_iter().chain(more) {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let out = rigidref(&args, &scenes);
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
         let errors: Vec<&str> = stderr
             .lines()
@@ -563,7 +555,7 @@ fn bad_2d_input_is_a_one_line_error() {
             &["render", "stack.png", flag, "3", "--frames", &dir("fr")],
             &scenes,
         );
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert_eq!(out.status.code(), Some(2), "{flag}: {stderr}");
         assert!(
             stderr.contains(&format!("unexpected argument '{flag}'")),
@@ -592,7 +584,7 @@ fn a_2d_run_that_overflows_stops_naming_the_step_and_keeps_its_trace() {
         ],
         &common::project_root().join("scenes/blocks"),
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     // One error line (a step longer than --time is also noted, on its own line).
     let errors: Vec<&str> = stderr.lines().filter(|l| !l.starts_with("note:")).collect();
@@ -618,11 +610,7 @@ fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = common::project_root().join("scenes/blocks");
     let out = rigidref(&["contacts", "stack.png", "--json"], &dir);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let shown: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(shown["dimension"], 2);
     let step = shown["step"].as_u64().unwrap();
@@ -714,7 +702,7 @@ fn contacts_command_prints_a_2d_solve_consistent_with_its_problem_file() {
     let out = rigidref(&["contacts", "stack.png"], &dir);
     assert!(String::from_utf8_lossy(&out.stdout).contains("A      = J M⁻¹ Jᵀ"));
     let out = rigidref(&["contacts", "stack.png", "--step", "1"], &dir);
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("step 1 has no contacts"), "{stderr}");
 }
@@ -774,7 +762,7 @@ fn a_2d_summary_reports_total_energy_post_stabilisation_and_unapplied_impulses()
         tmp.path(),
     );
     assert!(out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = common::stderr(&out);
     let energy = err.lines().find(|l| l.starts_with("energy")).unwrap();
     assert!(
         energy.contains(" → ") && energy.contains("change") && energy.contains("potential"),
@@ -802,5 +790,5 @@ fn a_2d_summary_reports_total_energy_post_stabilisation_and_unapplied_impulses()
         ],
         tmp.path(),
     );
-    assert!(!String::from_utf8_lossy(&out.stderr).contains("never applied"));
+    assert!(!common::stderr(&out).contains("never applied"));
 }

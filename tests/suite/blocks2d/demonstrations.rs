@@ -221,7 +221,7 @@ fn run_twenty(dir: &std::path::Path, image: &str, extra: &[&str]) -> (f64, usize
     let mut args = vec!["run", path.to_str().unwrap(), "--time", "20"];
     args.extend(extra);
     let out = common::rigidref(&args, tmp.path());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{image}: {stderr}");
     let text = std::fs::read_to_string(tmp.path().join("trace.jsonl")).unwrap();
     // The default trace (every step, contacts counted, not listed) of a 30-time-unit run stays

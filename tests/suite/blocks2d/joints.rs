@@ -311,7 +311,7 @@ fn scene_files_declare_pins_and_springs_and_bad_ones_are_one_line_errors() {
         let file = tmp.path().join("bad.json");
         std::fs::write(&file, format!(r#"{{"image": "p.png", {entry}}}"#)).unwrap();
         let out = common::rigidref(&["run", "bad.json", "--time", "1"], tmp.path());
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{entry}: {stderr}");
         assert!(
             stderr.contains("bad.json") && stderr.contains(message),

@@ -180,11 +180,7 @@ fn shock_propagation_marks_its_records_as_not_the_steps_law() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
     let solvers: Vec<String> = text
         .lines()

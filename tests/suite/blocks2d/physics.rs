@@ -372,7 +372,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
         out.status.code(),
         Some(if unverified { 3 } else { 0 }),
         "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
+        common::stderr(&out)
     );
     assert!(
         stdout.contains("problems         9 ") || stdout.contains("problems         10 "),
@@ -387,11 +387,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
     println!("{stdout}");
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{stdout}{}", common::stderr(&out));
     assert!(
         stdout.contains("problems         178 (178 compared"),
         "{stdout}"

@@ -47,7 +47,7 @@ impl Case {
 
 /// The error line (warnings are other lines, prefixed "warning:").
 fn error_line(out: &Output) -> String {
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
     let errors: Vec<&str> = stderr
         .lines()
@@ -63,7 +63,7 @@ fn expect_error(case: &Case, file: &str, fragments: &[&str]) {
         out.status.code(),
         Some(1),
         "should fail: {}",
-        String::from_utf8_lossy(&out.stderr)
+        common::stderr(&out)
     );
     let line = error_line(&out);
     assert!(line.starts_with("error: "), "{line}");
@@ -82,11 +82,7 @@ fn scene_with(from: &str, to: &str) -> Case {
 fn the_good_scene_runs() {
     let case = Case::new(GOOD_SCENE);
     let out = case.run();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
 }
 
 #[test]
@@ -388,7 +384,7 @@ fn unknown_keys_warn_and_do_not_stop_the_run() {
     let case = scene_with("\"substeps\": 1", "\"substeps\": 1, \"sub_steps\": 4");
     let out = case.run();
     assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(
         stderr.contains("warning:") && stderr.contains("sub_steps"),
         "{stderr}"
@@ -459,7 +455,7 @@ fn degenerate_triangles_are_reported_as_a_warning() {
     let case = Case::new(GOOD_SCENE);
     std::fs::write(case.path("data/block.obj"), mesh.to_obj()).unwrap();
     let out = case.run();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(
         stderr.contains("warning:")
@@ -481,7 +477,7 @@ fn degenerate_triangles_are_reported_as_a_warning() {
         .arg(case.path("scenes/s.json"))
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(
         out.status.success() && !stderr.contains("panicked"),
         "{stderr}"

@@ -11,7 +11,7 @@ use common::rigidref;
 fn run_without_a_scene_uses_the_embedded_default() {
     let tmp = tempfile::tempdir().unwrap();
     let out = rigidref(&["--steps", "50"], tmp.path());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{stderr}");
     for row in [
         "scene",
@@ -203,7 +203,7 @@ fn canonical_scenes_load_cleanly_and_run() {
                 ],
                 tmp.path(),
             );
-            let stderr = String::from_utf8_lossy(&out.stderr);
+            let stderr = common::stderr(&out);
             assert!(out.status.success(), "{}: {stderr}", path.display());
             assert!(!stderr.contains("warning"), "{}: {stderr}", path.display());
             count += 1;
@@ -253,11 +253,7 @@ fn contacts_command_prints_the_first_contact_of_scene2() {
     }
     for (name, dir) in scenes {
         let out = rigidref(&["contacts", &name, "--json"], &dir);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::assert_success(&out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let contacts = v["contacts"].as_array().unwrap();
         assert_eq!(contacts.len(), 1, "{name}: one vertex lands first");
@@ -305,7 +301,7 @@ fn contacts_command_prints_the_first_contact_of_scene2() {
         &scenes_dir(),
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("step 3 has no contacts"));
+    assert!(common::stderr(&out).contains("step 3 has no contacts"));
 }
 
 /// With `stop_on_contact` the run ends at the first frame with contacts, which it records.
@@ -335,7 +331,7 @@ fn stop_on_contact_stops_at_the_first_contact_frame() {
         ],
         &scenes_dir(),
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{stderr}");
     assert!(
         stderr.contains("stop_on_contact: stopped at the first frame with contacts, step 46"),
@@ -385,11 +381,7 @@ fn dump_problems_writes_one_readable_file_per_contact_step() {
         ],
         &scenes_dir(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let trace = read_trace(
         std::io::BufReader::new(std::fs::File::open(&trace_path).unwrap()),
         "t",
@@ -444,7 +436,7 @@ fn summaries_report_the_same_solver_figures_in_both_systems() {
             ],
             tmp.path(),
         );
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert!(out.status.success(), "{scene}: {stderr}");
         let line = stderr
             .lines()
@@ -505,7 +497,7 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
             ],
             tmp.path(),
         );
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert!(out.status.success(), "{sets:?}: {stderr}");
         assert!(
             stderr.contains(&format!("overrides      {}, {}", sets[0], sets[1])),
@@ -529,7 +521,7 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
         ],
         tmp.path(),
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(stderr.contains("PGS 7.0 sweeps on average"), "{stderr}");
     // Without overrides the header has no such key (traces are unchanged).
     rigidref(
@@ -588,7 +580,7 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
             ],
             tmp.path(),
         );
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{set}: {stderr}");
         assert_eq!(stderr.lines().count(), 1, "{set}: {stderr}");
         assert!(stderr.contains(says), "{set}: {stderr}");
@@ -802,10 +794,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 let args: Vec<&str> = args.iter().map(String::as_str).collect();
                 let out = rigidref(&args, dir);
                 if !out.status.success() {
-                    failures.push(format!(
-                        "{args:?}: {}",
-                        String::from_utf8_lossy(&out.stderr)
-                    ));
+                    failures.push(format!("{args:?}: {}", common::stderr(&out)));
                 }
                 out.status.success()
             });
@@ -842,7 +831,7 @@ fn vertex_rule_run_warns_about_interpenetration_naming_pair_and_step() {
         tmp.path(),
     );
     assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     let warnings: Vec<&str> = stderr
         .lines()
         .filter(|l| l.starts_with("warning:"))
@@ -874,7 +863,7 @@ fn vertex_rule_run_warns_about_interpenetration_naming_pair_and_step() {
         tmp.path(),
     );
     assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(!stderr.contains("warning:"), "{stderr}");
 }
 
@@ -920,11 +909,7 @@ fn bench_quick_prints_the_side_by_side_table() {
         tmp.path(),
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let cells_of = |row: &str| -> Vec<String> {
         row.trim_matches('|')
             .split('|')
@@ -1012,7 +997,7 @@ fn bench_quick_prints_the_side_by_side_table() {
         ],
         tmp.path(),
     );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(
         !out.status.success() && stderr.contains("--only") && stderr.contains("stack grid 1×1"),
         "{stderr}"
@@ -1020,7 +1005,7 @@ fn bench_quick_prints_the_side_by_side_table() {
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
     // And outside the project, a one-line error naming what is missing.
     let out = rigidref(&["bench", "--quick"], tmp.path());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(
         !out.status.success() && stderr.contains("box_stack.json") && stderr.contains("--root"),
         "{stderr}"
@@ -1045,11 +1030,7 @@ fn contacts_json_traces_and_problem_files_carry_the_physical_criteria() {
     let scene = common::project_root().join("scenes/box_stack.json");
     let scene = scene.to_str().unwrap();
     let out = rigidref(&["contacts", scene, "--json"], tmp.path());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     for key in KEYS {
         assert!(v["criteria"][key].as_f64().is_some(), "{key}: {v}");
@@ -1073,7 +1054,7 @@ fn contacts_json_traces_and_problem_files_carry_the_physical_criteria() {
         tmp.path(),
     );
     assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(stderr.contains("criteria       primal"), "{stderr}");
     let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
     let last: serde_json::Value = serde_json::from_str(text.lines().last().unwrap()).unwrap();
@@ -1122,24 +1103,16 @@ fn converge_reports_observed_orders_and_refuses_what_it_cannot_measure() {
     ];
     let out = common::rigidref(&base, dir.path());
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     assert!(
         text.contains("closed form v₀²/(2μg)") && text.contains("1.000"),
         "{text}"
     );
-    assert!(String::from_utf8_lossy(&out.stderr).contains("stop_distance: dt 0.0005 s"));
+    assert!(common::stderr(&out).contains("stop_distance: dt 0.0005 s"));
 
     let json = common::rigidref(&[&base[..], &["--json", "--quiet"]].concat(), dir.path());
     assert!(json.status.success());
-    assert!(
-        json.stderr.is_empty(),
-        "--quiet: {}",
-        String::from_utf8_lossy(&json.stderr)
-    );
+    assert!(json.stderr.is_empty(), "--quiet: {}", common::stderr(&json));
     let reports: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
     let report = &reports[0];
     assert_eq!(report["observable"], "stop_distance");
@@ -1159,7 +1132,7 @@ fn converge_reports_observed_orders_and_refuses_what_it_cannot_measure() {
     assert!(expect("1").status.success());
     let failed = expect("2");
     assert_eq!(failed.status.code(), Some(1));
-    let message = String::from_utf8_lossy(&failed.stderr);
+    let message = common::stderr(&failed);
     assert!(
         message.contains("outside 2 ± 0.05") && message.contains("stop_distance 1.000"),
         "{message}"
@@ -1184,11 +1157,7 @@ fn converge_reports_observed_orders_and_refuses_what_it_cannot_measure() {
         .concat(),
         dir.path(),
     );
-    assert!(
-        given.status.success(),
-        "{}",
-        String::from_utf8_lossy(&given.stderr)
-    );
+    common::assert_success(&given);
     assert!(String::from_utf8_lossy(&given.stdout).contains("reference 0.12742 m (given)"));
 
     let stack = common::project_root().join("scenes/blocks/stack.png");
@@ -1267,7 +1236,7 @@ fn converge_reports_observed_orders_and_refuses_what_it_cannot_measure() {
         ),
     ] {
         let out = common::rigidref(&args, dir.path());
-        let err = String::from_utf8_lossy(&out.stderr);
+        let err = common::stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
         assert!(
             err.contains(wanted) && err.trim().lines().count() == 1,
@@ -1297,7 +1266,7 @@ fn a_time_that_is_not_whole_steps_says_where_the_run_ends() {
             tmp.path(),
         );
         assert!(out.status.success());
-        String::from_utf8_lossy(&out.stderr).to_string()
+        common::stderr(&out)
     };
     let err = run("0.015");
     assert!(

@@ -20,11 +20,7 @@ fn run(dir: &Path, scene_name: &str, time: &str, out: &str, extra: &[&str]) {
     let mut args = vec!["run", s.as_str(), "--time", time, "--quiet", "--out", out];
     args.extend_from_slice(extra);
     let o = rigidref(&args, dir);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
-
-fn stderr(o: &std::process::Output) -> String {
-    String::from_utf8_lossy(&o.stderr).to_string()
+    common::assert_success(&o);
 }
 
 fn json_of(o: &std::process::Output) -> serde_json::Value {
@@ -38,7 +34,7 @@ fn compare_finds_a_trace_equal_to_itself_and_names_a_one_percent_change() {
     let dir = tmp.path();
     run(dir, "tumbling_brick.json", "5", "a.jsonl", &[]);
     let o = rigidref(&["compare", "a.jsonl", "a.jsonl", "--json"], dir);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
     let report = json_of(&o);
     assert_eq!(report["agree"], true);
     for e in report["errors"].as_array().unwrap() {
@@ -65,10 +61,10 @@ fn compare_finds_a_trace_equal_to_itself_and_names_a_one_percent_change() {
         dir,
     );
     std::fs::remove_file(&path).unwrap();
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.status.success(), "{}", common::stderr(&o));
     let o = rigidref(&["compare", "a.jsonl", "b.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    let message = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
+    let message = common::stderr(&o);
     assert!(
         message.contains("body 0 (\"block\") velocity exceeds 1.000e-3 m/s first at t = 0 s"),
         "{message}"
@@ -86,8 +82,12 @@ fn compare_finds_a_trace_equal_to_itself_and_names_a_one_percent_change() {
     // Unreadable input: exit 2, naming the file.
     std::fs::write(dir.join("bad.jsonl"), "not a trace\n").unwrap();
     let o = rigidref(&["compare", "a.jsonl", "bad.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("bad.jsonl:1:"), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert!(
+        common::stderr(&o).contains("bad.jsonl:1:"),
+        "{}",
+        common::stderr(&o)
+    );
 }
 
 /// Records 0.07 s apart against every 0.01 s of the same run, either way round: compared at
@@ -111,7 +111,12 @@ fn traces_recorded_at_different_rates_agree_within_interpolation_error() {
         ("every7.jsonl", "every1.jsonl"),
     ] {
         let o = rigidref(&["compare", a, b, "--json"], dir);
-        assert_eq!(o.status.code(), Some(0), "{a} against {b}: {}", stderr(&o));
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{a} against {b}: {}",
+            common::stderr(&o)
+        );
         let report = json_of(&o);
         for e in report["errors"].as_array().unwrap() {
             assert!(
@@ -124,7 +129,7 @@ fn traces_recorded_at_different_rates_agree_within_interpolation_error() {
     // other way round, the short trace is refused (`a_trace_that_cannot_be_judged_is_refused_…`).
     run(dir, "tumbling_brick.json", "2", "short.jsonl", &[]);
     let o = rigidref(&["compare", "short.jsonl", "every1.jsonl", "--json"], dir);
-    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
     assert_eq!(json_of(&o)["span"][1], 2.0);
 }
 
@@ -198,7 +203,7 @@ fn a_trace_that_cannot_be_judged_is_refused_in_both_modes_and_in_grade() {
     for (file, kind, message) in cases {
         for mode in [&[][..], &["--outcome"][..]] {
             let o = rigidref(&[&["compare", "ref.jsonl", file][..], mode].concat(), dir);
-            let err = stderr(&o);
+            let err = common::stderr(&o);
             assert_eq!(o.status.code(), Some(1), "{file} {mode:?}: {err}");
             let line = err.lines().find(|l| l.starts_with("error:")).unwrap();
             assert!(
@@ -221,9 +226,9 @@ fn a_trace_that_cannot_be_judged_is_refused_in_both_modes_and_in_grade() {
         );
         assert_eq!(o.status.code(), Some(2));
         assert!(
-            stderr(&o).contains("nan.jsonl:12: a number is NaN or Infinity (not finite)"),
+            common::stderr(&o).contains("nan.jsonl:12: a number is NaN or Infinity (not finite)"),
             "{}",
-            stderr(&o)
+            common::stderr(&o)
         );
     }
     // grade: one submission per defect, each refused (nan unreadable) and the good one passing.
@@ -257,7 +262,7 @@ fn a_trace_that_cannot_be_judged_is_refused_in_both_modes_and_in_grade() {
             dir,
         );
         let csv = std::fs::read_to_string(dir.join(mode).join("grade.csv"))
-            .unwrap_or_else(|_| stderr(&o));
+            .unwrap_or_else(|_| common::stderr(&o));
         let result = |sub: &str| -> String {
             csv.lines()
                 .filter(|l| l.starts_with(&format!("{sub},")))
@@ -341,7 +346,8 @@ fn grade_refuses_links_out_fifos_and_large_files_unopened_and_grades_the_rest() 
         ],
         dir,
     );
-    let csv = std::fs::read_to_string(dir.join("out/grade.csv")).unwrap_or_else(|_| stderr(&o));
+    let csv =
+        std::fs::read_to_string(dir.join("out/grade.csv")).unwrap_or_else(|_| common::stderr(&o));
     let rows = |sub: &str| -> Vec<String> {
         csv.lines()
             .filter(|l| l.starts_with(&format!("{sub},")))
@@ -400,7 +406,12 @@ fn contact_order_changes_the_trajectory_but_not_the_outcome() {
         &["--set", "pgs_order=random"],
     );
     let o = rigidref(&["compare", "sequential.jsonl", "random.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(1), "trajectory mode: {}", stderr(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "trajectory mode: {}",
+        common::stderr(&o)
+    );
     let s = scene("cube_stack.json");
     let o = rigidref(
         &[
@@ -414,7 +425,12 @@ fn contact_order_changes_the_trajectory_but_not_the_outcome() {
         ],
         dir,
     );
-    assert_eq!(o.status.code(), Some(0), "outcome mode: {}", stderr(&o));
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "outcome mode: {}",
+        common::stderr(&o)
+    );
     let report = json_of(&o);
     let names: Vec<&str> = report["outcomes"]
         .as_array()
@@ -500,7 +516,7 @@ fn compare_problem_ignores_the_tangent_basis_and_names_a_flipped_column() {
         Some(0),
         "{}{}",
         String::from_utf8_lossy(&o.stdout),
-        stderr(&o)
+        common::stderr(&o)
     );
     let mut flipped = reference.clone();
     for row in &mut flipped.contacts[2].jacobian[0] {
@@ -508,11 +524,11 @@ fn compare_problem_ignores_the_tangent_basis_and_names_a_flipped_column() {
     }
     let flipped_path = write("flipped.json", &flipped);
     let o = rigidref(&["compare-problem", &reference_path, &flipped_path], dir);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
     assert!(
-        stderr(&o).contains("first: contact 2: normal row, body 1 entry 3 (ω_x)"),
+        common::stderr(&o).contains("first: contact 2: normal row, body 1 entry 3 (ω_x)"),
         "{}",
-        stderr(&o)
+        common::stderr(&o)
     );
 }
 
@@ -602,7 +618,7 @@ fn grade_gives_the_expected_table_for_five_fabricated_submissions() {
         ],
         dir,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(dir.join("report/grade.md")).unwrap();
     println!("{md}");
     for expected in [
@@ -653,7 +669,7 @@ fn grade_gives_the_expected_table_for_five_fabricated_submissions() {
         ],
         dir,
     );
-    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.status.success(), "{}", common::stderr(&o));
     let md = std::fs::read_to_string(dir.join("trajectory/grade.md")).unwrap();
     assert!(
         md.contains("| exact | pass |") && md.contains("| wrong_gravity | fail |"),
@@ -670,7 +686,7 @@ fn assert_outcomes_agree(dir: &Path, a: &str, b: &str, scene_name: &str) -> Stri
         o.status.code(),
         Some(0),
         "{a} against {b}: {stdout}{}",
-        stderr(&o)
+        common::stderr(&o)
     );
     stdout
 }
@@ -717,12 +733,12 @@ fn compare_refuses_what_is_not_a_trace_and_respects_symmetries() {
         }
     });
     let o = rigidref(&["compare", "a.jsonl", "reflected.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
     assert!(
-        stderr(&o)
+        common::stderr(&o)
             .contains("refused (not a rotation): body 0 at step 10 (t = 0.1 s): R is a reflection"),
         "{}",
-        stderr(&o)
+        common::stderr(&o)
     );
     let mut text = std::fs::read_to_string(dir.join("a.jsonl")).unwrap();
     text.push('\n');
@@ -736,8 +752,12 @@ fn compare_refuses_what_is_not_a_trace_and_respects_symmetries() {
     // Another scene's body, renamed, matched by place: refused.
     run(dir, "sphere_drop.json", "1", "ball.jsonl", &[]);
     let o = rigidref(&["compare", "a.jsonl", "ball.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("not the same scene"), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert!(
+        common::stderr(&o).contains("not the same scene"),
+        "{}",
+        common::stderr(&o)
+    );
 
     let quarter = *nalgebra::Rotation3::from_axis_angle(
         &nalgebra::Vector3::y_axis(),

@@ -161,11 +161,7 @@ fn view_pages_load_draw_and_move_in_a_headless_browser() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     assert!(
         tmp.path().join("brick.jsonl").is_file(),
         "the run's trace is kept beside the page"
@@ -191,11 +187,7 @@ fn view_pages_load_draw_and_move_in_a_headless_browser() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     check_page(
         &browser,
         &tmp.path().join("dominoes.html"),
@@ -223,11 +215,7 @@ fn view_of_a_trace_draws_from_its_scene_and_keeps_a_cut_off_traces_complete_reco
     );
     assert!(out.status.success());
     let out = rigidref(&["view", "t.jsonl", "-q"], tmp.path());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let page = std::fs::read_to_string(tmp.path().join("t.html")).unwrap();
     assert!(
         page.contains("\"format\":\"rigidref-view\""),
@@ -244,12 +232,8 @@ fn view_of_a_trace_draws_from_its_scene_and_keeps_a_cut_off_traces_complete_reco
     let records = text.lines().count() - 1;
     std::fs::write(tmp.path().join("cut.jsonl"), &text[..text.len() - 40]).unwrap();
     let out = rigidref(&["view", "cut.jsonl"], tmp.path());
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    common::assert_success(&out);
+    let stderr = common::stderr(&out);
     let shown = records - 1;
     assert!(
         stderr.contains(&format!("showing the {shown} complete records")),
@@ -267,7 +251,7 @@ fn view_and_plot_refuse_what_is_not_a_trace_in_one_line() {
     for command in ["view", "plot"] {
         for file in ["notes.jsonl", "garbage.jsonl"] {
             let out = rigidref(&[command, file], tmp.path());
-            let stderr = String::from_utf8_lossy(&out.stderr);
+            let stderr = common::stderr(&out);
             assert_eq!(out.status.code(), Some(1), "{command} {file}: {stderr}");
             assert_eq!(
                 stderr.trim().lines().count(),
@@ -303,11 +287,7 @@ fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let svg = std::fs::read_to_string(tmp.path().join("dz.svg")).unwrap();
     for name in [
         "ω_x",
@@ -351,11 +331,7 @@ fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let png = image::open(tmp.path().join("dz.png")).unwrap().to_rgba8();
     assert_eq!(png.dimensions(), (1000, 640));
     let blue = png.pixels().filter(|p| p.0 == [31, 119, 180, 255]).count();
@@ -367,7 +343,7 @@ fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
     assert!(title_ink > 50, "no title text ({title_ink} dark pixels)");
     // Any other extension is refused in one line.
     let out = rigidref(&["plot", "dz.jsonl", "--out", "dz.pdf"], tmp.path());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1));
     assert!(
         stderr.contains("dz.pdf") && stderr.contains(".svg or .png"),
@@ -432,7 +408,7 @@ fn render_of_the_assignment_brick_draws_it_moving_and_writes_the_animations() {
         eprintln!("SKIPPED the MP4 part: no ffmpeg on the PATH (.ci/run installs it)");
     }
     let out = rigidref(&args, tmp.path());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(out.status.success(), "{stderr}");
     // 150 steps, every 10th drawn: frames 0, 10, …, 150.
     let first = image::open(tmp.path().join("fr/frame-00000.png"))
@@ -485,11 +461,7 @@ fn render_of_the_assignment_brick_draws_it_moving_and_writes_the_animations() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let orbit_last = image::open(tmp.path().join("orbit/frame-00150.png"))
         .unwrap()
         .to_rgba8();
@@ -543,7 +515,7 @@ fn render_refuses_options_of_the_other_system_and_a_missing_output_in_one_line()
     ];
     for (args, expected) in cases {
         let out = rigidref(&args, tmp.path());
-        let stderr = String::from_utf8_lossy(&out.stderr);
+        let stderr = common::stderr(&out);
         assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
         assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
         assert!(stderr.contains(expected), "{args:?}: {stderr}");
@@ -570,11 +542,7 @@ fn render_of_a_2d_image_writes_an_mp4() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     assert!(is_mp4(&tmp.path().join("d.mp4")));
 }
 
@@ -602,11 +570,7 @@ fn factory_page_shows_the_bodies_appearing_as_they_are_dropped() {
         ],
         tmp.path(),
     );
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_success(&out);
     let page = tmp.path().join("f/view.html");
     let text = std::fs::read_to_string(&page).unwrap();
     // From the container alone (one pinned body) to every body of the report, never fewer.

@@ -587,7 +587,7 @@ fn heavy_cube_on_light_cube_with_pgs_warns_unresolved() {
     };
     let out = run("pgs");
     assert!(out.status.success());
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     let warnings: Vec<&str> = stderr
         .lines()
         .filter(|l| l.contains("warning:") && l.contains("unresolved"))
@@ -599,7 +599,7 @@ fn heavy_cube_on_light_cube_with_pgs_warns_unresolved() {
         "the summary says it too: {stderr}"
     );
     let out = run("newton");
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert!(
         out.status.success() && !stderr.contains("warning"),
         "{stderr}"

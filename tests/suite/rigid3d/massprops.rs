@@ -42,11 +42,7 @@ fn massprops_reproduces_the_assignment_body_files() {
             .arg(dir.join(format!("data/{name}.obj")))
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::assert_success(&out);
         let ours = read_json(&root.with_extension("json"));
         let j: Vec<Vec<f64>> = serde_json::from_value(ours["J"].clone()).unwrap();
         let worst = worst_relative_error(
@@ -109,7 +105,7 @@ fn massprops_rejects_an_open_mesh_with_a_named_reason() {
         .arg(&path)
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1));
     assert!(
         stderr.contains("open.obj") && stderr.contains("open surface"),

@@ -177,11 +177,7 @@ fn a_scene_with_sphere_tree_culling_runs_like_the_default() {
             ];
             args.extend(set);
             let out = common::rigidref(&args, tmp.path());
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
+            common::assert_success(&out);
             let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
             // The records, without the header (which names the overrides).
             text.lines().skip(1).map(str::to_string).collect::<Vec<_>>()

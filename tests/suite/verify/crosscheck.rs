@@ -286,7 +286,7 @@ fn crosscheck_command_passes_on_every_canonical_and_assignment_scene() {
             expected_status,
             "{}: {}\n{stdout}",
             path.display(),
-            String::from_utf8_lossy(&out.stderr)
+            common::stderr(&out)
         );
         assert_eq!(s["failures"], 0);
         println!(
@@ -372,7 +372,7 @@ fn crosscheck_command_reads_dumped_problem_files() {
         .arg(&landing)
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("disagree: ")
@@ -389,7 +389,7 @@ fn crosscheck_command_reads_dumped_problem_files() {
         .arg(&bad)
         .output()
         .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let stderr = common::stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(
         stderr.contains("bad.json") && !stderr.contains("panicked"),
@@ -439,11 +439,7 @@ fn clarabel_agrees_on_problems_from_complete_collision() {
             .arg(root.join(name))
             .output()
             .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        common::assert_success(&out);
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         let depth = v["summary"]["deepest_penetration"].as_f64().unwrap();
         assert!(depth > 0.0 && depth < 0.02, "{name}: {depth}");
@@ -498,7 +494,7 @@ fn crosscheck_verdicts_are_agree_unverified_and_disagree() {
         out.status.code(),
         Some(3),
         "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
+        common::stderr(&out)
     );
     assert!(
         stdout.contains("result           unverified: 1 of 1 problems"),

@@ -108,7 +108,7 @@ fn rapier_comparison_command_passes_on_the_documented_scenes() {
             out.status.success(),
             "{scene}: {}{}",
             String::from_utf8_lossy(&out.stdout),
-            String::from_utf8_lossy(&out.stderr)
+            common::stderr(&out)
         );
     }
 }
