@@ -47,7 +47,7 @@ impl Case {
 
 /// The error line (warnings are other lines, prefixed "warning:").
 fn error_line(out: &Output) -> String {
-    let stderr = common::stderr(&out);
+    let stderr = common::stderr(out);
     assert!(!stderr.contains("panicked"), "panic: {stderr}");
     let errors: Vec<&str> = stderr
         .lines()
