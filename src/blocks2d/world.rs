@@ -189,13 +189,42 @@ impl World2 {
     }
 
     /// Advances one step; fails at the end of a step whose state (or energy) is not finite.
+    /// The stages, in order: the step's scripted impulses, then per substep of length h the
+    /// shakes, detect, forces (gravity, springs, penalty), the velocity kick, assemble and solve
+    /// (with post-stabilisation), and the positions. docs/blocks2d.md §"The step".
     pub fn step(&mut self) -> Result<(), NonFinite> {
-        let g = self.params.gravity_vector();
         let now = self.time();
-        // Last step's records go back to the pool: their buffers are reused below.
+        self.begin_step();
+        self.apply_due_impulses(now);
+        let substeps = self.substeps_for_step();
+        self.substeps_in_step = substeps;
+        self.most_substeps = self.most_substeps.max(substeps);
+        let h = self.params.dt / f64::from(substeps);
+        for substep in 0..substeps {
+            self.shake(now + f64::from(substep) * h);
+            let contacts = self.detect();
+            let clock = Instant::now();
+            self.apply_forces(&contacts);
+            self.kick(h);
+            self.phase_times.integrate += clock.elapsed().as_secs_f64();
+            let stabilised = self.assemble_and_solve(substep, &contacts, h);
+            self.move_positions(h, stabilised);
+            self.contacts = contacts;
+        }
+        self.step += 1;
+        self.check_finite()
+    }
+
+    /// Before a step: last step's solve records go back to the pool (their buffers are reused),
+    /// and the step's contact counters start at zero.
+    fn begin_step(&mut self) {
         self.spare_solves.append(&mut self.solves);
         self.contacts_in_step = 0;
         self.most_contacts_in_step = 0;
+    }
+
+    /// Applies the scripted impulses due by time `now` (`--impulse`), each once.
+    fn apply_due_impulses(&mut self, now: f64) {
         let due: Vec<ScriptedImpulse> = self
             .impulses
             .iter()
@@ -209,77 +238,96 @@ impl World2 {
                 b.apply_impulse_at(&i.impulse, &point);
             }
         }
-        let substeps = self.substeps_for_step();
-        self.substeps_in_step = substeps;
-        self.most_substeps = self.most_substeps.max(substeps);
-        let h = self.params.dt / f64::from(substeps);
-        for substep in 0..substeps {
-            let t = now + f64::from(substep) * h;
-            for s in &self.shakes {
-                if let Some(b) = self.bodies.get_mut(s.body) {
-                    let phase = (2.0 * std::f64::consts::PI * s.frequency * t).cos();
-                    b.v = s.velocity * phase;
-                    b.omega = s.angular * phase;
-                }
+    }
+
+    /// Sets the shaken bodies' velocities for time `t` (`--shake`).
+    fn shake(&mut self, t: f64) {
+        for s in &self.shakes {
+            if let Some(b) = self.bodies.get_mut(s.body) {
+                let phase = (2.0 * std::f64::consts::PI * s.frequency * t).cos();
+                b.v = s.velocity * phase;
+                b.omega = s.angular * phase;
             }
-            let mut contacts = std::mem::take(&mut self.contacts);
-            let clock = Instant::now();
-            detect_contacts(&self.bodies, &mut contacts);
-            self.phase_times.detect += clock.elapsed().as_secs_f64();
-            let clock = Instant::now();
-            self.contacts_in_step += contacts.len();
-            self.most_contacts_in_step = self.most_contacts_in_step.max(contacts.len());
-            for b in &mut self.bodies {
-                b.force = if b.pinned {
-                    Vector2::zeros()
-                } else {
-                    g * b.mass
-                };
-                b.torque = 0.0;
-            }
-            for spring in &self.springs {
-                spring.apply(&mut self.bodies);
-            }
-            if self.params.contact_model == ContactModel::Penalty {
-                self.add_penalty_forces(&contacts);
-            }
-            self.before_kick.clear();
-            self.before_kick.extend(
-                self.bodies
-                    .iter()
-                    .map(|b| Vector3::new(b.v.x, b.v.y, b.omega)),
-            );
-            for b in &mut self.bodies {
-                b.step_velocity(h);
-            }
-            self.phase_times.integrate += clock.elapsed().as_secs_f64();
-            let mut stabilised = false;
-            // The penalty model's contacts are forces: only the pins enter the problem.
-            let solved: &[Contact2] = match self.params.contact_model {
-                ContactModel::Pgs => &contacts,
-                ContactModel::Penalty => &[],
-            };
-            if !solved.is_empty() || !self.pins.is_empty() {
-                let solve = self.solve_contacts(substep, solved, h);
-                stabilised = self.params.post_stabilization;
-                self.solves.push(solve);
-            } else if contacts.is_empty() {
-                self.warm.clear();
-            }
-            let clock = Instant::now();
-            for (i, b) in self.bodies.iter_mut().enumerate() {
-                if stabilised {
-                    let du = self.position_workspace.delta_velocity(i);
-                    b.step_position(h, &Vector2::new(du[0], du[1]), du[2]);
-                } else {
-                    b.step_position(h, &Vector2::zeros(), 0.0);
-                }
-            }
-            self.phase_times.integrate += clock.elapsed().as_secs_f64();
-            self.contacts = contacts;
         }
-        self.step += 1;
-        self.check_finite()
+    }
+
+    /// Detect: the substep's contacts (in last substep's buffer), counted for the step.
+    fn detect(&mut self) -> Vec<Contact2> {
+        let mut contacts = std::mem::take(&mut self.contacts);
+        let clock = Instant::now();
+        detect_contacts(&self.bodies, &mut contacts);
+        self.phase_times.detect += clock.elapsed().as_secs_f64();
+        self.contacts_in_step += contacts.len();
+        self.most_contacts_in_step = self.most_contacts_in_step.max(contacts.len());
+        contacts
+    }
+
+    /// Forces: gravity on every body that is not pinned, the springs, and with the penalty
+    /// contact model the contacts' penalty forces.
+    fn apply_forces(&mut self, contacts: &[Contact2]) {
+        let g = self.params.gravity_vector();
+        for b in &mut self.bodies {
+            b.force = if b.pinned {
+                Vector2::zeros()
+            } else {
+                g * b.mass
+            };
+            b.torque = 0.0;
+        }
+        for spring in &self.springs {
+            spring.apply(&mut self.bodies);
+        }
+        if self.params.contact_model == ContactModel::Penalty {
+            self.add_penalty_forces(contacts);
+        }
+    }
+
+    /// The velocity kick v += h f/m, ω += h τ/I, remembering the velocities before it (for the
+    /// contact restitution targets).
+    fn kick(&mut self, h: f64) {
+        self.before_kick.clear();
+        self.before_kick.extend(
+            self.bodies
+                .iter()
+                .map(|b| Vector3::new(b.v.x, b.v.y, b.omega)),
+        );
+        for b in &mut self.bodies {
+            b.step_velocity(h);
+        }
+    }
+
+    /// Assemble and solve the substep's contact problem (the contacts, or with the penalty model
+    /// only the pins), recording the solve; returns whether post-stabilisation ran (its velocity
+    /// changes then move the positions). With no contact the warm-start store is emptied.
+    fn assemble_and_solve(&mut self, substep: u32, contacts: &[Contact2], h: f64) -> bool {
+        // The penalty model's contacts are forces: only the pins enter the problem.
+        let solved: &[Contact2] = match self.params.contact_model {
+            ContactModel::Pgs => contacts,
+            ContactModel::Penalty => &[],
+        };
+        if !solved.is_empty() || !self.pins.is_empty() {
+            let solve = self.solve_contacts(substep, solved, h);
+            self.solves.push(solve);
+            return self.params.post_stabilization;
+        }
+        if contacts.is_empty() {
+            self.warm.clear();
+        }
+        false
+    }
+
+    /// Positions: x += h v, θ += h ω, plus post-stabilisation's velocity changes when it ran.
+    fn move_positions(&mut self, h: f64, stabilised: bool) {
+        let clock = Instant::now();
+        for (i, b) in self.bodies.iter_mut().enumerate() {
+            if stabilised {
+                let du = self.position_workspace.delta_velocity(i);
+                b.step_position(h, &Vector2::new(du[0], du[1]), du[2]);
+            } else {
+                b.step_position(h, &Vector2::zeros(), 0.0);
+            }
+        }
+        self.phase_times.integrate += clock.elapsed().as_secs_f64();
     }
 
     /// The substeps of the step about to run: `params.substeps`, or with adaptive substeps
