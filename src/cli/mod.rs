@@ -7,6 +7,7 @@ mod args;
 mod bench;
 mod common;
 mod compare;
+mod compare_problem;
 mod contacts;
 mod contacts2d;
 mod contacts3d;
@@ -15,6 +16,7 @@ mod crosscheck;
 mod crosscheck_report;
 mod factory;
 mod golden;
+mod grade;
 mod massprops;
 mod plot;
 mod progress;
@@ -75,13 +77,13 @@ enum Command {
     /// Compare a 3D trace with the reference's, trajectory by trajectory or by outcome.
     Compare(compare::CompareArgs),
     /// Compare two 3D contact-problem files for the same state, up to the tangent basis.
-    CompareProblem(compare::CompareProblemArgs),
+    CompareProblem(compare_problem::CompareProblemArgs),
     /// Write one HTML page that shows a run in a browser, offline: the bodies, contacts, plots.
     View(view::ViewArgs),
     /// Plot quantities over time from one or more traces, to an SVG file.
     Plot(plot::PlotArgs),
     /// Grade a folder of submissions (traces and problem files per scene) against the reference.
-    Grade(compare::GradeArgs),
+    Grade(grade::GradeArgs),
 }
 
 pub use compare::Unreadable;
@@ -109,8 +111,8 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Render(args)) => render::render_command(args),
         Some(Command::Factory(args)) => factory::factory(args).map(|_| ()),
         Some(Command::Compare(args)) => compare::compare(args),
-        Some(Command::CompareProblem(args)) => compare::compare_problem(args),
-        Some(Command::Grade(args)) => compare::grade(args),
+        Some(Command::CompareProblem(args)) => compare_problem::compare_problem(args),
+        Some(Command::Grade(args)) => grade::grade(args),
         Some(Command::View(args)) => view::view(args),
         Some(Command::Plot(args)) => plot::plot(args),
         None => run::run(cli.run),
