@@ -156,16 +156,11 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
             &OutcomeTolerances::default(),
         )
     } else {
-        let t = args.tolerance;
-        let tol = TrajectoryTolerances {
-            position: t,
-            angle: t,
-            velocity: t,
-            omega: t,
-            energy: t,
-            momentum: t,
-        };
-        compare_trajectories(&reference, &other, &tol)
+        compare_trajectories(
+            &reference,
+            &other,
+            &TrajectoryTolerances::uniform(args.tolerance),
+        )
     }
     .map_err(|e| {
         Unreadable(format!(

@@ -42,6 +42,21 @@ impl Default for TrajectoryTolerances {
     }
 }
 
+impl TrajectoryTolerances {
+    /// Every tolerance `t` (in each quantity's own unit, or relative): what `rigidref compare
+    /// --tolerance t` and the Python module's `compare_traces(tolerance=t)` ask for.
+    pub fn uniform(t: f64) -> Self {
+        TrajectoryTolerances {
+            position: t,
+            angle: t,
+            velocity: t,
+            omega: t,
+            energy: t,
+            momentum: t,
+        }
+    }
+}
+
 /// One quantity's error over time.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct QuantityError {

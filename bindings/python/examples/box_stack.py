@@ -76,3 +76,6 @@ print(f"|w_PGS - w_Newton|      = {np.abs(p.w(pgs.lam) - p.w(newton.lam)).max():
 print(f"|w_clarabel - w_Newton| = {np.abs(p.w(check.lam) - p.w(newton.lam)).max():.2e} m/s")
 c = rigidref.criteria(p, pgs.lam)["max"]
 print("PGS's criteria: " + ", ".join(f"{k} {v:.1e}" for k, v in c.items()))
+if p.friction_model == "box":
+    print("(the criteria are against Coulomb's cone: box friction's corners lie outside it, so "
+          "'primal' measures the box's excess over the disk, not an error of the solve)")

@@ -52,15 +52,7 @@ pub fn compare_traces<'py>(
     };
     let comparison = match mode {
         "trajectory" => {
-            let t = tolerance;
-            let tol = TrajectoryTolerances {
-                position: t,
-                angle: t,
-                velocity: t,
-                omega: t,
-                energy: t,
-                momentum: t,
-            };
+            let tol = TrajectoryTolerances::uniform(tolerance);
             py.detach(|| compare_trajectories(&reference_trace, &other, &tol))
                 .map_err(against)?
         }

@@ -238,32 +238,16 @@ impl World {
             }
             System::D2(w) => {
                 let n = w.bodies.len();
-                d.set_item(
-                    "x",
-                    arrays::matrix(
-                        py,
-                        n,
-                        2,
-                        w.bodies.iter().flat_map(|b| [b.x.x, b.x.y]).collect(),
-                    ),
-                )?;
-                d.set_item(
-                    "q",
-                    arrays::vector(py, w.bodies.iter().map(|b| b.theta).collect()),
-                )?;
-                d.set_item(
-                    "v",
-                    arrays::matrix(
-                        py,
-                        n,
-                        2,
-                        w.bodies.iter().flat_map(|b| [b.v.x, b.v.y]).collect(),
-                    ),
-                )?;
-                d.set_item(
-                    "omega",
-                    arrays::vector(py, w.bodies.iter().map(|b| b.omega).collect()),
-                )?;
+                let pairs = |f: &dyn Fn(&rigidref::blocks2d::body::Body2) -> [f64; 2]| {
+                    arrays::matrix(py, n, 2, w.bodies.iter().flat_map(f).collect())
+                };
+                let scalars = |f: &dyn Fn(&rigidref::blocks2d::body::Body2) -> f64| {
+                    arrays::vector(py, w.bodies.iter().map(f).collect())
+                };
+                d.set_item("x", pairs(&|b| [b.x.x, b.x.y]))?;
+                d.set_item("q", scalars(&|b| b.theta))?;
+                d.set_item("v", pairs(&|b| [b.v.x, b.v.y]))?;
+                d.set_item("omega", scalars(&|b| b.omega))?;
                 let e = w.energy();
                 energy.set_item("kinetic", e.kinetic)?;
                 energy.set_item("potential", e.potential)?;

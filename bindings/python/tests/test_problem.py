@@ -61,7 +61,9 @@ def test_newton_and_clarabel_answer_the_same_problem(stack):
     # clarabel with the friction bounds frozen at Newton's normal impulses must find a minimiser
     # of the same convex program. The stack's four contacts per face make λ non-unique
     # (statically indeterminate), but the velocities after the impulses, w = A λ + b, are the
-    # same for every minimiser. 1e-6 m/s is clarabel's accuracy at tolerance 1e-10 here.
+    # same for every minimiser (w is the gradient of the convex quadratic ½λᵀAλ + bᵀλ, which is
+    # the same at all its minimisers over a convex set; Newton's λ is one of them once the
+    # bounds are frozen at its own λn). 1e-6 m/s is clarabel's accuracy at tolerance 1e-10 here.
     check = rigidref.solve_clarabel(p, formulation="box_fixed", fixed_normal=exact.lam[:, 0])
     assert check.converged and check.status in ("Solved", "AlmostSolved")
     np.testing.assert_allclose(p.w(check.lam), p.w(exact.lam), atol=1e-6)

@@ -76,6 +76,25 @@ pub trait BodyFiles {
     fn find(&self, file_root: &str) -> Result<BodyFileTexts, SceneError>;
 }
 
+/// One body's files held in memory, given for every `file_root` (a scene and one body file in
+/// memory, as the fuzz targets and their replay in the suite hold them). The texts are named
+/// `body.json` and `body.obj` in messages.
+pub struct SameBodyFiles {
+    /// The body JSON text.
+    pub json: String,
+    /// The OBJ text.
+    pub obj: String,
+}
+
+impl BodyFiles for SameBodyFiles {
+    fn find(&self, _file_root: &str) -> Result<BodyFileTexts, SceneError> {
+        Ok(BodyFileTexts {
+            json: (self.json.clone(), "body.json".into()),
+            obj: (self.obj.clone(), "body.obj".into()),
+        })
+    }
+}
+
 /// Body files on disk: `file_root` is tried relative to the assignment root (the parent of the
 /// scene's folder), then the scene's folder, then the working directory.
 pub struct DiskBodyFiles {

@@ -4,21 +4,7 @@
 
 use crate::common;
 
-use rigidref::rigid3d::scene::{BodyFileTexts, BodyFiles, Overrides, SceneError, parse_scene};
-
-struct InMemory {
-    json: String,
-    obj: String,
-}
-
-impl BodyFiles for InMemory {
-    fn find(&self, _file_root: &str) -> Result<BodyFileTexts, SceneError> {
-        Ok(BodyFileTexts {
-            json: (self.json.clone(), "body.json".into()),
-            obj: (self.obj.clone(), "body.obj".into()),
-        })
-    }
-}
+use rigidref::rigid3d::scene::{Overrides, SameBodyFiles, parse_scene};
 
 /// The 3D harness: scene, body JSON and OBJ separated by 0xFF; parse, make the world, step twice
 /// (what the single 3D target did when it found the crash; it is now split into
@@ -30,7 +16,7 @@ fn scene3d(data: &[u8]) -> bool {
         return false;
     };
     let text = |b: &[u8]| String::from_utf8_lossy(b).to_string();
-    let files = InMemory {
+    let files = SameBodyFiles {
         json: text(json),
         obj: text(obj),
     };
@@ -108,7 +94,7 @@ fn a_mesh_the_convex_decomposition_cannot_handle_is_refused_in_one_line() {
     .unwrap();
     let parts: Vec<&[u8]> = data.splitn(3, |&b| b == 0xFF).collect();
     let text = |b: &[u8]| String::from_utf8_lossy(b).to_string();
-    let files = InMemory {
+    let files = SameBodyFiles {
         json: text(parts[1]),
         obj: text(parts[2]),
     };
