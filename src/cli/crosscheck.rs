@@ -5,7 +5,7 @@ use super::crosscheck_report::{Limits, Row, print_summary, print_table, summaris
 use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::problem::json::ProblemFile;
+use rigidref::problem::local_json::AnyProblemFile;
 use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
@@ -185,12 +185,20 @@ fn is_problem_file(path: &Path) -> bool {
 fn check_file(path: &Path, settings: &CrosscheckSettings) -> anyhow::Result<Row> {
     rigidref::common::input::check_size(path)
         .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let file = ProblemFile::read(path).map_err(|e| anyhow::anyhow!(e))?;
+    let file = AnyProblemFile::read(path).map_err(|e| anyhow::anyhow!(e))?;
     let name = path.display().to_string();
-    let check = match (file.dof_per_body, file.rows_per_contact) {
-        (6, 3) => check_problem(&file.to_problem::<6, 3>().map_err(|e| anyhow::anyhow!("{name}: {e}"))?, settings),
-        (3, 2) => check_problem(&file.to_problem::<3, 2>().map_err(|e| anyhow::anyhow!("{name}: {e}"))?, settings),
-        (d, r) => bail!("{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"),
+    let at = |e: String| anyhow::anyhow!("{name}: {e}");
+    let check = match file {
+        AnyProblemFile::Body(file) => match (file.dof_per_body, file.rows_per_contact) {
+            (6, 3) => check_problem(&file.to_problem::<6, 3>().map_err(at)?, settings),
+            (3, 2) => check_problem(&file.to_problem::<3, 2>().map_err(at)?, settings),
+            (d, r) => bail!("{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"),
+        },
+        AnyProblemFile::Local(file) => match file.rows_per_contact {
+            3 => check_problem(&file.to_problem::<3>().map_err(at)?, settings),
+            2 => check_problem(&file.to_problem::<2>().map_err(at)?, settings),
+            r => bail!("{name}: rows_per_contact {r} is not a problem rigidref knows (3 in 3D, 2 in 2D)"),
+        },
     }
     .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
     Ok(Row {

@@ -27,6 +27,7 @@ mod run2d;
 mod run3d;
 mod run_args;
 mod scene;
+mod solve_problems;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -84,6 +85,9 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Grade a folder of submissions (traces and problem files per scene) against the reference.
     Grade(grade::GradeArgs),
+    /// Solve a library of contact problems (Siconos .dat, rigidref problem files) with several
+    /// solvers: a table per problem and a performance profile.
+    SolveProblems(solve_problems::SolveProblemsArgs),
 }
 
 pub use compare::Unreadable;
@@ -105,6 +109,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
             _ => contacts3d::contacts(&args),
         },
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
+        Some(Command::SolveProblems(args)) => solve_problems::solve_problems(args),
         Some(Command::Converge(args)) => converge::converge_command(args),
         Some(Command::Golden(args)) => golden::golden(args),
         Some(Command::Bench(args)) => bench::bench(args),

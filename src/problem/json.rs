@@ -9,6 +9,9 @@ use serde::{Deserialize, Serialize};
 pub const PROBLEM_FORMAT: &str = "rigidref-contact-problem";
 /// The current version of the format.
 pub const PROBLEM_VERSION: u32 = 1;
+/// The `form` value of a local-form problem file ([`super::local_json`]); a body-form file has
+/// no `form` key.
+pub const LOCAL_FORM: &str = "local";
 
 /// A contact-problem file: the problem, where it came from, and optionally a solution.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -304,6 +307,18 @@ impl ProblemFile {
     pub fn read(path: &std::path::Path) -> Result<ProblemFile, String> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))
+        let value: serde_json::Value =
+            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        if value.get("form").and_then(|f| f.as_str()) == Some(LOCAL_FORM) {
+            return Err(format!(
+                "{}: a local-form problem (W, q; no bodies or Jacobian): this needs the body \
+                 form, a problem with bodies as `rigidref run --dump-problems` writes",
+                path.display()
+            ));
+        }
+        match serde_json::from_str(&text) {
+            Ok(file) => Ok(file),
+            Err(e) => Err(format!("{}: {e}", path.display())),
+        }
     }
 }

@@ -312,6 +312,13 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
 }
 
 pub mod json;
+pub mod local;
+pub mod local_json;
+pub mod siconos;
+pub mod view;
+
+pub use local::{LocalContact, LocalProblem};
+pub use view::ProblemView;
 
 /// What a solve did (any solver's answer to the problem: PGS's, or a reference's).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]

@@ -24,7 +24,7 @@
 
 use super::residual::project_cone;
 pub use crate::problem::ContactCriteria;
-use crate::problem::{ContactProblem, RowBounds};
+use crate::problem::{ProblemView, RowBounds};
 use nalgebra::SVector;
 
 /// The criteria of one contact with friction coefficient `mu`, impulse `lambda` (N·s, normal
@@ -56,20 +56,17 @@ pub fn contact_criteria<const R: usize>(
     }
 }
 
-/// The criteria of every constraint of `problem` for impulses `lambda`, with c computed through
-/// the bodies, and their maximum over the contacts. A joint's (free) rows have none (zeros).
-/// Allocates; for reports.
-pub fn criteria<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+/// The criteria of every constraint of `problem` (either form) for impulses `lambda`, with c
+/// computed through the bodies (or W), and their maximum over the contacts. A joint's (free)
+/// rows have none (zeros). Allocates; for reports.
+pub fn criteria<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> (Vec<ContactCriteria>, ContactCriteria) {
     let c = problem.constraint_velocity(lambda);
-    let each: Vec<ContactCriteria> = problem
-        .contacts
-        .iter()
-        .zip(lambda.iter().zip(&c))
-        .map(|(contact, (l, c))| match contact.bounds {
-            RowBounds::Contact => contact_criteria(contact.mu, l, c),
+    let each: Vec<ContactCriteria> = (0..problem.count())
+        .map(|k| match problem.bounds(k) {
+            RowBounds::Contact => contact_criteria(problem.mu(k), &lambda[k], &c[k]),
             RowBounds::Free => ContactCriteria::default(),
         })
         .collect();

@@ -23,6 +23,7 @@ pub mod criteria;
 pub mod local;
 pub mod newton;
 pub mod pgs;
+pub mod pgs_delassus;
 pub mod projection;
 pub mod qp;
 pub mod residual;
@@ -30,7 +31,8 @@ pub mod shock;
 
 pub use crate::problem::{SolveMethod, SolveReport};
 pub use local::LocalSolve;
-pub use newton::{NewtonSettings, NewtonWorkspace, solve_newton};
+pub use newton::{NewtonSettings, NewtonWorkspace, solve_newton, solve_newton_local, solve_newton_local_until};
+pub use pgs_delassus::{solve_pgs_local, solve_pgs_local_until};
 pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
 pub use residual::residual;
 
@@ -120,5 +122,33 @@ pub fn solve<const D: usize, const R: usize>(
     match settings.solver {
         Solver::Pgs => solve_pgs(problem, &settings.pgs, &mut workspace.pgs, lambda),
         Solver::Newton => solve_newton(problem, &settings.newton, &mut workspace.newton, lambda),
+    }
+}
+
+/// A problem every solver here takes, in either form (the body form of a run, the local form of
+/// FCLIB and Siconos): what the cross-check and `rigidref solve-problems` call.
+pub trait Solvable<const R: usize>: crate::problem::ProblemView<R> {
+    /// PGS with `settings` (a random order seeded with 0). `lambda` gets one impulse per
+    /// contact, N·s.
+    fn pgs(&self, settings: &PgsSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport;
+    /// The Newton solver with `settings`.
+    fn newton(&self, settings: &NewtonSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport;
+}
+
+impl<const D: usize, const R: usize> Solvable<R> for ContactProblem<D, R> {
+    fn pgs(&self, settings: &PgsSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport {
+        solve_pgs(self, settings, &mut PgsWorkspace::new(0), lambda)
+    }
+    fn newton(&self, settings: &NewtonSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport {
+        solve_newton(self, settings, &mut NewtonWorkspace::default(), lambda)
+    }
+}
+
+impl<const R: usize> Solvable<R> for crate::problem::LocalProblem<R> {
+    fn pgs(&self, settings: &PgsSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport {
+        solve_pgs_local(self, settings, 0, lambda)
+    }
+    fn newton(&self, settings: &NewtonSettings, lambda: &mut Vec<SVector<f64, R>>) -> SolveReport {
+        solve_newton_local(self, settings, lambda)
     }
 }

@@ -28,7 +28,9 @@
 //! [`DENSE_ROWS`] rows, and above that by faer's sparse LU on the block pattern of W (contacts
 //! that share a body).
 
-use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveMethod, SolveReport};
+use crate::problem::{
+    ContactProblem, FrictionModel, LocalProblem, ProblemView, RowBounds, SolveMethod, SolveReport,
+};
 use crate::solve::residual::{coulomb_residual, residual};
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
@@ -87,72 +89,14 @@ enum Law {
     Free,
 }
 
-/// W = A + C in blocks: for each contact k, the contacts j that share a body with it and the
-/// R × R block W_kj (compliance on the diagonal blocks).
-struct Delassus<const R: usize> {
-    /// Per contact, (j, W_kj), j ascending, k itself included.
-    rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>>,
-}
-
-impl<const R: usize> Delassus<R> {
-    fn of<const D: usize>(problem: &ContactProblem<D, R>) -> Self {
-        let count = problem.contacts.len();
-        // The contacts touching each body, with the side they touch it on.
-        let mut touching: Vec<Vec<(usize, usize)>> = vec![Vec::new(); problem.bodies.len()];
-        for (k, c) in problem.contacts.iter().enumerate() {
-            for (side, body) in c.bodies.iter().enumerate() {
-                if let Some(b) = body {
-                    touching[*b].push((k, side));
-                }
-            }
+/// W x, block row by block row.
+fn apply_w<const R: usize>(problem: &LocalProblem<R>, x: &DVector<f64>, out: &mut DVector<f64>) {
+    for (k, c) in problem.contacts.iter().enumerate() {
+        let mut sum = SVector::<f64, R>::zeros();
+        for (j, w) in &c.row {
+            sum += w * x.fixed_rows::<R>(R * j);
         }
-        let mut rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>> = vec![Vec::new(); count];
-        for (b, list) in touching.iter().enumerate() {
-            let inverse_mass = &problem.bodies[b].inverse_mass;
-            for &(k, sk) in list {
-                let left = problem.contacts[k].jacobian[sk] * inverse_mass;
-                for &(j, sj) in list {
-                    let block = left * problem.contacts[j].jacobian[sj].transpose();
-                    match rows[k].iter_mut().find(|(jj, _)| *jj == j) {
-                        Some((_, w)) => *w += block,
-                        None => rows[k].push((j, block)),
-                    }
-                }
-            }
-        }
-        for (k, row) in rows.iter_mut().enumerate() {
-            if !row.iter().any(|(j, _)| *j == k) {
-                row.push((k, SMatrix::zeros()));
-            }
-            row.sort_by_key(|(j, _)| *j);
-            let c = &problem.contacts[k];
-            for (j, w) in row.iter_mut() {
-                if *j == k {
-                    *w = (*w + w.transpose()) * 0.5;
-                    for r in 0..R {
-                        w[(r, r)] += c.row_compliance(r);
-                    }
-                }
-            }
-        }
-        Delassus { rows }
-    }
-
-    fn diagonal_block(&self, k: usize) -> &SMatrix<f64, R, R> {
-        let row = &self.rows[k];
-        let i = row.binary_search_by_key(&k, |(j, _)| *j).unwrap_or(0);
-        &row[i].1
-    }
-
-    /// W x, block by block.
-    fn apply(&self, x: &DVector<f64>, out: &mut DVector<f64>) {
-        for (k, row) in self.rows.iter().enumerate() {
-            let mut sum = SVector::<f64, R>::zeros();
-            for (j, w) in row {
-                sum += w * x.fixed_rows::<R>(R * j);
-            }
-            out.fixed_rows_mut::<R>(R * k).copy_from(&sum);
-        }
+        out.fixed_rows_mut::<R>(R * k).copy_from(&sum);
     }
 }
 
@@ -272,8 +216,9 @@ fn linearise<const R: usize>(
 }
 
 /// The problem as the Newton iteration sees it.
-struct System<const R: usize> {
-    delassus: Delassus<R>,
+struct System<'a, const R: usize> {
+    /// W (compliance included), q, μ and bounds.
+    problem: &'a LocalProblem<R>,
     b: DVector<f64>,
     laws: Vec<Law>,
     /// Row scales a_r = W_rr (1 where W_rr = 0: a row no impulse can move).
@@ -282,14 +227,13 @@ struct System<const R: usize> {
     dense_rows: usize,
 }
 
-impl<const R: usize> System<R> {
-    fn of<const D: usize>(problem: &ContactProblem<D, R>, dense_rows: usize) -> Self {
-        let delassus = Delassus::of(problem);
+impl<'a, const R: usize> System<'a, R> {
+    fn of(problem: &'a LocalProblem<R>, dense_rows: usize) -> Self {
         let n = R * problem.contacts.len();
         let mut scales = DVector::zeros(n);
         let mut laws = Vec::with_capacity(problem.contacts.len());
         for (k, c) in problem.contacts.iter().enumerate() {
-            let block = delassus.diagonal_block(k);
+            let block = problem.diagonal_block(k);
             for r in 0..R {
                 let d = block[(r, r)];
                 scales[R * k + r] = if d > 0.0 { d } else { 1.0 };
@@ -298,14 +242,14 @@ impl<const R: usize> System<R> {
                 (RowBounds::Free, _) => Law::Free,
                 (RowBounds::Contact, FrictionModel::Cone) if R == 3 => Law::Disk {
                     mu: c.mu,
-                    rho: tangent_scale(block),
+                    rho: tangent_scale(&((block + block.transpose()) * 0.5)),
                 },
                 (RowBounds::Contact, _) => Law::Box { mu: c.mu },
             });
         }
         System {
-            delassus,
-            b: problem.dense_b(),
+            problem,
+            b: problem.dense_q(),
             laws,
             scales,
             dense_rows,
@@ -314,6 +258,12 @@ impl<const R: usize> System<R> {
 
     fn rows(&self) -> usize {
         self.b.len()
+    }
+
+    /// The block rows of W.
+    fn block_rows(&self) -> impl Iterator<Item = &'a [(usize, SMatrix<f64, R, R>)]> + 'a {
+        let problem: &'a LocalProblem<R> = self.problem;
+        problem.contacts.iter().map(|c| c.row.as_slice())
     }
 }
 
@@ -333,7 +283,7 @@ fn evaluate<const R: usize>(
     f: &mut DVector<f64>,
     blocks: &mut Vec<(SMatrix<f64, R, R>, SMatrix<f64, R, R>)>,
 ) {
-    system.delassus.apply(lambda, w);
+    apply_w(system.problem, lambda, w);
     *w += &system.b;
     let eta = proximal.map_or(0.0, |p| p.eta);
     if let Some(p) = proximal {
@@ -403,7 +353,7 @@ fn solve_newton_system<const R: usize>(
     };
     let x = if n <= system.dense_rows {
         let mut m = DMatrix::<f64>::zeros(n, n);
-        for (k, row) in system.delassus.rows.iter().enumerate() {
+        for (k, row) in system.block_rows().enumerate() {
             for (j, w) in row {
                 m.view_mut((R * k, R * j), (R, R))
                     .copy_from(&block_of(k, *j, w));
@@ -414,7 +364,7 @@ fn solve_newton_system<const R: usize>(
         use faer::linalg::solvers::Solve;
         use faer::sparse::{SparseColMat, Triplet};
         let mut triplets = Vec::new();
-        for (k, row) in system.delassus.rows.iter().enumerate() {
+        for (k, row) in system.block_rows().enumerate() {
             for (j, w) in row {
                 let m = block_of(k, *j, w);
                 for r in 0..R {
@@ -455,16 +405,17 @@ struct Run {
     reached: bool,
 }
 
+/// What ends a run of iterations: `accept(λ, law norm)`.
+type Accept<'a> = dyn FnMut(&DVector<f64>, f64) -> bool + 'a;
+
 /// Newton iterations on F (with the proximal term when given) from `lambda`, at most
-/// `max_iterations`, until the law norm is at most `tolerance` (and `accept(λ)` holds) or the
-/// line search stalls.
+/// `max_iterations`, until `accept(λ, law norm)` holds or the line search stalls.
 fn iterate<const R: usize>(
     system: &System<R>,
     lambda: &mut DVector<f64>,
     proximal: Option<&Proximal>,
-    tolerance: f64,
     max_iterations: u32,
-    accept: &mut dyn FnMut(&DVector<f64>) -> bool,
+    accept: &mut Accept,
 ) -> Run {
     let n = system.rows();
     let mut w = DVector::zeros(n);
@@ -487,7 +438,7 @@ fn iterate<const R: usize>(
         if norm < best.0 {
             best = (norm, lambda.clone());
         }
-        if norm <= tolerance && accept(lambda) {
+        if accept(lambda, norm) {
             return Run {
                 iterations,
                 norm,
@@ -559,60 +510,85 @@ fn iterate<const R: usize>(
 
 /// Solves `problem` exactly (module documentation), starting from each contact's `lambda0`. On
 /// return `lambda` holds one impulse per contact (N·s) and `workspace.delta_velocity(i)` each
-/// body's velocity change. The report's residuals are recomputed from the answer by
-/// [`residual`] and [`coulomb_residual`], so `converged` never rests on the iteration's own
-/// bookkeeping.
+/// body's velocity change. The report's residuals are recomputed from the answer through the
+/// bodies by [`residual`] and [`coulomb_residual`], so `converged` never rests on the
+/// iteration's own bookkeeping (which works on the local form, [`ContactProblem::to_local`]).
 pub fn solve_newton<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     settings: &NewtonSettings,
     workspace: &mut NewtonWorkspace<D>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
-    let system = System::of(problem, settings.dense_rows);
+    let local = problem.to_local();
+    let report = newton(problem, &local, settings, None, lambda);
+    let delta = problem.velocity_change(lambda);
+    workspace.delta_velocity.clear();
+    workspace.delta_velocity.extend(delta);
+    report
+}
+
+/// Solves a problem in local form exactly, as [`solve_newton`], starting from each contact's
+/// `lambda0`; the report's residuals are recomputed from the answer through W.
+pub fn solve_newton_local<const R: usize>(
+    problem: &LocalProblem<R>,
+    settings: &NewtonSettings,
+    lambda: &mut Vec<SVector<f64, R>>,
+) -> SolveReport {
+    newton(problem, problem, settings, None, lambda)
+}
+
+/// As [`solve_newton_local`], but the iteration (and each fallback) stops where `stop(λ)`
+/// holds instead of at the settings' tolerance: for `rigidref solve-problems`, which stops
+/// every solver on Siconos' error measure. The report's `converged` is still the residual's.
+pub fn solve_newton_local_until<const R: usize>(
+    problem: &LocalProblem<R>,
+    settings: &NewtonSettings,
+    stop: &mut dyn FnMut(&[SVector<f64, R>]) -> bool,
+    lambda: &mut Vec<SVector<f64, R>>,
+) -> SolveReport {
+    newton(problem, problem, settings, Some(stop), lambda)
+}
+
+/// The Newton iteration and its fallbacks on `local`, the answer judged on `judge` (the same
+/// problem in the form the caller gave); `stop`, when given, replaces the tolerance as what
+/// ends the iteration.
+fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
+    judge: &P,
+    local: &LocalProblem<R>,
+    settings: &NewtonSettings,
+    mut stop: Option<&mut dyn FnMut(&[SVector<f64, R>]) -> bool>,
+    lambda: &mut Vec<SVector<f64, R>>,
+) -> SolveReport {
+    let system = System::of(local, settings.dense_rows);
     let n = system.rows();
-    let mut x = DVector::from_iterator(
-        n,
-        problem
-            .contacts
-            .iter()
-            .flat_map(|c| c.lambda0.iter().copied()),
-    );
-    let cone = problem.friction == FrictionModel::Cone;
+    let count = local.contacts.len();
+    let mut x = DVector::from_iterator(n, local.contacts.iter().flat_map(|c| c.lambda0.iter().copied()));
+    let cone = local.friction == FrictionModel::Cone;
     let tolerance = settings.tolerance;
     // The answer must pass the independent measures too, not only the iteration's own F.
     let to_impulses = |x: &DVector<f64>| -> Vec<SVector<f64, R>> {
-        (0..problem.contacts.len())
-            .map(|k| x.fixed_rows::<R>(R * k).into())
-            .collect()
+        (0..count).map(|k| x.fixed_rows::<R>(R * k).into()).collect()
     };
-    let mut accept = |x: &DVector<f64>| {
-        let l = to_impulses(x);
-        residual(problem, &l) <= tolerance && (!cone || coulomb_residual(problem, &l) <= tolerance)
+    let mut accept = |x: &DVector<f64>, norm: f64| match stop.as_mut() {
+        Some(stop) => stop(&to_impulses(x)),
+        None => {
+            norm <= tolerance && {
+                let l = to_impulses(x);
+                residual(judge, &l) <= tolerance
+                    && (!cone || coulomb_residual(judge, &l) <= tolerance)
+            }
+        }
     };
-    let first = iterate(
-        &system,
-        &mut x,
-        None,
-        tolerance,
-        settings.max_iterations,
-        &mut accept,
-    );
+    let first = iterate(&system, &mut x, None, settings.max_iterations, &mut accept);
     let mut iterations = first.iterations;
     let mut reached = first.reached;
     let mut method = SolveMethod::Newton;
     // A warm start can put Newton where its merit function has a valley that is not a
     // solution (contacts that changed keys start cold beside warm ones, and the first steps
     // throw the rest into sliding); from zero it starts where every contact is at rest.
-    if !reached && x0_is_warm(problem) {
+    if !reached && x0_is_warm(local) {
         let mut cold = DVector::zeros(n);
-        let again = iterate(
-            &system,
-            &mut cold,
-            None,
-            tolerance,
-            settings.max_iterations,
-            &mut accept,
-        );
+        let again = iterate(&system, &mut cold, None, settings.max_iterations, &mut accept);
         iterations += again.iterations;
         if again.reached || again.norm < first.norm {
             x = cold;
@@ -629,11 +605,8 @@ pub fn solve_newton<const D: usize, const R: usize>(
     }
     lambda.clear();
     lambda.extend(to_impulses(&x));
-    let delta = problem.velocity_change(lambda);
-    workspace.delta_velocity.clear();
-    workspace.delta_velocity.extend(delta);
-    let residual = residual(problem, lambda);
-    let coulomb = cone.then(|| coulomb_residual(problem, lambda));
+    let residual = residual(judge, lambda);
+    let coulomb = cone.then(|| coulomb_residual(judge, lambda));
     SolveReport {
         iterations,
         residual,
@@ -645,13 +618,12 @@ pub fn solve_newton<const D: usize, const R: usize>(
 }
 
 /// Whether any contact starts from a non-zero impulse.
-fn x0_is_warm<const D: usize, const R: usize>(problem: &ContactProblem<D, R>) -> bool {
+fn x0_is_warm<const R: usize>(problem: &LocalProblem<R>) -> bool {
     problem
         .contacts
         .iter()
         .any(|c| c.lambda0.iter().any(|&v| v != 0.0))
 }
-
 /// The proximal-point fallback: from the centre λ_c = `x`, solve the problem with W + H and
 /// b − H λ_c (H = η diag(W)) by Newton, to a hundredth of the original residual at the centre
 /// (an inexact proximal point), move the centre to its answer, and shrink η tenfold after a
@@ -662,7 +634,7 @@ fn proximal_point<const R: usize>(
     system: &System<R>,
     x: &mut DVector<f64>,
     settings: &NewtonSettings,
-    accept: &mut dyn FnMut(&DVector<f64>) -> bool,
+    accept: &mut Accept,
 ) -> (u32, bool, bool) {
     let n = system.rows();
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
@@ -685,13 +657,13 @@ fn proximal_point<const R: usize>(
             centre: &centre,
         };
         let mut inner = centre.clone();
+        let inner_tolerance = (0.01 * norm).max(settings.tolerance);
         let run = iterate(
             system,
             &mut inner,
             Some(&proximal),
-            (0.01 * norm).max(settings.tolerance),
             settings.max_iterations,
-            &mut |_| true,
+            &mut |_, norm| norm <= inner_tolerance,
         );
         iterations += run.iterations;
         if run.reached {
@@ -701,7 +673,7 @@ fn proximal_point<const R: usize>(
             if norm < best.0 {
                 best = (norm, centre.clone());
             }
-            if norm <= settings.tolerance && accept(&centre) {
+            if accept(&centre, norm) {
                 *x = centre;
                 return (iterations, true, true);
             }
@@ -716,14 +688,7 @@ fn proximal_point<const R: usize>(
     }
     // Not solved: finish with plain Newton from the best centre, and keep whichever is better.
     let mut last = best.1.clone();
-    let run = iterate(
-        system,
-        &mut last,
-        None,
-        settings.tolerance,
-        settings.max_iterations,
-        accept,
-    );
+    let run = iterate(system, &mut last, None, settings.max_iterations, accept);
     iterations += run.iterations;
     if run.reached || run.norm < best.0 {
         best = (run.norm, last);
@@ -741,13 +706,14 @@ pub fn newton_function<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     lambda: &[SVector<f64, R>],
 ) -> (DVector<f64>, DMatrix<f64>) {
-    let system = System::of(problem, DENSE_ROWS);
+    let local = problem.to_local();
+    let system = System::of(&local, DENSE_ROWS);
     let n = system.rows();
     let x = DVector::from_iterator(n, lambda.iter().flat_map(|l| l.iter().copied()));
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
     evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
     let mut jacobian = DMatrix::zeros(n, n);
-    for (k, row) in system.delassus.rows.iter().enumerate() {
+    for (k, row) in system.block_rows().enumerate() {
         let (d_lambda, d_w) = &blocks[k];
         for (j, wkj) in row {
             let mut m = d_w * wkj;

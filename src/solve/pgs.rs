@@ -85,14 +85,50 @@ pub(super) struct Entry<const D: usize, const R: usize> {
     pub inverse_mass_jacobian_t: [SMatrix<f64, D, R>; 2],
     /// b, m/s.
     pub b: SVector<f64, R>,
+    /// The constants a visit steps with.
+    pub law: RowLaw<R>,
+}
+
+/// A constraint's constants as a visit reads them.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RowLaw<const R: usize> {
     /// a_r = (A + C)_rr, the rows' diagonal ([`RowScales::diagonal`]).
     pub diagonal: SVector<f64, R>,
     /// ρ, the cone step's scale ([`RowScales::tangent_rho`]).
     pub tangent_rho: f64,
     /// μ.
     pub mu: f64,
-    /// Compliance on the normal row (a joint's on every row).
+    /// Compliance on the normal row (a joint's on every row), added to the rows' velocities
+    /// by the visit; 0 where [`ContactRows::velocity`] includes it already (the local form).
     pub compliance: f64,
+}
+
+/// One constraint's rows as a visit sees them: the current velocity of a row, and the update
+/// a change of one row's impulse makes. The body form reads w through the bodies' Δu
+/// ([`BodyRows`]); the local form through W ([`super::pgs_delassus`]). A visit is the same
+/// code for both.
+pub(super) trait ContactRows<const R: usize> {
+    /// w_r without compliance, m/s.
+    fn velocity(&self, r: usize) -> f64;
+    /// λ_r changes by `delta` (N·s): update what [`Self::velocity`] reads.
+    fn apply(&mut self, r: usize, delta: f64);
+}
+
+/// A contact of the body form with the bodies' Δu, borrowed apart.
+struct BodyRows<'a, const D: usize, const R: usize> {
+    entry: &'a Entry<D, R>,
+    delta_velocity: &'a mut [SVector<f64, D>],
+}
+
+impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
+    #[inline(always)]
+    fn velocity(&self, r: usize) -> f64 {
+        self.entry.velocity(self.delta_velocity, r)
+    }
+    #[inline(always)]
+    fn apply(&mut self, r: usize, delta: f64) {
+        self.entry.apply(self.delta_velocity, r, delta);
+    }
 }
 
 impl<const D: usize, const R: usize> Entry<D, R> {
@@ -157,10 +193,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
                 inverse_mass_jacobian_t: [side(0), side(1)],
                 b: c.b,
-                diagonal: scales.diagonal,
-                tangent_rho: scales.tangent_rho,
-                mu: c.mu,
-                compliance: c.compliance,
+                law: RowLaw {
+                    diagonal: scales.diagonal,
+                    tangent_rho: scales.tangent_rho,
+                    mu: c.mu,
+                    compliance: c.compliance,
+                },
             });
             self.scales.push(scales);
             self.order.push(k);
@@ -187,10 +225,13 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         }
     }
 
-    /// The entry of contact `k` and the bodies' Δu, borrowed apart.
+    /// The rows of contact `k` with the bodies' Δu, borrowed apart.
     #[inline(always)]
-    fn entry(&mut self, k: usize) -> (&Entry<D, R>, &mut [SVector<f64, D>]) {
-        (&self.entries[k], &mut self.delta_velocity)
+    fn rows(&mut self, k: usize) -> BodyRows<'_, D, R> {
+        BodyRows {
+            entry: &self.entries[k],
+            delta_velocity: &mut self.delta_velocity,
+        }
     }
 
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
@@ -200,8 +241,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// Changes λ_r of contact `k` by `delta` and updates the bodies' Δu to match.
     fn apply(&mut self, k: usize, r: usize, delta: f64) {
-        let (entry, delta_velocity) = self.entry(k);
-        entry.apply(delta_velocity, r, delta);
+        self.rows(k).apply(r, delta);
     }
 
     /// The full constraint velocity w of contact `k`, compliance included.
@@ -234,7 +274,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 let w = self.contact_velocity(problem, k, &lambda[k]);
                 constraint_residual(
                     problem.friction,
-                    &problem.contacts[k],
+                    problem.contacts[k].bounds,
+                    problem.contacts[k].mu,
                     &lambda[k],
                     &w,
                     &self.scales[k],
@@ -308,120 +349,117 @@ pub(super) fn visit<const D: usize, const R: usize>(
     k: usize,
     lambda: &mut SVector<f64, R>,
 ) {
-    match (problem.contacts[k].bounds, local) {
-        (RowBounds::Free, LocalSolve::Rows) => solve_free_rows(problem, workspace, k, lambda),
-        (RowBounds::Free, LocalSolve::Exact) => solve_free_exactly(problem, workspace, k, lambda),
-        (RowBounds::Contact, LocalSolve::Rows) => solve_contact(problem, workspace, k, lambda),
-        (RowBounds::Contact, LocalSolve::Exact) => {
-            solve_contact_exactly(problem, workspace, k, lambda)
+    let contact = &problem.contacts[k];
+    let law = workspace.entries[k].law;
+    if local == LocalSolve::Exact {
+        // q = w_now − A λ_now: the velocity the rest of the problem gives this constraint.
+        let q = workspace.contact_velocity(problem, k, lambda) - workspace.scales[k].block * *lambda;
+        let scales = workspace.scales[k];
+        let exact = visit_exactly(problem.friction, contact.bounds, &scales, &law, &q, &mut workspace.rows(k), lambda);
+        if !exact {
+            workspace.local_fallbacks += 1;
+        }
+        return;
+    }
+    let mut rows = workspace.rows(k);
+    match contact.bounds {
+        RowBounds::Free => solve_free_rows(&law, &mut rows, lambda),
+        RowBounds::Contact => {
+            solve_contact(problem.friction, &law, &contact.lambda0, &mut rows, lambda)
         }
     }
 }
 
-/// One contact's exact update: its own R × R problem solved for the others' current impulses
-/// (docs/contact.md §"Exact local solve").
-fn solve_contact_exactly<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    workspace: &mut PgsWorkspace<D, R>,
-    k: usize,
+/// One constraint's exact update: its own R × R problem, W_kk λ + q with q the velocity the
+/// rest of the problem gives it, solved for the others' current impulses (docs/contact.md
+/// §"Exact local solve"); a joint's block solved as a linear system, left as it is where the
+/// block is singular (a joint no impulse can move). Returns false where the contact's solve
+/// took its best candidate because no case was exact to round-off.
+pub(super) fn visit_exactly<const R: usize>(
+    friction: FrictionModel,
+    bounds: RowBounds,
+    scales: &RowScales<R>,
+    law: &RowLaw<R>,
+    q: &SVector<f64, R>,
+    rows: &mut impl ContactRows<R>,
     lambda: &mut SVector<f64, R>,
-) {
-    let contact = &problem.contacts[k];
-    let scales = &workspace.scales[k];
-    // q = w_now − A λ_now: the velocity the rest of the problem gives this contact.
-    let q = workspace.contact_velocity(problem, k, lambda) - scales.block * *lambda;
-    let (solution, exact) = solve_local(&scales.block, &q, contact.mu, problem.friction, scales);
-    if !exact {
-        workspace.local_fallbacks += 1;
-    }
+) -> bool {
+    let (solution, exact) = match bounds {
+        RowBounds::Contact => solve_local(&scales.block, q, law.mu, friction, scales),
+        RowBounds::Free => match super::local::solve_linear(&scales.block, &(-q)) {
+            Some(solution) => (solution, true),
+            None => return true,
+        },
+    };
     for r in 0..R {
-        workspace.apply(k, r, solution[r] - lambda[r]);
+        rows.apply(r, solution[r] - lambda[r]);
     }
     *lambda = solution;
+    exact
 }
 
 /// One joint's Gauss–Seidel update: each row in turn, unbounded, λ_r ← λ_r − w_r / a_r
 /// (docs/contact.md §"Row bounds").
-fn solve_free_rows<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    workspace: &mut PgsWorkspace<D, R>,
-    k: usize,
+pub(super) fn solve_free_rows<const R: usize>(
+    law: &RowLaw<R>,
+    rows: &mut impl ContactRows<R>,
     lambda: &mut SVector<f64, R>,
 ) {
-    let joint = &problem.contacts[k];
-    let diagonal = workspace.scales[k].diagonal;
+    let diagonal = law.diagonal;
     for r in 0..R {
         if diagonal[r] > 0.0 {
-            let w_r = workspace.row_velocity(k, r) + joint.row_compliance(r) * lambda[r];
+            let w_r = rows.velocity(r) + law.compliance * lambda[r];
             let delta = -w_r / diagonal[r];
-            workspace.apply(k, r, delta);
+            rows.apply(r, delta);
             lambda[r] += delta;
         }
     }
 }
 
-/// One joint's exact update: its R × R block solved, (A_kk + C_k) λ = −q, for the others'
-/// current impulses; left as it is when the block is singular (a joint no impulse can move).
-fn solve_free_exactly<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    workspace: &mut PgsWorkspace<D, R>,
-    k: usize,
+/// One contact's Gauss–Seidel update: normal row, then friction rows. `start` is the contact's
+/// warm start (read only by the deliberate fault `stale_friction_bound`).
+pub(super) fn solve_contact<const R: usize>(
+    friction: FrictionModel,
+    law: &RowLaw<R>,
+    start: &SVector<f64, R>,
+    rows: &mut impl ContactRows<R>,
     lambda: &mut SVector<f64, R>,
 ) {
-    let block = workspace.scales[k].block;
-    let q = workspace.contact_velocity(problem, k, lambda) - block * *lambda;
-    if let Some(solution) = super::local::solve_linear(&block, &(-q)) {
-        for r in 0..R {
-            workspace.apply(k, r, solution[r] - lambda[r]);
-        }
-        *lambda = solution;
-    }
-}
-
-/// One contact's Gauss–Seidel update: normal row, then friction rows.
-fn solve_contact<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    workspace: &mut PgsWorkspace<D, R>,
-    k: usize,
-    lambda: &mut SVector<f64, R>,
-) {
-    let (e, du) = workspace.entry(k);
-    let diagonal = &e.diagonal;
+    let diagonal = &law.diagonal;
 
     // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
     if diagonal[0] > 0.0 {
-        let w_n = e.velocity(du, 0) + e.compliance * lambda[0];
+        let w_n = rows.velocity(0) + law.compliance * lambda[0];
         let lambda_n = (lambda[0] - w_n / diagonal[0]).max(0.0);
-        e.apply(du, 0, lambda_n - lambda[0]);
+        rows.apply(0, lambda_n - lambda[0]);
         lambda[0] = lambda_n;
     }
 
     // Friction rows, bounded by μ times the normal impulse just computed.
     let bound = if crate::common::faults::fault!(stale_friction_bound) {
         // The deliberate bug: the bound from the starting λn instead of the one just computed.
-        let contact = &problem.contacts[k];
-        contact.mu * project_feasible(&contact.lambda0, contact.mu, problem.friction)[0]
+        law.mu * project_feasible(start, law.mu, friction)[0]
     } else {
-        e.mu * lambda[0]
+        law.mu * lambda[0]
     };
     if bound == 0.0 {
         // μ λn = 0 (no friction, or no normal impulse): the friction rows' bounds are [0, 0] and
         // their projection is 0, whatever their velocities.
         for r in 1..R {
             if lambda[r] != 0.0 {
-                e.apply(du, r, -lambda[r]);
+                rows.apply(r, -lambda[r]);
                 lambda[r] = 0.0;
             }
         }
         return;
     }
-    match problem.friction {
+    match friction {
         FrictionModel::Box => {
             for r in 1..R {
                 if diagonal[r] > 0.0 {
-                    let w_r = e.velocity(du, r);
+                    let w_r = rows.velocity(r);
                     let lambda_r = (lambda[r] - w_r / diagonal[r]).clamp(-bound, bound);
-                    e.apply(du, r, lambda_r - lambda[r]);
+                    rows.apply(r, lambda_r - lambda[r]);
                     lambda[r] = lambda_r;
                 } else {
                     lambda[r] = lambda[r].clamp(-bound, bound);
@@ -431,16 +469,16 @@ fn solve_contact<const D: usize, const R: usize>(
         FrictionModel::Cone => {
             // One projected-gradient step on the pair with the scalar step 1/ρ, then onto the
             // disk: a per-row step would converge to a point that is not the disk's solution.
-            let rho = e.tangent_rho;
+            let rho = law.tangent_rho;
             let mut trial = *lambda;
             if rho > 0.0 {
                 for r in 1..R {
-                    trial[r] = lambda[r] - e.velocity(du, r) / rho;
+                    trial[r] = lambda[r] - rows.velocity(r) / rho;
                 }
             }
             let projected = project_disk(&trial, bound);
             for r in 1..R {
-                e.apply(du, r, projected[r] - lambda[r]);
+                rows.apply(r, projected[r] - lambda[r]);
                 lambda[r] = projected[r];
             }
         }

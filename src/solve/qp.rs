@@ -25,7 +25,7 @@
 //! A joint's rows ([`RowBounds::Free`]) are in none of these sets: free variables of the same
 //! objective, whose optimality condition is w_r = 0.
 
-use crate::problem::{ContactProblem, RowBounds};
+use crate::problem::{ProblemView, RowBounds};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::SVector;
@@ -91,18 +91,18 @@ impl Default for QpSettings {
     }
 }
 
-/// f(λ) = ½ λᵀ(A + C)λ + bᵀλ = ½ λ·(w + b), computed through the bodies.
-pub fn objective<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+/// f(λ) = ½ λᵀ(A + C)λ + bᵀλ = ½ λ·(w + b), computed through the bodies (or W).
+pub fn objective<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> f64 {
     let w = problem.constraint_velocity(lambda);
-    problem
-        .contacts
+    let b = problem.dense_b();
+    lambda
         .iter()
-        .zip(lambda)
         .zip(&w)
-        .map(|((c, l), w)| 0.5 * l.dot(&(w + c.b)))
+        .enumerate()
+        .map(|(k, (l, w))| 0.5 * l.dot(&(w + b.fixed_rows::<R>(R * k))))
         .sum()
 }
 
@@ -123,12 +123,12 @@ pub fn diagonal_scaling(p: &nalgebra::DMatrix<f64>) -> Vec<f64> {
 /// Solves `problem` in the given formulation with clarabel. Errors only for malformed input
 /// (a fixed-bound list of the wrong length) or a clarabel set-up failure; a solve that does not
 /// reach `Solved` is reported in the status, not as an error.
-pub fn solve_qp<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+pub fn solve_qp<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     formulation: &QpFormulation,
     settings: &QpSettings,
 ) -> Result<QpSolution<R>, String> {
-    let k_count = problem.contacts.len();
+    let k_count = problem.count();
     let n = R * k_count;
     if let QpFormulation::BoxFixed(fixed) | QpFormulation::ConeFixed(fixed) = formulation
         && fixed.len() != k_count
@@ -151,7 +151,7 @@ pub fn solve_qp<const D: usize, const R: usize>(
     // Objective: P = A + C (clarabel keeps the upper triangle), q = b, in scaled variables
     // λ = S x with S = diag(1/√P_ii): P's diagonal becomes 1, so clarabel's absolute
     // tolerances mean the same for a 1 kg body and a 10 t one.
-    let p_dense = problem.dense_delassus() + problem.dense_compliance();
+    let p_dense = problem.dense_operator();
     let scale = diagonal_scaling(&p_dense);
     let (mut pi, mut pj, mut pv) = (Vec::new(), Vec::new(), Vec::new());
     for j in 0..n {
@@ -175,16 +175,10 @@ pub fn solve_qp<const D: usize, const R: usize>(
     // Constraints A x + s = b_c, s in the cones, rows grouped by cone in clarabel's order.
     let mut rows = ConstraintRows::default();
     // A joint's rows (free bounds) are in no cone: unconstrained variables of the objective.
-    let contacts = || {
-        problem
-            .contacts
-            .iter()
-            .enumerate()
-            .filter(|(_, c)| c.bounds == RowBounds::Contact)
-    };
+    let contacts = || (0..k_count).filter(|&k| problem.bounds(k) == RowBounds::Contact);
     if *formulation == QpFormulation::Frictionless {
         // Zero cone: λt = 0.
-        for (k, _) in contacts() {
+        for k in contacts() {
             for r in 1..R {
                 rows.row(&[(R * k + r, 1.0)], 0.0);
             }
@@ -193,12 +187,12 @@ pub fn solve_qp<const D: usize, const R: usize>(
     }
     // Non-negative cone: s = λn ≥ 0 (for the Anitescu cone too: with μ = 0 the cone alone would
     // leave λn free), and for fixed box bounds s = μλ̄n ∓ λt ≥ 0.
-    for (k, _) in contacts() {
+    for k in contacts() {
         rows.row(&[(R * k, -1.0)], 0.0);
     }
     if let QpFormulation::BoxFixed(fixed) = formulation {
-        for (k, contact) in contacts() {
-            let bound = contact.mu * fixed[k].max(0.0);
+        for k in contacts() {
+            let bound = problem.mu(k) * fixed[k].max(0.0);
             for r in 1..R {
                 rows.row(&[(R * k + r, 1.0)], bound);
                 rows.row(&[(R * k + r, -1.0)], bound);
@@ -211,10 +205,10 @@ pub fn solve_qp<const D: usize, const R: usize>(
         formulation,
         QpFormulation::ConeFixed(_) | QpFormulation::Cone
     ) {
-        for (k, contact) in contacts() {
+        for k in contacts() {
             match formulation {
-                QpFormulation::ConeFixed(fixed) => rows.row(&[], contact.mu * fixed[k].max(0.0)),
-                _ => rows.row(&[(R * k, -contact.mu)], 0.0),
+                QpFormulation::ConeFixed(fixed) => rows.row(&[], problem.mu(k) * fixed[k].max(0.0)),
+                _ => rows.row(&[(R * k, -problem.mu(k))], 0.0),
             }
             for r in 1..R {
                 rows.row(&[(R * k + r, -1.0)], 0.0);

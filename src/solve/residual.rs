@@ -13,7 +13,7 @@
 //! The residual is the largest of these over all rows, in m/s: "how fast some constraint is still
 //! being violated, or how far from its bound an impulse is, measured as a velocity".
 
-use crate::problem::{ContactProblem, FrictionModel, ProblemContact, RowBounds};
+use crate::problem::{FrictionModel, ProblemView, RowBounds};
 use nalgebra::{SMatrix, SVector};
 
 /// The scales of one contact's rows that PGS steps with and the residual measures with.
@@ -51,20 +51,25 @@ pub fn tangent_eigenvalue<const R: usize>(a: &SMatrix<f64, R, R>) -> f64 {
     }
 }
 
-/// The row scales of contact `k`.
-pub fn row_scales<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+impl<const R: usize> RowScales<R> {
+    /// The scales of a constraint whose diagonal block (compliance included) is `block`: its
+    /// diagonal, and ρ from the block's symmetric part (the block itself where it is symmetric,
+    /// as every block of a run's problem is; a local problem's W need not be).
+    pub fn of_block(block: SMatrix<f64, R, R>) -> RowScales<R> {
+        RowScales {
+            diagonal: block.diagonal(),
+            tangent_rho: tangent_eigenvalue(&((block + block.transpose()) * 0.5)),
+            block,
+        }
+    }
+}
+
+/// The row scales of constraint `k` of `problem` (either form).
+pub fn row_scales<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     k: usize,
 ) -> RowScales<R> {
-    let mut block = problem.delassus_block(k);
-    for r in 0..R {
-        block[(r, r)] += problem.contacts[k].row_compliance(r);
-    }
-    RowScales {
-        diagonal: block.diagonal(),
-        tangent_rho: tangent_eigenvalue(&block),
-        block,
-    }
+    RowScales::of_block(problem.block(k))
 }
 
 /// One contact's residual (m/s) for impulse `lambda` and constraint velocity `w`.
@@ -122,31 +127,34 @@ pub fn free_residual<const R: usize>(w: &SVector<f64, R>) -> f64 {
 
 /// One constraint's residual (m/s): [`contact_residual`] for a contact, [`free_residual`] for a
 /// joint.
-pub fn constraint_residual<const D: usize, const R: usize>(
+pub fn constraint_residual<const R: usize>(
     friction: FrictionModel,
-    constraint: &ProblemContact<D, R>,
+    bounds: RowBounds,
+    mu: f64,
     lambda: &SVector<f64, R>,
     w: &SVector<f64, R>,
     scales: &RowScales<R>,
 ) -> f64 {
-    match constraint.bounds {
-        RowBounds::Contact => contact_residual(friction, constraint.mu, lambda, w, scales),
+    match bounds {
+        RowBounds::Contact => contact_residual(friction, mu, lambda, w, scales),
         RowBounds::Free => free_residual(w),
     }
 }
 
-/// The residual of impulses `lambda` for `problem` (m/s): the largest row residual, 0 for a
-/// problem without contacts. Allocates; PGS computes the same number from its workspace.
-pub fn residual<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+/// The residual of impulses `lambda` for `problem` (m/s, either form): the largest row
+/// residual, 0 for a problem without contacts. Allocates; PGS computes the same number from its
+/// workspace.
+pub fn residual<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> f64 {
     let w = problem.constraint_velocity(lambda);
-    (0..problem.contacts.len())
+    (0..problem.count())
         .map(|k| {
             constraint_residual(
-                problem.friction,
-                &problem.contacts[k],
+                problem.friction(),
+                problem.bounds(k),
+                problem.mu(k),
                 &lambda[k],
                 &w[k],
                 &row_scales(problem, k),
@@ -201,26 +209,58 @@ pub fn coulomb_scale<const R: usize>(scales: &RowScales<R>) -> f64 {
     if trace > 0.0 { trace } else { 1.0 }
 }
 
-/// The exact Coulomb law's residual of impulses `lambda` for `problem` (m/s): the largest
-/// [`contact_coulomb_residual`] over the contacts, whatever the problem's friction model (for box
-/// friction it says how far the box answer is from Coulomb's law). Allocates.
-pub fn coulomb_residual<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+/// The exact Coulomb law's residual of impulses `lambda` for `problem` (m/s, either form): the
+/// largest [`contact_coulomb_residual`] over the contacts, whatever the problem's friction model
+/// (for box friction it says how far the box answer is from Coulomb's law). Allocates.
+pub fn coulomb_residual<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> f64 {
     let w = problem.constraint_velocity(lambda);
-    (0..problem.contacts.len())
+    (0..problem.count())
         .map(|k| {
-            let scales = row_scales(problem, k);
-            if problem.contacts[k].bounds == RowBounds::Free {
+            if problem.bounds(k) == RowBounds::Free {
                 return free_residual(&w[k]);
             }
-            contact_coulomb_residual(
-                problem.contacts[k].mu,
-                &lambda[k],
-                &w[k],
-                coulomb_scale(&scales),
-            )
+            let scales = row_scales(problem, k);
+            contact_coulomb_residual(problem.mu(k), &lambda[k], &w[k], coulomb_scale(&scales))
         })
         .fold(0.0, f64::max)
+}
+
+/// Siconos' error of impulses `lambda` for `problem` (either form), the measure of Acary,
+/// Brémond and Huber (2018) and of Siconos' `fc3d_compute_error` (docs/problem-library.md
+/// §"Siconos' error measure"): with w = W λ + q and ŵ De Saxcé's velocity per contact,
+///
+///   error = √(Σ_k ‖λ_k − proj_K(λ_k − ŵ_k)‖²) / max(‖q‖, ‖λ‖, ‖w‖)
+///
+/// (the unit-scale natural map, summed in the 2-norm, relative; not divided where the
+/// denominator is below machine epsilon). A joint's rows count with ‖w_k‖². Dimensionless only
+/// where λ and w are of comparable size: it mixes N·s and m/s, as Siconos does.
+pub fn siconos_error<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
+    lambda: &[SVector<f64, R>],
+) -> f64 {
+    let w = problem.constraint_velocity(lambda);
+    let mut sum = 0.0;
+    for k in 0..problem.count() {
+        sum += match problem.bounds(k) {
+            RowBounds::Free => w[k].norm_squared(),
+            RowBounds::Contact => {
+                let mu = problem.mu(k);
+                let wt = (1..R).map(|r| w[k][r] * w[k][r]).sum::<f64>().sqrt();
+                let mut w_hat = w[k];
+                w_hat[0] += mu * wt;
+                (lambda[k] - project_cone(&(lambda[k] - w_hat), mu)).norm_squared()
+            }
+        };
+    }
+    let norm = |v: &[SVector<f64, R>]| v.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt();
+    let scale = problem.dense_b().norm().max(norm(lambda)).max(norm(&w));
+    let error = sum.sqrt();
+    if scale > f64::EPSILON {
+        error / scale
+    } else {
+        error
+    }
 }

@@ -152,7 +152,7 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
         tangent_rho: super::residual::tangent_eigenvalue(&block),
         block,
     };
-    workspace.entries[k].diagonal = scales.diagonal;
-    workspace.entries[k].tangent_rho = scales.tangent_rho;
+    workspace.entries[k].law.diagonal = scales.diagonal;
+    workspace.entries[k].law.tangent_rho = scales.tangent_rho;
     workspace.scales[k] = scales;
 }

@@ -9,7 +9,9 @@
 //!   viewer and the plot files, SVG or PNG through [`pixmap_backend`] (docs/viewing.md);
 //! - [`bench`]: rigidref and the rapier3d mirror timed side by side (docs/performance.md);
 //! - [`compare`], [`compare_problem`], [`grade`]: another simulator's traces and contact
-//!   problems against the reference's, one submission or a batch (docs/grading.md).
+//!   problems against the reference's, one submission or a batch (docs/grading.md);
+//! - [`problem_library`]: a library of contact problems (Siconos', FCLIB's, rigidref's) solved
+//!   by several solvers, with a performance profile (docs/problem-library.md).
 
 pub mod bench;
 pub mod compare;
@@ -19,6 +21,7 @@ pub mod grade;
 pub mod nuts;
 pub mod pixmap_backend;
 pub mod plot;
+pub mod problem_library;
 pub mod render2d;
 pub mod render3d;
 pub mod scaling;

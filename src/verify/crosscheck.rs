@@ -12,14 +12,11 @@
 //! solution is reported ([`ExactReference`]), so that a problem PGS cannot converge on still
 //! says how wrong the plain solver was.
 
-use crate::problem::{ContactProblem, FrictionModel, RowBounds};
+use crate::problem::{FrictionModel, ProblemView, RowBounds};
 use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::residual::coulomb_residual;
-use crate::solve::{
-    LocalSolve, NewtonSettings, NewtonWorkspace, PgsSettings, PgsWorkspace, SolveReport, Solver,
-    residual, solve_newton, solve_pgs,
-};
+use crate::solve::{LocalSolve, NewtonSettings, PgsSettings, Solvable, SolveReport, Solver, residual};
 use nalgebra::{DMatrix, DVector, SVector};
 use serde::Serialize;
 
@@ -158,8 +155,8 @@ fn norm<const R: usize>(v: &[SVector<f64, R>]) -> f64 {
 /// (`AlmostSolved`, or a failure), again at a tolerance 10× looser; the answer with the smaller
 /// residual is kept. Interior-point methods stall short of very tight tolerances on some nearly
 /// degenerate problems, and a clean solve at 1e-9 is better than a stalled one at 1e-10.
-fn solve_precisely<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+fn solve_precisely<const R: usize, P: ProblemView<R>>(
+    problem: &P,
     formulation: &QpFormulation,
     settings: &QpSettings,
 ) -> Result<crate::solve::qp::QpSolution<R>, String> {
@@ -209,8 +206,8 @@ fn project_feasible<const R: usize>(
 /// L = its largest eigenvalue, m > 0 its smallest on the free rows (the subspace K lies in) and
 /// r = λ − Π_K(λ − (Hλ + b)/L), ‖λ − λ*‖ ≤ (2 + m/L)(L/m) ‖r‖. It needs nothing of how λ was
 /// found, so it says how far clarabel's answer can be from the true one.
-fn distance_bound<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+fn distance_bound<const R: usize, P: ProblemView<R>>(
+    problem: &P,
     formulation: &QpFormulation,
     hessian: &DMatrix<f64>,
     lambda: &[SVector<f64, R>],
@@ -219,9 +216,9 @@ fn distance_bound<const D: usize, const R: usize>(
     let flat = DVector::from_iterator(R * lambda.len(), lambda.iter().flatten().copied());
     let w = hessian * &flat + problem.dense_b();
     let mut r2 = 0.0;
-    for (k, (c, x)) in problem.contacts.iter().zip(lambda).enumerate() {
+    for (k, x) in lambda.iter().enumerate() {
         let step = x - SVector::<f64, R>::from_fn(|r, _| w[R * k + r] / l);
-        let r = x - project_feasible(formulation, c.mu, k, &step, c.bounds);
+        let r = x - project_feasible(formulation, problem.mu(k), k, &step, problem.bounds(k));
         r2 += r.norm_squared();
     }
     (2.0 + m / l) * (l / m) * r2.sqrt()
@@ -229,8 +226,8 @@ fn distance_bound<const D: usize, const R: usize>(
 
 /// Checks `problem` with the solver under test solving it ([`CrosscheckSettings::solver`]: PGS
 /// to convergence, or Newton) against clarabel, and with PGS also against the exact solver.
-pub fn check_problem<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+pub fn check_problem<const R: usize, P: Solvable<R>>(
+    problem: &P,
     settings: &CrosscheckSettings,
 ) -> Result<ProblemCheck, String> {
     check_step(problem, settings, None)
@@ -239,37 +236,38 @@ pub fn check_problem<const D: usize, const R: usize>(
 /// Checks one solve of a run: as [`check_problem`], with the step's λ and report. With the
 /// Newton solver under test the step's λ is the answer checked (it is what the run applied);
 /// with PGS, PGS is run to convergence and the step's λ is measured against the exact solution.
-pub fn check_step<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+pub fn check_step<const R: usize, P: Solvable<R>>(
+    problem: &P,
     settings: &CrosscheckSettings,
     step: Option<(&[SVector<f64, R>], &SolveReport)>,
 ) -> Result<ProblemCheck, String> {
     problem.validate()?;
+    let hessian = problem.dense_operator();
+    let asymmetry = (&hessian - hessian.transpose()).amax() / hessian.amax().max(1e-300);
+    // 1e-9: a run's W is symmetric to round-off (its off-diagonal blocks are computed apart).
+    if asymmetry > 1e-9 {
+        return Err(format!(
+            "W is not symmetric (max |W − Wᵀ| / max |W| = {asymmetry:.1e}): clarabel's convex \
+             program would answer for its symmetric part, a different problem; solve it with \
+             `rigidref solve-problems` instead"
+        ));
+    }
     let mut lambda = Vec::new();
     let report = match (settings.solver, step) {
         (Solver::Newton, Some((step_lambda, step_report))) => {
             lambda.extend_from_slice(step_lambda);
             *step_report
         }
-        (Solver::Newton, None) => solve_newton(
-            problem,
-            &settings.newton,
-            &mut NewtonWorkspace::default(),
-            &mut lambda,
-        ),
-        (Solver::Pgs, _) => solve_pgs(
-            problem,
-            &settings.pgs,
-            &mut PgsWorkspace::new(0),
-            &mut lambda,
-        ),
+        (Solver::Newton, None) => problem.newton(&settings.newton, &mut lambda),
+        (Solver::Pgs, _) => problem.pgs(&settings.pgs, &mut lambda),
     };
     let exact = (settings.solver == Solver::Pgs)
         .then(|| exact_reference(problem, &settings.newton, &lambda, step.map(|(l, _)| l)));
+    let count = problem.count();
     let frictionless =
-        (problem.contacts.iter()).all(|c| c.mu == 0.0 || c.bounds == RowBounds::Free);
+        (0..count).all(|k| problem.mu(k) == 0.0 || problem.bounds(k) == RowBounds::Free);
     let fixed: Vec<f64> = lambda.iter().map(|l| l[0]).collect();
-    let formulation = match (frictionless, problem.friction) {
+    let formulation = match (frictionless, problem.friction()) {
         (true, _) => QpFormulation::Frictionless,
         (false, FrictionModel::Box) => QpFormulation::BoxFixed(fixed),
         (false, FrictionModel::Cone) => QpFormulation::ConeFixed(fixed),
@@ -277,17 +275,15 @@ pub fn check_step<const D: usize, const R: usize>(
     let qp = solve_precisely(problem, &formulation, &settings.qp)?;
 
     // Free rows: the normal rows, and the friction rows whose bound is not zero.
-    let free: Vec<usize> = (0..problem.contacts.len())
+    let free: Vec<usize> = (0..count)
         .flat_map(|k| {
-            let c = &problem.contacts[k];
-            let bound = c.mu * lambda[k][0];
-            let joint = c.bounds == RowBounds::Free;
+            let bound = problem.mu(k) * lambda[k][0];
+            let joint = problem.bounds(k) == RowBounds::Free;
             (0..R)
                 .filter(move |&r| joint || r == 0 || (!frictionless && bound > 0.0))
                 .map(move |r| R * k + r)
         })
         .collect();
-    let hessian = problem.dense_delassus() + problem.dense_compliance();
     let restricted: DMatrix<f64> = hessian.select_rows(&free).select_columns(&free);
     let eigenvalues = restricted.symmetric_eigenvalues();
     let unique = eigenvalues.is_empty()
@@ -335,7 +331,7 @@ pub fn check_step<const D: usize, const R: usize>(
         Some(u) if u <= settings.lambda_uncertainty_limit => Comparison::Lambda,
         _ => Comparison::Objective,
     };
-    let anitescu = if !frictionless && problem.friction == FrictionModel::Cone {
+    let anitescu = if !frictionless && problem.friction() == FrictionModel::Cone {
         let relaxed = solve_precisely(problem, &QpFormulation::Cone, &settings.qp)?;
         let d: Vec<SVector<f64, R>> = lambda
             .iter()
@@ -353,7 +349,7 @@ pub fn check_step<const D: usize, const R: usize>(
         None
     };
     Ok(ProblemCheck {
-        contacts: problem.contacts.len(),
+        contacts: count,
         formulation: formulation.name(),
         comparison,
         lambda_difference,
@@ -365,7 +361,7 @@ pub fn check_step<const D: usize, const R: usize>(
             Comparison::Objective => objective_gap,
         },
         residual_answer: residual(problem, &lambda),
-        coulomb_residual_answer: (problem.friction == FrictionModel::Cone)
+        coulomb_residual_answer: (problem.friction() == FrictionModel::Cone)
             .then(|| coulomb_residual(problem, &lambda)),
         pgs_local_solve: settings.pgs.local.name(),
         residual_qp: residual(problem, &qp.lambda),
@@ -380,29 +376,24 @@ pub fn check_step<const D: usize, const R: usize>(
 
 /// The exact solver's solution of `problem` and the distances of `answer` and of the step's λ
 /// to it, in the bodies' velocities after the impulses (u⁺ = u + M⁻¹Jᵀλ).
-fn exact_reference<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
+fn exact_reference<const R: usize, P: Solvable<R>>(
+    problem: &P,
     settings: &NewtonSettings,
     answer: &[SVector<f64, R>],
     step: Option<&[SVector<f64, R>]>,
 ) -> ExactReference {
     let mut exact = Vec::new();
-    let report = solve_newton(
-        problem,
-        settings,
-        &mut NewtonWorkspace::default(),
-        &mut exact,
-    );
-    let exact_change = problem.velocity_change(&exact);
+    let report = problem.newton(settings, &mut exact);
+    let exact_outcome = problem.outcome(&exact);
     let distance = |lambda: &[SVector<f64, R>]| {
         problem
-            .velocity_change(lambda)
+            .outcome(lambda)
             .iter()
-            .zip(&exact_change)
-            .map(|(a, b)| (a - b).amax())
+            .zip(&exact_outcome)
+            .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max)
     };
-    let cone = problem.friction == FrictionModel::Cone;
+    let cone = problem.friction() == FrictionModel::Cone;
     ExactReference {
         method: report.method.name(),
         converged: report.converged,

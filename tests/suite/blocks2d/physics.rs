@@ -259,12 +259,16 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
             } else if p.extension().is_some_and(|e| e == "rs") {
                 definitions += std::fs::read_to_string(&p)
                     .unwrap()
-                    .matches("fn solve_pgs")
+                    .matches("fn solve_pgs<")
                     .count();
             }
         }
     }
     assert_eq!(definitions, 1, "one PGS implementation");
+    // The local form's PGS (W, q) visits with the same functions; it defines none of its own.
+    let local = read("src/solve/pgs_delassus.rs");
+    assert!(local.contains("solve_contact(") && local.contains("visit_exactly("));
+    assert!(!local.contains("fn solve_contact") && !local.contains("fn visit_exactly"));
     // In behaviour: re-solving a 2D world's last problem with that function gives its impulses.
     let groups = vec![
         BlockGroup {

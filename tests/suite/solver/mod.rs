@@ -3,6 +3,7 @@
 mod coulomb;
 mod criteria;
 mod derivations;
+mod local_form;
 mod local_solve;
 mod newton;
 mod pgs;

@@ -1,0 +1,360 @@
+//! Solving a library of contact problems in local form (Siconos `.dat`, rigidref's own problem
+//! files of either form), each with several solvers, judged alike: `rigidref solve-problems`.
+//! docs/problem-library.md.
+//!
+//! Every solver stops on the same criterion, Siconos' error measure
+//! ([`crate::solve::residual::siconos_error`]) at or below the tolerance, checked after every
+//! PGS sweep and at every Newton iterate, so that iterations and times compare like with like
+//! (as in Acary, Brémond and Huber 2018). The comparison is summed up by a Dolan–Moré
+//! performance profile: for solver s, ρ_s(τ) is the fraction of problems it solved within τ
+//! times the fastest solver's time on that problem.
+
+use crate::problem::local_json::AnyProblemFile;
+use crate::problem::siconos::{AnyLocalProblem, read_dat};
+use crate::problem::{ContactCriteria, LocalProblem};
+use crate::solve::criteria::criteria;
+use crate::solve::residual::{coulomb_residual, residual, siconos_error};
+use crate::solve::{
+    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
+    solve_pgs_local_until,
+};
+use nalgebra::SVector;
+use std::path::Path;
+use std::time::Instant;
+
+/// A solver of the comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum LibrarySolver {
+    /// PGS with row-by-row visits (the assignment's), in problem order.
+    Pgs,
+    /// PGS with exact local solves (Siconos' NSGS), in problem order.
+    PgsExact,
+    /// The Newton solver (semismooth Newton on the Alart–Curnier function with its fallbacks).
+    Newton,
+}
+
+impl LibrarySolver {
+    /// The spelling in tables and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            LibrarySolver::Pgs => "pgs",
+            LibrarySolver::PgsExact => "pgs-exact",
+            LibrarySolver::Newton => "newton",
+        }
+    }
+}
+
+/// Limits of each solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LibrarySettings {
+    /// Converged where Siconos' error is at or below this (relative, dimensionless).
+    pub tolerance: f64,
+    /// PGS sweeps at most (default 20 000, as the reference runs of Siconos' NSGS).
+    pub sweeps: u32,
+    /// Newton iterations at most per run before its fallbacks (default 200).
+    pub newton_iterations: u32,
+}
+
+impl Default for LibrarySettings {
+    fn default() -> Self {
+        LibrarySettings {
+            tolerance: 1e-8,
+            sweeps: 20_000,
+            newton_iterations: 200,
+        }
+    }
+}
+
+/// One solver's result on one problem.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Attempt {
+    /// Which solver.
+    pub solver: LibrarySolver,
+    /// Siconos' error at or below the tolerance.
+    pub converged: bool,
+    /// PGS sweeps, or Newton iterations (fallbacks included).
+    pub iterations: u32,
+    /// Wall time of the solve, s (the problem's reading excluded).
+    pub seconds: f64,
+    /// Siconos' error of the answer (relative).
+    pub error: f64,
+    /// rigidref's residual of the answer, m/s (docs/contact.md §"Residual").
+    pub residual: f64,
+    /// The exact Coulomb residual of the answer, m/s.
+    pub coulomb_residual: f64,
+    /// The worst physical criteria over the contacts (docs/contact.md §"Physical criteria").
+    pub criteria: ContactCriteria,
+    /// For Newton: `newton` or `proximal` (which produced the answer).
+    pub method: &'static str,
+}
+
+/// One problem of the library and every solver's attempt.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct LibraryEntry {
+    /// The file's name.
+    pub name: String,
+    /// Rows per contact (3 or 2).
+    pub dimension: usize,
+    /// Contacts.
+    pub contacts: usize,
+    /// Blocks of W stored.
+    pub blocks: usize,
+    /// max |W − Wᵀ| / max |W|.
+    pub asymmetry: f64,
+    /// One per solver asked for, in that order.
+    pub attempts: Vec<Attempt>,
+}
+
+/// Reads a problem for the library: a Siconos `.dat` file, or a rigidref problem file (JSON,
+/// either form; the body form converted by [`crate::problem::ContactProblem::to_local`]).
+/// Errors name the file.
+pub fn load(path: &Path) -> Result<AnyLocalProblem, String> {
+    let name = path.display();
+    crate::common::input::check_size(path).map_err(|e| format!("{name}: {e}"))?;
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("dat") => read_dat(path),
+        Some("json") => {
+            let file = AnyProblemFile::read(path)?;
+            match file.rows_per_contact() {
+                3 => file.to_local::<3>().map(AnyLocalProblem::Three),
+                2 => file.to_local::<2>().map(AnyLocalProblem::Two),
+                r => Err(format!("rows_per_contact {r}: 3 (3D) or 2 (2D)")),
+            }
+            .map_err(|e| if e.starts_with(&name.to_string()) { e } else { format!("{name}: {e}") })
+        }
+        Some("hdf5" | "h5") => Err(format!(
+            "{name}: FCLIB HDF5 files are not read yet (docs/problem-library.md §\"FCLIB\"); \
+             convert it to Siconos' .dat text first"
+        )),
+        _ => Err(format!(
+            "{name}: not a problem file rigidref reads (.dat: Siconos' text; .json: rigidref's \
+             contact-problem file)"
+        )),
+    }
+}
+
+/// Solves `problem` with every solver of `solvers` and records what each did.
+pub fn solve_entry(
+    name: &str,
+    problem: &AnyLocalProblem,
+    solvers: &[LibrarySolver],
+    settings: &LibrarySettings,
+) -> LibraryEntry {
+    match problem {
+        AnyLocalProblem::Three(p) => entry(name, p, solvers, settings),
+        AnyLocalProblem::Two(p) => entry(name, p, solvers, settings),
+    }
+}
+
+fn entry<const R: usize>(
+    name: &str,
+    problem: &LocalProblem<R>,
+    solvers: &[LibrarySolver],
+    settings: &LibrarySettings,
+) -> LibraryEntry {
+    LibraryEntry {
+        name: name.to_string(),
+        dimension: R,
+        contacts: problem.contacts.len(),
+        blocks: problem.blocks(),
+        asymmetry: problem.asymmetry(),
+        attempts: solvers
+            .iter()
+            .map(|&s| attempt(problem, s, settings))
+            .collect(),
+    }
+}
+
+/// One solver on one problem, stopped on Siconos' error.
+pub fn attempt<const R: usize>(
+    problem: &LocalProblem<R>,
+    solver: LibrarySolver,
+    settings: &LibrarySettings,
+) -> Attempt {
+    let tolerance = settings.tolerance;
+    let mut stop = |lambda: &[SVector<f64, R>]| siconos_error(problem, lambda) <= tolerance;
+    let mut lambda = Vec::new();
+    let started = Instant::now();
+    let report = match solver {
+        LibrarySolver::Pgs | LibrarySolver::PgsExact => {
+            let pgs = PgsSettings {
+                max_iterations: settings.sweeps,
+                tolerance: None,
+                order: ContactOrder::Sequential,
+                local: if solver == LibrarySolver::Pgs {
+                    LocalSolve::Rows
+                } else {
+                    LocalSolve::Exact
+                },
+            };
+            solve_pgs_local_until(problem, &pgs, 0, &mut stop, &mut lambda)
+        }
+        LibrarySolver::Newton => {
+            let newton = NewtonSettings {
+                max_iterations: settings.newton_iterations,
+                ..NewtonSettings::default()
+            };
+            solve_newton_local_until(problem, &newton, &mut stop, &mut lambda)
+        }
+    };
+    let seconds = started.elapsed().as_secs_f64();
+    let error = siconos_error(problem, &lambda);
+    Attempt {
+        solver,
+        converged: error <= tolerance,
+        iterations: report.iterations,
+        seconds,
+        error,
+        residual: residual(problem, &lambda),
+        coulomb_residual: coulomb_residual(problem, &lambda),
+        criteria: criteria(problem, &lambda).1,
+        method: report.method.name(),
+    }
+}
+
+/// The entries as a Markdown table: per problem its size and, per solver, converged or not,
+/// iterations, time and Siconos' error; then per solver how many it solved.
+pub fn markdown_table(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> String {
+    let mut s = String::from("| problem | contacts | asymmetry |");
+    for solver in solvers {
+        s += &format!(" {} | iter | time (s) | error |", solver.name());
+    }
+    s += "\n|---|---:|---:|";
+    for _ in solvers {
+        s += "---|---:|---:|---:|";
+    }
+    s += "\n";
+    for e in entries {
+        s += &format!("| {} | {} | {:.0e} |", e.name, e.contacts, e.asymmetry);
+        for a in &e.attempts {
+            s += &format!(
+                " {} | {} | {:.3e} | {:.1e} |",
+                if a.converged { "yes" } else { "**no**" },
+                a.iterations,
+                a.seconds,
+                a.error
+            );
+        }
+        s += "\n";
+    }
+    s += &format!("| **solved** | {} problems | |", entries.len());
+    for (i, _) in solvers.iter().enumerate() {
+        let solved = entries.iter().filter(|e| e.attempts[i].converged).count();
+        s += &format!(" **{solved}** | | | |");
+    }
+    s + "\n"
+}
+
+/// A Dolan–Moré performance profile: per solver, the ratios r_p = t_p / min_s t_p,s of the
+/// problems it solved, sorted (∞ for the ones it did not solve are left out), and the number of
+/// problems. ρ_s(τ) = #{p : r_p ≤ τ} / problems.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Profile {
+    /// Problems in the profile (those some solver solved count; the others count as failures
+    /// of every solver).
+    pub problems: usize,
+    /// Per solver (in the order asked), its sorted ratios.
+    pub ratios: Vec<(LibrarySolver, Vec<f64>)>,
+}
+
+impl Profile {
+    /// The profile of `entries` (times below 1 µs count as 1 µs, so that a solve too fast to
+    /// time does not make every other one infinitely slower).
+    pub fn of(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> Profile {
+        const FLOOR: f64 = 1e-6;
+        let mut ratios: Vec<(LibrarySolver, Vec<f64>)> =
+            solvers.iter().map(|&s| (s, Vec::new())).collect();
+        for e in entries {
+            let best = e
+                .attempts
+                .iter()
+                .filter(|a| a.converged)
+                .map(|a| a.seconds.max(FLOOR))
+                .fold(f64::INFINITY, f64::min);
+            for (i, a) in e.attempts.iter().enumerate() {
+                if a.converged {
+                    ratios[i].1.push(a.seconds.max(FLOOR) / best);
+                }
+            }
+        }
+        for (_, r) in &mut ratios {
+            r.sort_by(f64::total_cmp);
+        }
+        Profile {
+            problems: entries.len(),
+            ratios,
+        }
+    }
+
+    /// ρ_s(τ) for the solver at `index`.
+    pub fn fraction(&self, index: usize, tau: f64) -> f64 {
+        if self.problems == 0 {
+            return 0.0;
+        }
+        let solved = self.ratios[index].1.iter().filter(|&&r| r <= tau).count();
+        solved as f64 / self.problems as f64
+    }
+
+    /// The largest finite ratio (at least 2, so the plot has a width).
+    pub fn largest_ratio(&self) -> f64 {
+        self.ratios
+            .iter()
+            .flat_map(|(_, r)| r.iter().copied())
+            .fold(2.0, f64::max)
+    }
+
+    /// Draws the profile as an SVG: ρ_s(τ) against log₂ τ, one step line per solver.
+    pub fn svg(&self, title: &str) -> Result<String, String> {
+        use plotters::prelude::*;
+        let mut text = String::new();
+        {
+            let root = SVGBackend::with_string(&mut text, (800, 500)).into_drawing_area();
+            root.fill(&WHITE).map_err(|e| e.to_string())?;
+            let top = self.largest_ratio().log2().ceil().max(1.0);
+            let mut chart = ChartBuilder::on(&root)
+                .caption(title, ("sans-serif", 20))
+                .margin(15)
+                .x_label_area_size(45)
+                .y_label_area_size(55)
+                .build_cartesian_2d(0.0..top * 1.05, 0.0..1.02)
+                .map_err(|e| e.to_string())?;
+            chart
+                .configure_mesh()
+                .x_desc("log₂ τ (time within τ × the fastest solver's)")
+                .y_desc("ρ(τ): fraction of problems solved")
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (i, (solver, ratios)) in self.ratios.iter().enumerate() {
+                let colour = crate::tools::plot::COLOURS[i % crate::tools::plot::COLOURS.len()];
+                // A step function: it rises at each ratio.
+                let mut points = vec![(0.0, self.fraction(i, 1.0))];
+                for &r in ratios {
+                    let x = r.log2();
+                    if x > 0.0 {
+                        points.push((x, points.last().map_or(0.0, |p| p.1)));
+                        points.push((x, self.fraction(i, r)));
+                    }
+                }
+                points.push((top * 1.05, self.fraction(i, f64::INFINITY)));
+                let solved = ratios.len();
+                chart
+                    .draw_series(LineSeries::new(points, colour.stroke_width(2)))
+                    .map_err(|e| e.to_string())?
+                    .label(format!("{} ({solved}/{})", solver.name(), self.problems))
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                    });
+            }
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::LowerRight)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(|e| e.to_string())?;
+            root.present().map_err(|e| e.to_string())?;
+        }
+        Ok(text)
+    }
+}

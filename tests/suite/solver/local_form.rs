@@ -1,0 +1,276 @@
+//! The local (Delassus) form (docs/contact.md §"The local form") and Siconos' problem files
+//! (docs/problem-library.md): W from a run's problem, the solvers on both forms, the file
+//! variant, the `.dat` reader against the text, and the solvers on Siconos' small problems to
+//! 1e-8 in Siconos' measure.
+
+use crate::common;
+
+use common::problems::{build, physical_spec};
+use nalgebra::{DMatrix, DVector, SVector};
+use proptest::prelude::*;
+use rigidref::problem::local_json::{AnyProblemFile, LocalProblemFile};
+use rigidref::problem::siconos::{AnyLocalProblem, parse_dat, read_dat, write_dat};
+use rigidref::problem::{FrictionModel, LocalProblem, ProblemView};
+use rigidref::solve::residual::{coulomb_residual, residual, siconos_error};
+use rigidref::solve::{
+    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, Solvable, solve_newton_local,
+    solve_pgs_local,
+};
+
+fn data(name: &str) -> std::path::PathBuf {
+    common::project_root().join("tests/data/siconos").join(name)
+}
+
+fn three(name: &str) -> LocalProblem<3> {
+    match read_dat(&data(name)).unwrap() {
+        AnyLocalProblem::Three(p) => p,
+        AnyLocalProblem::Two(_) => panic!("{name}: 2D"),
+    }
+}
+
+fn pgs_settings(local: LocalSolve, sweeps: u32, tolerance: Option<f64>) -> PgsSettings {
+    PgsSettings {
+        max_iterations: sweeps,
+        tolerance,
+        order: ContactOrder::Sequential,
+        local,
+    }
+}
+
+#[test]
+fn the_local_form_of_a_run_problem_is_j_minv_jt_plus_c_and_b() {
+    proptest!(common::seeded(60), |(s in physical_spec(1..5, 1..8), c in 0.0..1e-2f64, mu in 0.0..1.0f64)| {
+        let problem = build(&s, mu, c, FrictionModel::Cone);
+        let local = problem.to_local();
+        let dense = problem.dense_delassus() + problem.dense_compliance();
+        let w = local.dense_w();
+        // 1e-12 of the largest entry: the blocks and the dense product sum the same terms in
+        // another order.
+        let scale = dense.amax().max(1e-300);
+        prop_assert!((&w - &dense).amax() <= 1e-12 * scale, "{}", (&w - &dense).amax() / scale);
+        prop_assert_eq!(local.dense_q(), problem.dense_b());
+        // Blocks only where two contacts share a body, and every diagonal block.
+        for (k, contact) in local.contacts.iter().enumerate() {
+            for (j, _) in &contact.row {
+                let share = j == &k || problem.contacts[k].bodies.iter().flatten()
+                    .any(|b| problem.contacts[*j].bodies.contains(&Some(*b)));
+                prop_assert!(share, "block ({k}, {j}) of contacts that share no body");
+            }
+        }
+        prop_assert!(local.validate().is_ok());
+        prop_assert!(local.asymmetry() <= 1e-14);
+    });
+}
+
+#[test]
+fn solvers_give_the_same_answer_on_both_forms() {
+    // PGS visits in the same order with the same arithmetic up to where w comes from (Δu or W):
+    // equal to round-off. Newton iterates on the local form in both cases: the same λ, except
+    // where the acceptance test (through the bodies, or through W) differs in its last bits.
+    proptest!(common::seeded(60), |(s in physical_spec(1..4, 1..7), mu in 0.0..1.0f64, cone: bool)| {
+        let friction = if cone { FrictionModel::Cone } else { FrictionModel::Box };
+        let problem = build(&s, mu, 1e-3, friction);
+        let local = problem.to_local();
+        for visit in [LocalSolve::Rows, LocalSolve::Exact] {
+            let settings = pgs_settings(visit, 30, None);
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            let ra = problem.pgs(&settings, &mut a);
+            let rb = local.pgs(&settings, &mut b);
+            let scale = a.iter().map(|l| l.amax()).fold(1e-3, f64::max);
+            for (x, y) in a.iter().zip(&b) {
+                // 1e-9 of the largest impulse: 30 sweeps of round-off from two ways of
+                // computing w, on problems with condition numbers up to ~1e4.
+                prop_assert!((x - y).amax() <= 1e-9 * scale, "{visit:?}: body {x} local {y}");
+            }
+            prop_assert!((ra.residual - rb.residual).abs() <= 1e-9 * (1.0 + ra.residual));
+        }
+        let settings = NewtonSettings::default();
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let ra = problem.newton(&settings, &mut a);
+        let rb = local.newton(&settings, &mut b);
+        prop_assert_eq!(ra.converged, rb.converged);
+        if ra.converged {
+            // Both answers are solutions to 1e-10 m/s; their velocities w agree to that scale.
+            let (wa, wb) = (local.velocity(&a), local.velocity(&b));
+            for (x, y) in wa.iter().zip(&wb) {
+                prop_assert!((x - y).amax() <= 1e-8, "{x} {y}");
+            }
+            prop_assert!(residual(&local, &b) <= 1e-10);
+        }
+    });
+}
+
+#[test]
+fn a_local_problem_file_round_trips_bit_for_bit() {
+    proptest!(common::seeded(40), |(s in physical_spec(1..4, 1..7), mu in 0.0..1.0f64)| {
+        let mut problem = build(&s, mu, 1e-4, FrictionModel::Cone);
+        for c in &mut problem.contacts {
+            c.lambda0 = nalgebra::Vector3::new(0.1, -0.02, 0.03);
+        }
+        let local = problem.to_local();
+        let text = serde_json::to_string(&LocalProblemFile::new(&local)).unwrap();
+        let back = match AnyProblemFile::parse(&text).unwrap() {
+            AnyProblemFile::Local(file) => file.to_problem::<3>().unwrap(),
+            AnyProblemFile::Body(_) => panic!("read as the body form"),
+        };
+        prop_assert_eq!(&back, &local);
+        // A body-form file converts to the same local problem.
+        let body = serde_json::to_string(&rigidref::problem::json::ProblemFile::new(&problem)).unwrap();
+        prop_assert_eq!(&AnyProblemFile::parse(&body).unwrap().to_local::<3>().unwrap(), &local);
+        // And through Siconos' text format, which writes every number to read back exactly.
+        let dat = match parse_dat(&write_dat(&local)).unwrap() {
+            AnyLocalProblem::Three(p) => p,
+            AnyLocalProblem::Two(_) => panic!("2D"),
+        };
+        prop_assert_eq!(dat.dense_w(), local.dense_w());
+        prop_assert_eq!(dat.dense_q(), local.dense_q());
+    });
+    // Malformed files are refused with what is wrong.
+    let bad = r#"{"format":"rigidref-contact-problem","version":1,"form":"local","rows_per_contact":3,
+        "friction":"cone","W":[{"row":0,"col":1,"block":[[1,0,0],[0,1,0],[0,0,1]]}],
+        "contacts":[{"q":[0,0,0],"mu":0.5}]}"#;
+    let AnyProblemFile::Local(file) = AnyProblemFile::parse(bad).unwrap() else { panic!() };
+    let err = file.to_problem::<3>().unwrap_err();
+    assert!(err.contains("out of range"), "{err}");
+    let missing = bad.replace(r#""col":1"#, r#""col":0"#).replace(r#""row":0"#, r#""row":0"#)
+        .replace(r#"{"q":[0,0,0],"mu":0.5}"#, r#"{"q":[0,0,0],"mu":0.5},{"q":[0,0,0],"mu":0.5}"#);
+    let AnyProblemFile::Local(file) = AnyProblemFile::parse(&missing).unwrap() else { panic!() };
+    let err = file.to_problem::<3>().unwrap_err();
+    assert!(err.contains("contact 1: the diagonal block W[1][1] is missing"), "{err}");
+    let err = AnyProblemFile::parse(&bad.replace(r#""local""#, r#""global""#)).unwrap_err();
+    assert!(err.contains("form \"global\" is not known"), "{err}");
+}
+
+#[test]
+fn siconos_dat_files_read_as_their_text_says() {
+    // FrictionContact3D_1c.dat: W = [[15,-1,-2],[-1,14,1],[-2,1,16]], q = (-1, 2, 3), μ = 0.1.
+    let one = three("FrictionContact3D_1c.dat");
+    let w = DMatrix::from_row_slice(3, 3, &[15.0, -1.0, -2.0, -1.0, 14.0, 1.0, -2.0, 1.0, 16.0]);
+    assert_eq!(one.dense_w(), w);
+    assert_eq!(one.dense_q(), DVector::from_column_slice(&[-1.0, 2.0, 3.0]));
+    assert_eq!(one.contacts[0].mu, 0.1);
+    assert_eq!(one.friction, FrictionModel::Cone);
+    // Rover11035.dat is dense and not symmetric: each text line is a column of W.
+    let rover = three("Rover11035.dat");
+    let w = rover.dense_w();
+    assert_eq!(w[(0, 0)], 1.358309568142355636122254e-02);
+    assert_eq!(w[(1, 0)], -1.426574206813656375825161e-04);
+    assert_eq!(w[(0, 1)], -1.438285701497408206397943e-04);
+    assert_eq!(w[(2, 1)], 5.352808907240413568984216e-05);
+    assert_eq!(w[(1, 2)], 5.369789396199593209174292e-05);
+    assert_eq!(rover.contacts[0].q[2], -1.064842752305118489530855e-01);
+    assert_eq!(rover.contacts[0].mu, 6.999999999999999555910790e-01);
+    assert!(rover.asymmetry() > 1e-6);
+    // FC3D_Example1_SBM.dat: three identity blocks on the diagonal (sparse-block storage), the
+    // same problem as the dense FC3D_Example1.dat.
+    let sbm = three("FC3D_Example1_SBM.dat");
+    assert_eq!(sbm.dense_w(), DMatrix::identity(9, 9));
+    assert_eq!(sbm.blocks(), 3);
+    assert_eq!(
+        sbm.dense_q(),
+        DVector::from_column_slice(&[-1.0, 1.0, 3.0, -1.0, 1.0, 3.0, -1.0, 1.0, 3.0])
+    );
+    assert_eq!(three("FC3D_Example1.dat").dense_w(), sbm.dense_w());
+    // A global problem is refused as such; so are truncated and malformed files.
+    let err = read_dat(&data("GFC3D_Example00.dat")).unwrap_err();
+    assert!(err.contains("GFC3D_Example00.dat") && err.contains("global problem"), "{err}");
+    let text = std::fs::read_to_string(data("Rover4396.dat")).unwrap();
+    let err = parse_dat(&text[..text.len() / 2]).unwrap_err();
+    assert!(err.contains("the file ends before"), "{err}");
+    let err = parse_dat("3 1 0 3 3 3 3 1 0 0 0 x 0 0 0 1 0 0 0 0.5").unwrap_err();
+    assert!(err.contains("token 12") && err.contains("\"x\" is not a number"), "{err}");
+    let err = parse_dat("4 1").unwrap_err();
+    assert!(err.contains("dimension 4"), "{err}");
+    let err = parse_dat("3 1 1 3 3 1 1 1 3 3 2 1 0 1 0 0 1 0 0 0 1 0 0 0 1 0 0 0 -1").unwrap_err();
+    assert!(err.contains("mu must be ≥ 0"), "{err}");
+}
+
+#[test]
+fn newton_and_pgs_solve_the_small_siconos_problems_to_siconos_tolerance() {
+    // Every local 3D problem kept in tests/data/siconos, solved to 1e-8 in Siconos' own
+    // measure (the tolerance of Acary, Brémond and Huber's comparison) by the Newton solver and
+    // by PGS with exact local solves (Siconos' NSGS) within 20 000 sweeps, as Siconos does.
+    let mut names: Vec<String> = std::fs::read_dir(common::project_root().join("tests/data/siconos"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".dat") && !n.starts_with("GFC3D_Example00"))
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 21, "{names:?}");
+    for name in &names {
+        let problem = three(name);
+        let newton = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        let mut lambda = Vec::new();
+        let report = solve_newton_local(&problem, &newton, &mut lambda);
+        let error = siconos_error(&problem, &lambda);
+        assert!(error <= 1e-8, "{name}: Newton {report:?}, Siconos error {error:e}");
+        assert!(coulomb_residual(&problem, &lambda) <= 1e-8, "{name}");
+        let mut nsgs = Vec::new();
+        let settings = pgs_settings(LocalSolve::Exact, 20_000, Some(1e-12));
+        solve_pgs_local(&problem, &settings, 0, &mut nsgs);
+        let error = siconos_error(&problem, &nsgs);
+        assert!(error <= 1e-8, "{name}: PGS (exact visits) Siconos error {error:e}");
+    }
+}
+
+#[test]
+fn newton_matches_siconos_solutions_on_known_problems() {
+    // Siconos 4.4's Newton (Alart–Curnier) answers r, in full precision (docs/problem-library.md
+    // §"Known answers"): sliding single contacts (Rover11035, FrictionContact3D_1c), three
+    // separate sliding contacts (FC3D_Example1_SBM) and four coupled contacts of which one
+    // carries the load (Confeti). Ours must agree to 1e-7 of ‖r‖: Siconos stopped at its
+    // relative error 1e-8 or below, ours at 1e-12 m/s.
+    let known: [(&str, Vec<[f64; 3]>); 4] = [
+        ("Rover11035.dat", vec![[3.855527686824136, 1.0750356386021485, 2.4755189982088317]]),
+        (
+            "FrictionContact3D_1c.dat",
+            vec![[0.06569568289769018, -0.0036786149069098152, -0.005443070813868708]],
+        ),
+        ("FC3D_Example1_SBM.dat", vec![[1.0, -0.0316227766016838, -0.09486832980505139]; 3]),
+        (
+            "Confeti-ex13-4contact-Fc3D-SBM.dat",
+            vec![
+                [0.0, -2.2123580536140904e-16, -1.893475646534647e-17],
+                [0.0, -2.1957432276801253e-16, 3.302912892102808e-17],
+                [387.26299136821257, -15.422891482731771, -1.445896775502959],
+                [0.0, -2.212699881334021e-16, -1.8531026084848616e-17],
+            ],
+        ),
+    ];
+    for (name, r) in known {
+        let problem = three(name);
+        let mut lambda = Vec::new();
+        let settings = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        let report = solve_newton_local(&problem, &settings, &mut lambda);
+        assert!(report.converged, "{name}: {report:?}");
+        let size = r.iter().map(|x| x.iter().map(|v| v * v).sum::<f64>()).sum::<f64>().sqrt();
+        let difference = lambda
+            .iter()
+            .zip(&r)
+            .map(|(l, r)| (l - SVector::<f64, 3>::from_column_slice(r)).norm_squared())
+            .sum::<f64>()
+            .sqrt();
+        assert!(difference <= 1e-7 * size, "{name}: {lambda:?} vs Siconos {r:?}");
+    }
+}
+
+#[test]
+fn the_checks_read_both_forms_alike() {
+    // The residual, the exact Coulomb residual and the criteria of a λ are the same computed
+    // through the bodies or through W.
+    proptest!(common::seeded(40), |(s in physical_spec(1..4, 1..6), mu in 0.0..1.0f64)| {
+        let problem = build(&s, mu, 1e-3, FrictionModel::Cone);
+        let local = problem.to_local();
+        let lambda: Vec<SVector<f64, 3>> = (0..problem.contacts.len())
+            .map(|k| nalgebra::Vector3::new(0.1 * (k + 1) as f64, 0.01, -0.02))
+            .collect();
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs());
+        prop_assert!(close(residual(&problem, &lambda), residual(&local, &lambda)));
+        prop_assert!(close(coulomb_residual(&problem, &lambda), coulomb_residual(&local, &lambda)));
+        prop_assert!(close(siconos_error(&problem, &lambda), siconos_error(&local, &lambda)));
+        let (_, a) = rigidref::solve::criteria::criteria(&problem, &lambda);
+        let (_, b) = rigidref::solve::criteria::criteria(&local, &lambda);
+        prop_assert!(close(a.complementarity, b.complementarity) && close(a.dual, b.dual));
+        prop_assert_eq!(ProblemView::count(&local), problem.contacts.len());
+    });
+}
