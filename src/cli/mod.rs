@@ -9,6 +9,7 @@ mod common;
 mod compare;
 mod compare_problem;
 mod contacts;
+mod convert_problem;
 mod contacts2d;
 mod contacts3d;
 mod converge;
@@ -88,6 +89,8 @@ enum Command {
     /// Solve a library of contact problems (Siconos .dat, rigidref problem files) with several
     /// solvers: a table per problem and a performance profile.
     SolveProblems(solve_problems::SolveProblemsArgs),
+    /// Convert a contact problem between file formats (rigidref JSON, Siconos .dat, FCLIB HDF5).
+    ConvertProblem(convert_problem::ConvertProblemArgs),
 }
 
 pub use compare::Unreadable;
@@ -110,6 +113,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         },
         Some(Command::Crosscheck(args)) => crosscheck::crosscheck(args),
         Some(Command::SolveProblems(args)) => solve_problems::solve_problems(args),
+        Some(Command::ConvertProblem(args)) => convert_problem::convert_problem(args),
         Some(Command::Converge(args)) => converge::converge_command(args),
         Some(Command::Golden(args)) => golden::golden(args),
         Some(Command::Bench(args)) => bench::bench(args),

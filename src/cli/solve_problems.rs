@@ -66,7 +66,10 @@ fn files(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
             let mut found: Vec<PathBuf> = std::fs::read_dir(input)
                 .with_context(|| format!("{}: cannot read folder", input.display()))?
                 .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "dat" || e == "json"))
+                .filter(|p| {
+                    p.extension()
+                        .is_some_and(|e| e == "dat" || e == "json" || e == "hdf5" || e == "h5")
+                })
                 .collect();
             found.sort();
             if found.is_empty() {

@@ -84,6 +84,59 @@ impl<const R: usize> LocalProblem<R> {
         Ok(problem)
     }
 
+    /// A problem of `mu.len()` contacts from W's entries (row, column, value; 0-based scalar
+    /// indices below R·contacts, each at most once), q stacked and μ per contact; all contacts
+    /// (`RowBounds::Contact`), cold start. A block is stored where any of its entries is given
+    /// (a given zero too, so that a block structure survives a round trip); every diagonal block
+    /// is. Checked by [`LocalProblem::validate`].
+    pub fn from_entries(
+        friction: FrictionModel,
+        entries: impl IntoIterator<Item = (usize, usize, f64)>,
+        q: &[f64],
+        mu: &[f64],
+    ) -> Result<LocalProblem<R>, String> {
+        let n = R * mu.len();
+        if q.len() != n {
+            return Err(format!("q has {} entries, expected {n}", q.len()));
+        }
+        let mut blocks: std::collections::BTreeMap<(usize, usize), (SMatrix<f64, R, R>, SMatrix<u8, R, R>)> =
+            std::collections::BTreeMap::new();
+        for (i, j, v) in entries {
+            if i >= n || j >= n {
+                return Err(format!("W entry ({i}, {j}) out of range (W is {n}×{n})"));
+            }
+            let (block, seen) = blocks
+                .entry((i / R, j / R))
+                .or_insert_with(|| (SMatrix::zeros(), SMatrix::zeros()));
+            if seen[(i % R, j % R)] != 0 {
+                return Err(format!("W entry ({i}, {j}) given twice"));
+            }
+            seen[(i % R, j % R)] = 1;
+            block[(i % R, j % R)] = v;
+        }
+        let mut contacts: Vec<LocalContact<R>> = (0..mu.len())
+            .map(|k| LocalContact {
+                row: Vec::new(),
+                q: SVector::from_column_slice(&q[R * k..R * k + R]),
+                mu: mu[k],
+                lambda0: SVector::zeros(),
+                bounds: RowBounds::Contact,
+            })
+            .collect();
+        for ((k, j), (block, _)) in blocks {
+            contacts[k].row.push((j, block));
+        }
+        for (k, c) in contacts.iter_mut().enumerate() {
+            if c.row.binary_search_by_key(&k, |(j, _)| *j).is_err() {
+                c.row.push((k, SMatrix::zeros()));
+                c.row.sort_by_key(|(j, _)| *j);
+            }
+        }
+        let problem = LocalProblem { friction, contacts };
+        problem.validate()?;
+        Ok(problem)
+    }
+
     /// The diagonal block W_kk (kg⁻¹, compliance included).
     pub fn diagonal_block(&self, k: usize) -> &SMatrix<f64, R, R> {
         let row = &self.contacts[k].row;

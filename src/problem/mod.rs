@@ -311,6 +311,8 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
     }
 }
 
+#[cfg(feature = "fclib")]
+pub mod fclib;
 pub mod json;
 pub mod local;
 pub mod local_json;

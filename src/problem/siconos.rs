@@ -18,9 +18,7 @@
 //!
 //! Siconos' unknowns are ours: r = λ (normal first), u = w = W r + q, the same Coulomb law.
 
-use super::{FrictionModel, LocalContact, LocalProblem, RowBounds};
-use nalgebra::{SMatrix, SVector};
-use std::collections::BTreeMap;
+use super::{FrictionModel, LocalProblem};
 
 /// A local problem read from a file whose dimension is known only after reading it.
 #[derive(Clone, Debug, PartialEq)]
@@ -79,36 +77,7 @@ fn read_local<const R: usize>(t: &mut Tokens, nc: usize) -> Result<LocalProblem<
              is not a local problem (W, q, mu); rigidref reads local problems"
         ));
     }
-    // Blocks by (block row, block column), entries summed where a format repeats one.
-    let mut blocks: BTreeMap<(usize, usize), SMatrix<f64, R, R>> = BTreeMap::new();
-    for (i, j, v) in entries {
-        let block = blocks.entry((i / R, j / R)).or_insert_with(SMatrix::zeros);
-        block[(i % R, j % R)] += v;
-    }
-    let mut contacts: Vec<LocalContact<R>> = (0..nc)
-        .map(|k| LocalContact {
-            row: Vec::new(),
-            q: SVector::from_fn(|r, _| q[R * k + r]),
-            mu: mu[k],
-            lambda0: SVector::zeros(),
-            bounds: RowBounds::Contact,
-        })
-        .collect();
-    for ((k, j), block) in blocks {
-        contacts[k].row.push((j, block));
-    }
-    for (k, c) in contacts.iter_mut().enumerate() {
-        if c.row.binary_search_by_key(&k, |(j, _)| *j).is_err() {
-            c.row.push((k, SMatrix::zeros()));
-            c.row.sort_by_key(|(j, _)| *j);
-        }
-    }
-    let problem = LocalProblem {
-        friction: FrictionModel::Cone,
-        contacts,
-    };
-    problem.validate()?;
-    Ok(problem)
+    LocalProblem::from_entries(FrictionModel::Cone, entries, &q, &mu)
 }
 
 /// W's entries (row, column, value) from a NumericsMatrix of size n × n.
@@ -208,10 +177,9 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
             for b in 0..ncol {
                 for a in 0..nr {
                     // Column-major within the block.
+                    // Kept when zero: the block is stored, and its structure with it.
                     let v = t.number("a block entry")?;
-                    if v != 0.0 {
-                        entries.push((r0 + a, c0 + b, v));
-                    }
+                    entries.push((r0 + a, c0 + b, v));
                 }
             }
         }

@@ -123,13 +123,61 @@ pub fn load(path: &Path) -> Result<AnyLocalProblem, String> {
             }
             .map_err(|e| if e.starts_with(&name.to_string()) { e } else { format!("{name}: {e}") })
         }
-        Some("hdf5" | "h5") => Err(format!(
-            "{name}: FCLIB HDF5 files are not read yet (docs/problem-library.md §\"FCLIB\"); \
-             convert it to Siconos' .dat text first"
-        )),
+        Some("hdf5" | "h5") => read_hdf5(path),
         _ => Err(format!(
             "{name}: not a problem file rigidref reads (.dat: Siconos' text; .json: rigidref's \
              contact-problem file)"
+        )),
+    }
+}
+
+/// An FCLIB file's local problem (a global one converted through the body form).
+#[cfg(feature = "fclib")]
+fn read_hdf5(path: &Path) -> Result<AnyLocalProblem, String> {
+    use crate::problem::fclib::{FclibProblem, read_fclib};
+    match read_fclib(path)? {
+        FclibProblem::Local { problem, .. } => Ok(problem),
+        FclibProblem::Global(problem) => Ok(AnyLocalProblem::Three(problem.to_local())),
+    }
+}
+
+/// Without the feature `fclib`: says how to get it.
+#[cfg(not(feature = "fclib"))]
+fn read_hdf5(path: &Path) -> Result<AnyLocalProblem, String> {
+    Err(format!(
+        "{}: FCLIB HDF5 files need rigidref built with `--features fclib` (and libhdf5-dev): \
+         docs/problem-library.md §\"FCLIB\"",
+        path.display()
+    ))
+}
+
+/// Writes a problem (either dimension) to `path` by its extension: `.json` (rigidref's
+/// local-form file), `.dat` (Siconos' text) or, with the feature `fclib`, `.hdf5`/`.h5` (FCLIB
+/// local). `source` names where it came from (the file's `source`, FCLIB's `info/title`).
+pub fn write(problem: &AnyLocalProblem, source: &str, path: &Path) -> Result<(), String> {
+    let name = path.display();
+    let text = |s: String| std::fs::write(path, s).map_err(|e| format!("{name}: cannot write: {e}"));
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("json") => {
+            let mut file = match problem {
+                AnyLocalProblem::Three(p) => crate::problem::local_json::LocalProblemFile::new(p),
+                AnyLocalProblem::Two(p) => crate::problem::local_json::LocalProblemFile::new(p),
+            };
+            file.source = Some(source.to_string());
+            text(serde_json::to_string(&file).map_err(|e| format!("{name}: {e}"))? + "\n")
+        }
+        Some("dat") => text(match problem {
+            AnyLocalProblem::Three(p) => crate::problem::siconos::write_dat(p),
+            AnyLocalProblem::Two(p) => crate::problem::siconos::write_dat(p),
+        }),
+        #[cfg(feature = "fclib")]
+        Some("hdf5" | "h5") => match problem {
+            AnyLocalProblem::Three(p) => crate::problem::fclib::write_fclib(p, source, None, path),
+            AnyLocalProblem::Two(p) => crate::problem::fclib::write_fclib(p, source, None, path),
+        },
+        _ => Err(format!(
+            "{name}: write .json (rigidref's local form), .dat (Siconos) or, built with \
+             `--features fclib`, .hdf5 (FCLIB)"
         )),
     }
 }

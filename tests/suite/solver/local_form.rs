@@ -274,3 +274,153 @@ fn the_checks_read_both_forms_alike() {
         prop_assert_eq!(ProblemView::count(&local), problem.contacts.len());
     });
 }
+
+#[cfg(feature = "fclib")]
+mod fclib {
+    //! FCLIB's HDF5 files (docs/problem-library.md §"FCLIB"), with the feature `fclib`.
+    use super::*;
+    use rigidref::problem::fclib::{FclibProblem, read_fclib, write_fclib};
+
+    #[test]
+    fn the_fclib_reader_reads_the_fclib_test_problem_as_h5py_does() {
+        let path = common::project_root().join("tests/data/fclib/local_problem_test.hdf5");
+        let FclibProblem::Local { problem: AnyLocalProblem::Three(p), solution } =
+            read_fclib(&path).unwrap()
+        else {
+            panic!("not a 3D local problem")
+        };
+        // Values as h5py reads them (W in compressed rows: row 0's first entries, row 100's).
+        assert_eq!(p.contacts.len(), 48);
+        let w = p.dense_w();
+        assert_eq!(w[(0, 0)], 100.0);
+        assert_eq!(w[(0, 1)], 8.352906270848802e-09);
+        assert_eq!(w[(0, 2)], -8.001161284610685e-09);
+        assert_eq!(w[(0, 3)], 100.00000000765515);
+        assert_eq!(w[(0, 4)], 1.4378473643289639e-08);
+        assert_eq!(w[(100, 84)], 3.3794218208705846e-09);
+        assert_eq!(w[(100, 85)], 27.311553811812914);
+        assert_eq!(p.contacts[0].q[0], -0.004904999642630031);
+        assert_eq!(p.contacts[0].q[1], -4.4967715418338097e-10);
+        assert_eq!(p.contacts[0].mu, 0.7);
+        // The first guess is the warm start; the solution is there.
+        assert_eq!(p.contacts[0].lambda0[0], 0.0004010604092983265);
+        assert_eq!(p.contacts[0].lambda0[1], -2.560624503173503e-06);
+        assert_eq!(solution.map(|r| r.len()), Some(144));
+        // Every stored entry counted: 4896 in W, in 3 × 3 blocks.
+        assert!(p.blocks() * 9 >= 4896);
+        // And it is solved to Siconos' tolerance.
+        let mut lambda = Vec::new();
+        let settings = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        solve_newton_local(&p, &settings, &mut lambda);
+        assert!(siconos_error(&p, &lambda) <= 1e-8);
+        // Something that is not an FCLIB file is refused with the file's name.
+        let err = read_fclib(&data("Rover4396.dat")).unwrap_err();
+        assert!(err.contains("Rover4396.dat") && err.contains("not an HDF5 file"), "{err}");
+    }
+
+    #[test]
+    fn a_problem_written_as_fclib_reads_back_bit_for_bit() {
+        let dir = tempfile::tempdir().unwrap();
+        proptest!(common::seeded(20), |(s in physical_spec(1..4, 1..7), mu in 0.0..1.0f64, warm: bool)| {
+            let mut problem = build(&s, mu, 1e-4, FrictionModel::Cone);
+            if warm {
+                for c in &mut problem.contacts {
+                    c.lambda0 = nalgebra::Vector3::new(0.2, 0.01, -0.03);
+                }
+            }
+            let local = problem.to_local();
+            let path = dir.path().join("p.hdf5");
+            let lambda: Vec<SVector<f64, 3>> =
+                local.contacts.iter().map(|_| nalgebra::Vector3::new(1.0, 0.1, 0.2)).collect();
+            write_fclib(&local, "a test", Some(&lambda), &path).unwrap();
+            let FclibProblem::Local { problem: AnyLocalProblem::Three(back), solution } =
+                read_fclib(&path).unwrap()
+            else {
+                panic!("not read back as a 3D local problem")
+            };
+            prop_assert_eq!(&back, &local);
+            let r: Vec<f64> = lambda.iter().flat_map(|l| l.iter().copied()).collect();
+            prop_assert_eq!(solution, Some(r));
+        });
+    }
+
+    #[test]
+    fn a_global_fclib_problem_reads_into_the_body_form() {
+        // Written here from a run-like problem: M block diagonal (6 × 6 per body), H = Jᵀ,
+        // f = M u, w = b − J u; read back, the body form gives the same local form.
+        proptest!(common::seeded(10), |(s in physical_spec(1..4, 1..6))| {
+            let problem = build(&s, 0.5, 0.0, FrictionModel::Cone);
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("g.hdf5");
+            write_global(&problem, &path);
+            let FclibProblem::Global(back) = read_fclib(&path).unwrap() else { panic!() };
+            let (a, b) = (problem.to_local(), back.to_local());
+            let scale = a.dense_w().amax();
+            prop_assert!((a.dense_w() - b.dense_w()).amax() <= 1e-9 * scale);
+            prop_assert!((a.dense_q() - b.dense_q()).amax() <= 1e-9 * (1.0 + a.dense_q().amax()));
+        });
+    }
+
+    /// An FCLIB global file of a body-form problem, written with the hdf5 crate directly (the
+    /// project writes local files only).
+    fn write_global(problem: &rigidref::problem::ContactProblem<6, 3>, path: &std::path::Path) {
+        let file = hdf5::File::create(path).unwrap();
+        let g = file.create_group("fclib_global").unwrap();
+        let put_i = |g: &hdf5::Group, n: &str, v: &[i32]| {
+            g.new_dataset_builder().with_data(v).create(n).unwrap();
+        };
+        let put_f = |g: &hdf5::Group, n: &str, v: &[f64]| {
+            g.new_dataset_builder().with_data(v).create(n).unwrap();
+        };
+        put_i(&g, "spacedim", &[3]);
+        let nb = problem.bodies.len();
+        let (mut i, mut p, mut x) = (vec![], vec![], vec![]);
+        let mut f = vec![0.0; 6 * nb];
+        for (b, body) in problem.bodies.iter().enumerate() {
+            let m = body.inverse_mass.try_inverse().unwrap();
+            let fb = m * body.velocity;
+            for r in 0..6 {
+                f[6 * b + r] = fb[r];
+                for c in 0..6 {
+                    i.push((6 * b + r) as i32);
+                    p.push((6 * b + c) as i32);
+                    x.push(m[(r, c)]);
+                }
+            }
+        }
+        let mg = g.create_group("M").unwrap();
+        for (n, v) in [("m", 6 * nb), ("n", 6 * nb), ("nz", x.len()), ("nzmax", x.len())] {
+            put_i(&mg, n, &[v as i32]);
+        }
+        put_i(&mg, "i", &i);
+        put_i(&mg, "p", &p);
+        put_f(&mg, "x", &x);
+        let j = problem.dense_jacobian();
+        let (mut i, mut p, mut x) = (vec![], vec![], vec![]);
+        for r in 0..j.nrows() {
+            for c in 0..j.ncols() {
+                if j[(r, c)] != 0.0 {
+                    // H = Jᵀ: row c, column r.
+                    i.push(c as i32);
+                    p.push(r as i32);
+                    x.push(j[(r, c)]);
+                }
+            }
+        }
+        let hg = g.create_group("H").unwrap();
+        for (n, v) in [("m", j.ncols()), ("n", j.nrows()), ("nz", x.len()), ("nzmax", x.len())] {
+            put_i(&hg, n, &[v as i32]);
+        }
+        put_i(&hg, "i", &i);
+        put_i(&hg, "p", &p);
+        put_f(&hg, "x", &x);
+        let u: Vec<f64> = problem.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect();
+        let ju = &j * nalgebra::DVector::from_vec(u);
+        let w: Vec<f64> = (0..j.nrows()).map(|r| problem.dense_b()[r] - ju[r]).collect();
+        let v = g.create_group("vectors").unwrap();
+        put_f(&v, "f", &f);
+        put_f(&v, "w", &w);
+        let mu: Vec<f64> = problem.contacts.iter().map(|c| c.mu).collect();
+        put_f(&v, "mu", &mu);
+    }
+}

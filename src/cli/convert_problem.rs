@@ -1,0 +1,35 @@
+//! `rigidref convert-problem`: a contact problem from one file format to another, in local
+//! form. docs/problem-library.md §"Converting problems".
+
+use clap::Args;
+use rigidref::tools::problem_library::{load, write};
+use std::path::PathBuf;
+
+/// Arguments of `rigidref convert-problem`.
+#[derive(Args)]
+#[command(after_long_help = "\
+Reads a problem as `rigidref solve-problems` does (Siconos .dat, rigidref .json of either form,
+FCLIB .hdf5 when built with --features fclib) and writes its local form (W, q, μ) in the format
+the output's extension names: .json (rigidref's local-form problem file), .dat (Siconos' text,
+sparse-block storage, every number to the bit) or .hdf5 (FCLIB local, with --features fclib), so
+that Siconos and other FCLIB readers can solve rigidref's problems. A body-form problem becomes
+W = J M⁻¹ Jᵀ + C, q = b.")]
+pub struct ConvertProblemArgs {
+    /// The problem file to read.
+    pub input: PathBuf,
+    /// The file to write (.json, .dat or .hdf5).
+    pub output: PathBuf,
+}
+
+/// Converts one file.
+pub fn convert_problem(args: ConvertProblemArgs) -> anyhow::Result<()> {
+    let problem = load(&args.input).map_err(anyhow::Error::msg)?;
+    let source = format!("rigidref convert-problem {}", args.input.display());
+    write(&problem, &source, &args.output).map_err(anyhow::Error::msg)?;
+    eprintln!(
+        "wrote {} ({} contacts)",
+        args.output.display(),
+        problem.contacts()
+    );
+    Ok(())
+}
