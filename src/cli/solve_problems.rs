@@ -21,9 +21,10 @@ below the tolerance (checked after every PGS sweep and at every Newton iterate):
 
 w = W λ + q and ŵ De Saxcé's velocity (docs/problem-library.md §\"Siconos' error measure\"), the
 measure of Acary, Brémond and Huber (2018). The table gives per problem and solver: converged or
-not, iterations (PGS sweeps, Newton iterations with its fallbacks), wall time of the solve, and
-the final error; --json adds rigidref's residual, the exact Coulomb residual and the worst
-physical criteria. --profile writes a Dolan–Moré performance profile: for each solver, the
+not, iterations (PGS sweeps, Newton iterations with its fallbacks), wall time of the solve, the
+final error, and the largest of the answer's physical criteria (Signorini, cone boundary,
+maximum dissipation, J; docs/contact.md §\"Physical criteria\"); --json adds rigidref's
+residual, the exact Coulomb residual and every criterion. --profile writes a Dolan–Moré performance profile: for each solver, the
 fraction of problems it solved within τ times the fastest solver's time.
 
 Files: Siconos' .dat text (dense, sparse-block and sparse storage; a global problem is skipped
@@ -36,7 +37,12 @@ pub struct SolveProblemsArgs {
     #[arg(required = true)]
     pub inputs: Vec<PathBuf>,
     /// Solvers, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "pgs,pgs-exact,newton")]
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "pgs,pgs-exact,newton"
+    )]
     pub solver: Vec<LibrarySolver>,
     /// Converged where Siconos' error is at or below this (relative).
     #[arg(long, default_value_t = 1e-8)]
@@ -73,7 +79,10 @@ fn files(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
                 .collect();
             found.sort();
             if found.is_empty() {
-                bail!("{}: no .dat or .json problem files in the folder", input.display());
+                bail!(
+                    "{}: no .dat or .json problem files in the folder",
+                    input.display()
+                );
             }
             out.extend(found);
         } else if input.exists() {
@@ -86,14 +95,19 @@ fn files(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
 }
 
 fn name_of(path: &Path) -> String {
-    path.file_name()
-        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 /// Runs the comparison.
 pub fn solve_problems(args: SolveProblemsArgs) -> anyhow::Result<()> {
     if !(args.tolerance.is_finite() && args.tolerance > 0.0) {
-        bail!("--tolerance must be a positive number, got {}", args.tolerance);
+        bail!(
+            "--tolerance must be a positive number, got {}",
+            args.tolerance
+        );
     }
     let mut solvers = args.solver.clone();
     solvers.dedup();
@@ -123,7 +137,10 @@ pub fn solve_problems(args: SolveProblemsArgs) -> anyhow::Result<()> {
     }
     progress.finish();
     if entries.is_empty() {
-        bail!("none of the {} files could be read as a problem", paths.len());
+        bail!(
+            "none of the {} files could be read as a problem",
+            paths.len()
+        );
     }
     let profile = Profile::of(&entries, &solvers);
     if let Some(path) = &args.profile {

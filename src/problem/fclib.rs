@@ -35,15 +35,22 @@ fn h5(path: &Path, what: &str) -> impl Fn(hdf5::Error) -> String {
     move |e| format!("{name}: {what}: {e}")
 }
 
-/// A matrix group as (m, n, entries (row, column, value)).
+/// A matrix's entries: (row, column, value).
+type Entries = Vec<(usize, usize, f64)>;
+
+/// A matrix group as (m, n, its entries).
 fn read_matrix(
     group: &hdf5::Group,
     path: &Path,
     what: &str,
-) -> Result<(usize, usize, Vec<(usize, usize, f64)>), String> {
+) -> Result<(usize, usize, Entries), String> {
     let err = h5(path, what);
     let int = |name: &str| -> Result<i64, String> {
-        let v = group.dataset(name).map_err(&err)?.read_raw::<i64>().map_err(&err)?;
+        let v = group
+            .dataset(name)
+            .map_err(&err)?
+            .read_raw::<i64>()
+            .map_err(&err)?;
         v.first()
             .copied()
             .ok_or_else(|| format!("{}: {what}/{name} is empty", path.display()))
@@ -54,11 +61,19 @@ fn read_matrix(
     }
     let (m, n) = (m as usize, n as usize);
     let ints = |name: &str| -> Result<Vec<i64>, String> {
-        group.dataset(name).map_err(&err)?.read_raw::<i64>().map_err(&err)
+        group
+            .dataset(name)
+            .map_err(&err)?
+            .read_raw::<i64>()
+            .map_err(&err)
     };
     let p = ints("p")?;
     let i = ints("i")?;
-    let x = group.dataset("x").map_err(&err)?.read_raw::<f64>().map_err(&err)?;
+    let x = group
+        .dataset("x")
+        .map_err(&err)?
+        .read_raw::<f64>()
+        .map_err(&err)?;
     let bad = |msg: &str| format!("{}: {what}: {msg}", path.display());
     let index = |v: i64, bound: usize| -> Result<usize, String> {
         usize::try_from(v)
@@ -81,7 +96,11 @@ fn read_matrix(
             // Compressed columns (p over n columns, i rows) or rows (p over m rows, i columns).
             let (outer, inner) = if nz == -1 { (n, m) } else { (m, n) };
             if p.len() != outer + 1 {
-                return Err(bad(&format!("p has {} entries, expected {}", p.len(), outer + 1)));
+                return Err(bad(&format!(
+                    "p has {} entries, expected {}",
+                    p.len(),
+                    outer + 1
+                )));
             }
             for o in 0..outer {
                 let (start, end) = (p[o], p[o + 1]);
@@ -90,31 +109,56 @@ fn read_matrix(
                 }
                 for k in start as usize..end as usize {
                     let other = index(i[k], inner)?;
-                    entries.push(if nz == -1 { (other, o, x[k]) } else { (o, other, x[k]) });
+                    entries.push(if nz == -1 {
+                        (other, o, x[k])
+                    } else {
+                        (o, other, x[k])
+                    });
                 }
             }
         }
-        nz => return Err(bad(&format!("nz {nz}: not a triplet (≥ 0), CSC (−1) or CSR (−2) matrix"))),
+        nz => {
+            return Err(bad(&format!(
+                "nz {nz}: not a triplet (≥ 0), CSC (−1) or CSR (−2) matrix"
+            )));
+        }
     }
     Ok((m, n, entries))
 }
 
 fn read_vector(group: &hdf5::Group, name: &str, path: &Path) -> Result<Vec<f64>, String> {
     let err = h5(path, name);
-    group.dataset(name).map_err(&err)?.read_raw::<f64>().map_err(&err)
+    group
+        .dataset(name)
+        .map_err(&err)?
+        .read_raw::<f64>()
+        .map_err(&err)
+}
+
+/// Without HDF5's file locks: rigidref only reads a file or writes a new one, and a lock is
+/// inherited by any process started while the file is open (HDF5 opens files without
+/// close-on-exec), which would then keep another open of the file failing.
+fn unlocked() -> hdf5::FileBuilder {
+    let mut builder = hdf5::File::with_options();
+    builder.with_fapl(|p| p.file_locking(false));
+    builder
 }
 
 /// Reads an FCLIB file: its local problem, or its global one where M is rigid bodies' (6 × 6
 /// blocks, 3D). Errors name the file and the group or dataset.
 pub fn read_fclib(path: &Path) -> Result<FclibProblem, String> {
     let name = path.display().to_string();
-    let file = hdf5::File::open(path).map_err(|e| format!("{name}: not an HDF5 file: {e}"))?;
+    let file = unlocked()
+        .open(path)
+        .map_err(|e| format!("{name}: not an HDF5 file: {e}"))?;
     if file.link_exists("fclib_local") {
         read_local(&file, path)
     } else if file.link_exists("fclib_global") {
         read_global(&file, path).map(FclibProblem::Global)
     } else {
-        Err(format!("{name}: neither /fclib_local nor /fclib_global: not an FCLIB problem"))
+        Err(format!(
+            "{name}: neither /fclib_local nor /fclib_global: not an FCLIB problem"
+        ))
     }
 }
 
@@ -135,7 +179,9 @@ fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
     }
     let w = group.group("W").map_err(h5(path, "fclib_local/W"))?;
     let (m, n, entries) = read_matrix(&w, path, "fclib_local/W")?;
-    let vectors = group.group("vectors").map_err(h5(path, "fclib_local/vectors"))?;
+    let vectors = group
+        .group("vectors")
+        .map_err(h5(path, "fclib_local/vectors"))?;
     let q = read_vector(&vectors, "q", path)?;
     let mu = read_vector(&vectors, "mu", path)?;
     let d = spacedim as usize;
@@ -171,7 +217,10 @@ fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
     Ok(FclibProblem::Local { problem, solution })
 }
 
-fn with_guess<const R: usize>(mut problem: LocalProblem<R>, guess: Option<&[f64]>) -> LocalProblem<R> {
+fn with_guess<const R: usize>(
+    mut problem: LocalProblem<R>,
+    guess: Option<&[f64]>,
+) -> LocalProblem<R> {
     if let Some(r) = guess {
         for (k, c) in problem.contacts.iter_mut().enumerate() {
             c.lambda0 = SVector::from_column_slice(&r[R * k..R * k + R]);
@@ -184,9 +233,13 @@ fn with_guess<const R: usize>(mut problem: LocalProblem<R>, guess: Option<&[f64]
 /// M⁻¹ f, and b = Hᵀ M⁻¹ f + w. Only rigid bodies: M block-diagonal in 6 × 6 blocks (3D).
 fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, String> {
     let name = path.display().to_string();
-    let group = file.group("fclib_global").map_err(h5(path, "fclib_global"))?;
+    let group = file
+        .group("fclib_global")
+        .map_err(h5(path, "fclib_global"))?;
     if group.link_exists("G") {
-        return Err(format!("{name}: a global problem with equality constraints (G) is not supported"));
+        return Err(format!(
+            "{name}: a global problem with equality constraints (G) is not supported"
+        ));
     }
     let spacedim = group
         .dataset("spacedim")
@@ -196,16 +249,29 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
         .copied()
         .unwrap_or(0);
     if spacedim != 3 {
-        return Err(format!("{name}: a global problem of spacedim {spacedim}: rigidref reads 3D ones"));
+        return Err(format!(
+            "{name}: a global problem of spacedim {spacedim}: rigidref reads 3D ones"
+        ));
     }
-    let (nm, nm2, m_entries) = read_matrix(&group.group("M").map_err(h5(path, "M"))?, path, "fclib_global/M")?;
-    let (hn, hm, h_entries) = read_matrix(&group.group("H").map_err(h5(path, "H"))?, path, "fclib_global/H")?;
-    let vectors = group.group("vectors").map_err(h5(path, "fclib_global/vectors"))?;
+    let (nm, nm2, m_entries) = read_matrix(
+        &group.group("M").map_err(h5(path, "M"))?,
+        path,
+        "fclib_global/M",
+    )?;
+    let (hn, hm, h_entries) = read_matrix(
+        &group.group("H").map_err(h5(path, "H"))?,
+        path,
+        "fclib_global/H",
+    )?;
+    let vectors = group
+        .group("vectors")
+        .map_err(h5(path, "fclib_global/vectors"))?;
     let f = read_vector(&vectors, "f", path)?;
     let w = read_vector(&vectors, "w", path)?;
     let mu = read_vector(&vectors, "mu", path)?;
     const D: usize = 6;
-    if nm != nm2 || nm % D != 0 || hn != nm || hm != 3 * mu.len() || f.len() != nm || w.len() != hm {
+    if nm != nm2 || nm % D != 0 || hn != nm || hm != 3 * mu.len() || f.len() != nm || w.len() != hm
+    {
         return Err(format!(
             "{name}: sizes do not fit: M {nm}×{nm2}, H {hn}×{hm}, f {}, w {}, mu {} (M must be \
              rigid bodies' 6 × 6 blocks)",
@@ -242,8 +308,7 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
     }
     // J = Hᵀ, contact by contact (3 rows), each acting on at most two bodies.
     let contacts_count = mu.len();
-    let mut ht = vec![DMatrix::<f64>::zeros(3, 0); 0];
-    ht.resize(contacts_count, DMatrix::zeros(3, nm));
+    let mut ht = vec![DMatrix::<f64>::zeros(3, nm); contacts_count];
     for (i, j, v) in h_entries {
         ht[j / 3][(j % 3, i)] += v;
     }
@@ -301,16 +366,28 @@ pub fn write_fclib<const R: usize>(
     path: &Path,
 ) -> Result<(), String> {
     let err = h5(path, "writing");
-    let file = hdf5::File::create(path).map_err(&err)?;
+    let file = unlocked().create(path).map_err(&err)?;
     let local = file.create_group("fclib_local").map_err(&err)?;
     let int = |g: &hdf5::Group, name: &str, v: i32| -> Result<(), String> {
-        g.new_dataset_builder().with_data(&[v][..]).create(name).map(|_| ()).map_err(h5(path, name))
+        g.new_dataset_builder()
+            .with_data(&[v][..])
+            .create(name)
+            .map(|_| ())
+            .map_err(h5(path, name))
     };
     let doubles = |g: &hdf5::Group, name: &str, v: &[f64]| -> Result<(), String> {
-        g.new_dataset_builder().with_data(v).create(name).map(|_| ()).map_err(h5(path, name))
+        g.new_dataset_builder()
+            .with_data(v)
+            .create(name)
+            .map(|_| ())
+            .map_err(h5(path, name))
     };
     let ints = |g: &hdf5::Group, name: &str, v: &[i32]| -> Result<(), String> {
-        g.new_dataset_builder().with_data(v).create(name).map(|_| ()).map_err(h5(path, name))
+        g.new_dataset_builder()
+            .with_data(v)
+            .create(name)
+            .map(|_| ())
+            .map_err(h5(path, name))
     };
     int(&local, "spacedim", R as i32)?;
     let n = R * problem.contacts.len();
@@ -343,7 +420,13 @@ pub fn write_fclib<const R: usize>(
     // no variable-length strings); other characters become '?', and it is cut at 255.
     let ascii: String = title
         .chars()
-        .map(|c| if c.is_ascii() && !c.is_ascii_control() { c } else { '?' })
+        .map(|c| {
+            if c.is_ascii() && !c.is_ascii_control() {
+                c
+            } else {
+                '?'
+            }
+        })
         .take(255)
         .collect();
     let title = hdf5::types::FixedAscii::<256>::from_ascii(ascii.as_bytes())
@@ -354,11 +437,19 @@ pub fn write_fclib<const R: usize>(
         .map_err(h5(path, "info/title"))?;
     let write_solution = |g: &hdf5::Group, lambda: &[SVector<f64, R>]| -> Result<(), String> {
         let r: Vec<f64> = lambda.iter().flat_map(|l| l.iter().copied()).collect();
-        let u: Vec<f64> = problem.velocity(lambda).iter().flat_map(|w| w.iter().copied()).collect();
+        let u: Vec<f64> = problem
+            .velocity(lambda)
+            .iter()
+            .flat_map(|w| w.iter().copied())
+            .collect();
         doubles(g, "r", &r)?;
         doubles(g, "u", &u)
     };
-    if problem.contacts.iter().any(|c| c.lambda0.iter().any(|x| *x != 0.0)) {
+    if problem
+        .contacts
+        .iter()
+        .any(|c| c.lambda0.iter().any(|x| *x != 0.0))
+    {
         let guesses = file.create_group("guesses").map_err(&err)?;
         int(&guesses, "number_of_guesses", 1)?;
         let first = guesses.create_group("1").map_err(&err)?;
@@ -369,5 +460,7 @@ pub fn write_fclib<const R: usize>(
         let g = file.create_group("solution").map_err(&err)?;
         write_solution(&g, lambda)?;
     }
-    Ok(())
+    // Closed here, every handle with it, so that the file is complete and unlocked on return.
+    drop((local, w, vectors, info));
+    file.close().map_err(&err)
 }

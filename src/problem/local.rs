@@ -99,8 +99,10 @@ impl<const R: usize> LocalProblem<R> {
         if q.len() != n {
             return Err(format!("q has {} entries, expected {n}", q.len()));
         }
-        let mut blocks: std::collections::BTreeMap<(usize, usize), (SMatrix<f64, R, R>, SMatrix<u8, R, R>)> =
-            std::collections::BTreeMap::new();
+        let mut blocks: std::collections::BTreeMap<
+            (usize, usize),
+            (SMatrix<f64, R, R>, SMatrix<u8, R, R>),
+        > = std::collections::BTreeMap::new();
         for (i, j, v) in entries {
             if i >= n || j >= n {
                 return Err(format!("W entry ({i}, {j}) out of range (W is {n}×{n})"));
@@ -222,11 +224,15 @@ impl<const R: usize> LocalProblem<R> {
                 }
                 previous = Some(*j);
                 if block.iter().any(|x| !x.is_finite()) {
-                    return Err(format!("contact {k}: non-finite entry in block W[{k}][{j}]"));
+                    return Err(format!(
+                        "contact {k}: non-finite entry in block W[{k}][{j}]"
+                    ));
                 }
             }
             if c.row.binary_search_by_key(&k, |(j, _)| *j).is_err() {
-                return Err(format!("contact {k}: the diagonal block W[{k}][{k}] is missing"));
+                return Err(format!(
+                    "contact {k}: the diagonal block W[{k}][{k}] is missing"
+                ));
             }
             let diagonal = self.diagonal_block(k);
             if (0..R).any(|r| diagonal[(r, r)] < 0.0) {
@@ -267,8 +273,7 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
                 }
             }
         }
-        let mut rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>> =
-            vec![Vec::new(); self.contacts.len()];
+        let mut rows: Vec<Vec<(usize, SMatrix<f64, R, R>)>> = vec![Vec::new(); self.contacts.len()];
         for (b, list) in touching.iter().enumerate() {
             let inverse_mass = &self.bodies[b].inverse_mass;
             for &(k, sk) in list {

@@ -72,7 +72,9 @@ impl LocalProblemFile {
     /// The file for `problem`, without source or solution.
     pub fn new<const R: usize>(problem: &LocalProblem<R>) -> LocalProblemFile {
         let rows = |m: &SMatrix<f64, R, R>| -> Vec<Vec<f64>> {
-            (0..R).map(|i| (0..R).map(|j| m[(i, j)]).collect()).collect()
+            (0..R)
+                .map(|i| (0..R).map(|j| m[(i, j)]).collect())
+                .collect()
         };
         LocalProblemFile {
             format: PROBLEM_FORMAT.into(),
@@ -175,10 +177,7 @@ impl LocalProblemFile {
             let block = SMatrix::<f64, R, R>::from_fn(|r, s| b.block[r][s]);
             let row = &mut contacts[b.row].row;
             if row.iter().any(|(j, _)| *j == b.col) {
-                return Err(format!(
-                    "W[{i}]: block ({}, {}) given twice",
-                    b.row, b.col
-                ));
+                return Err(format!("W[{i}]: block ({}, {}) given twice", b.row, b.col));
             }
             row.push((b.col, block));
         }
@@ -235,8 +234,8 @@ impl AnyProblemFile {
         match self {
             AnyProblemFile::Local(file) => file.to_problem::<R>(),
             AnyProblemFile::Body(file) => match (file.dof_per_body, R) {
-                (6, 3) => Ok(file.to_problem::<6, 3>()?.to_local()).map(cast_rows),
-                (3, 2) => Ok(file.to_problem::<3, 2>()?.to_local()).map(cast_rows),
+                (6, 3) => Ok(cast_rows(file.to_problem::<6, 3>()?.to_local())),
+                (3, 2) => Ok(cast_rows(file.to_problem::<3, 2>()?.to_local())),
                 (d, r) => Err(format!(
                     "dof_per_body {d} with rows_per_contact {} cannot be read with {r} rows \
                      per contact",

@@ -48,7 +48,9 @@ pub fn parse_dat(text: &str) -> Result<AnyLocalProblem, String> {
     match d {
         3 => read_local::<3>(&mut t, nc).map(AnyLocalProblem::Three),
         2 => read_local::<2>(&mut t, nc).map(AnyLocalProblem::Two),
-        d => Err(format!("dimension {d}: a friction-contact problem has 2 or 3")),
+        d => Err(format!(
+            "dimension {d}: a friction-contact problem has 2 or 3"
+        )),
     }
 }
 
@@ -138,7 +140,9 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
             previous = c;
         }
         if previous != n {
-            return Err(format!("{what}: the last cumulative size is {previous}, not {n}"));
+            return Err(format!(
+                "{what}: the last cumulative size is {previous}, not {n}"
+            ));
         }
         Ok(cumulative)
     };
@@ -159,14 +163,18 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
     let columns = (0..filled2)
         .map(|_| t.integer("a block column index"))
         .collect::<Result<Vec<usize>, String>>()?;
-    if pointer[0] != 0 || pointer.windows(2).any(|w| w[1] < w[0]) || pointer[filled1 - 1] != count
-    {
+    if pointer[0] != 0 || pointer.windows(2).any(|w| w[1] < w[0]) || pointer[filled1 - 1] != count {
         return Err("the block-row pointer must rise from 0 to the number of blocks".into());
     }
     let start = |ends: &[usize], i: usize| if i == 0 { 0 } else { ends[i - 1] };
     let mut entries = Vec::new();
     for i in 0..filled1 - 1 {
-        for (k, &j) in columns.iter().enumerate().take(pointer[i + 1]).skip(pointer[i]) {
+        for (k, &j) in columns
+            .iter()
+            .enumerate()
+            .take(pointer[i + 1])
+            .skip(pointer[i])
+        {
             if j >= block_cols {
                 return Err(format!("block {k}: block column {j} out of range"));
             }
@@ -225,7 +233,9 @@ fn read_csparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)>, St
             let line = t.line().ok_or("a column header is missing")?;
             let w: Vec<&str> = line.split_whitespace().collect();
             if w.len() != 6 || w[2] != ":" {
-                return Err(format!("column header {line:?} is not `col j : locations a to b`"));
+                return Err(format!(
+                    "column header {line:?} is not `col j : locations a to b`"
+                ));
             }
             let (a, b) = (number(w[4])?, number(w[5])?);
             for _ in a..=b {
@@ -356,7 +366,12 @@ pub fn write_dat<const R: usize>(problem: &LocalProblem<R>) -> String {
     let _ = writeln!(
         s,
         "{}",
-        join(&mut problem.contacts.iter().flat_map(|c| c.row.iter().map(|(j, _)| *j)))
+        join(
+            &mut problem
+                .contacts
+                .iter()
+                .flat_map(|c| c.row.iter().map(|(j, _)| *j))
+        )
     );
     let mut number = 0;
     for c in &problem.contacts {
@@ -377,7 +392,11 @@ pub fn write_dat<const R: usize>(problem: &LocalProblem<R>) -> String {
         .flat_map(|c| c.q.iter().map(|x| format!("{x:e}")))
         .collect();
     let _ = writeln!(s, "{}", q.join(" "));
-    let mu: Vec<String> = problem.contacts.iter().map(|c| format!("{:e}", c.mu)).collect();
+    let mu: Vec<String> = problem
+        .contacts
+        .iter()
+        .map(|c| format!("{:e}", c.mu))
+        .collect();
     let _ = writeln!(s, "{}", mu.join(" "));
     s
 }

@@ -31,9 +31,11 @@ pub mod shock;
 
 pub use crate::problem::{SolveMethod, SolveReport};
 pub use local::LocalSolve;
-pub use newton::{NewtonSettings, NewtonWorkspace, solve_newton, solve_newton_local, solve_newton_local_until};
-pub use pgs_delassus::{solve_pgs_local, solve_pgs_local_until};
+pub use newton::{
+    NewtonSettings, NewtonWorkspace, solve_newton, solve_newton_local, solve_newton_local_until,
+};
 pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
+pub use pgs_delassus::{solve_pgs_local, solve_pgs_local_until};
 pub use residual::residual;
 
 use crate::problem::ContactProblem;
@@ -124,6 +126,9 @@ pub fn solve<const D: usize, const R: usize>(
         Solver::Newton => solve_newton(problem, &settings.newton, &mut workspace.newton, lambda),
     }
 }
+
+/// A caller's stopping rule for a solver: true when the impulses given are good enough.
+pub type Stop<'a, const R: usize> = dyn FnMut(&[SVector<f64, R>]) -> bool + 'a;
 
 /// A problem every solver here takes, in either form (the body form of a run, the local form of
 /// FCLIB and Siconos): what the cross-check and `rigidref solve-problems` call.

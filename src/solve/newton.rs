@@ -543,7 +543,7 @@ pub fn solve_newton_local<const R: usize>(
 pub fn solve_newton_local_until<const R: usize>(
     problem: &LocalProblem<R>,
     settings: &NewtonSettings,
-    stop: &mut dyn FnMut(&[SVector<f64, R>]) -> bool,
+    stop: &mut super::Stop<R>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
     newton(problem, problem, settings, Some(stop), lambda)
@@ -556,18 +556,26 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     judge: &P,
     local: &LocalProblem<R>,
     settings: &NewtonSettings,
-    mut stop: Option<&mut dyn FnMut(&[SVector<f64, R>]) -> bool>,
+    mut stop: Option<&mut super::Stop<R>>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
     let system = System::of(local, settings.dense_rows);
     let n = system.rows();
     let count = local.contacts.len();
-    let mut x = DVector::from_iterator(n, local.contacts.iter().flat_map(|c| c.lambda0.iter().copied()));
+    let mut x = DVector::from_iterator(
+        n,
+        local
+            .contacts
+            .iter()
+            .flat_map(|c| c.lambda0.iter().copied()),
+    );
     let cone = local.friction == FrictionModel::Cone;
     let tolerance = settings.tolerance;
     // The answer must pass the independent measures too, not only the iteration's own F.
     let to_impulses = |x: &DVector<f64>| -> Vec<SVector<f64, R>> {
-        (0..count).map(|k| x.fixed_rows::<R>(R * k).into()).collect()
+        (0..count)
+            .map(|k| x.fixed_rows::<R>(R * k).into())
+            .collect()
     };
     let mut accept = |x: &DVector<f64>, norm: f64| match stop.as_mut() {
         Some(stop) => stop(&to_impulses(x)),
@@ -588,7 +596,13 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     // throw the rest into sliding); from zero it starts where every contact is at rest.
     if !reached && x0_is_warm(local) {
         let mut cold = DVector::zeros(n);
-        let again = iterate(&system, &mut cold, None, settings.max_iterations, &mut accept);
+        let again = iterate(
+            &system,
+            &mut cold,
+            None,
+            settings.max_iterations,
+            &mut accept,
+        );
         iterations += again.iterations;
         if again.reached || again.norm < first.norm {
             x = cold;

@@ -353,9 +353,18 @@ pub(super) fn visit<const D: usize, const R: usize>(
     let law = workspace.entries[k].law;
     if local == LocalSolve::Exact {
         // q = w_now − A λ_now: the velocity the rest of the problem gives this constraint.
-        let q = workspace.contact_velocity(problem, k, lambda) - workspace.scales[k].block * *lambda;
+        let q =
+            workspace.contact_velocity(problem, k, lambda) - workspace.scales[k].block * *lambda;
         let scales = workspace.scales[k];
-        let exact = visit_exactly(problem.friction, contact.bounds, &scales, &law, &q, &mut workspace.rows(k), lambda);
+        let exact = visit_exactly(
+            problem.friction,
+            contact.bounds,
+            &scales,
+            &law,
+            &q,
+            &mut workspace.rows(k),
+            lambda,
+        );
         if !exact {
             workspace.local_fallbacks += 1;
         }

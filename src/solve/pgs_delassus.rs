@@ -58,7 +58,7 @@ pub fn solve_pgs_local_until<const R: usize>(
     problem: &LocalProblem<R>,
     settings: &PgsSettings,
     seed: u64,
-    stop: &mut dyn FnMut(&[SVector<f64, R>]) -> bool,
+    stop: &mut super::Stop<R>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
     pgs_local(problem, settings, seed, Some(stop), lambda)
@@ -68,7 +68,7 @@ fn pgs_local<const R: usize>(
     problem: &LocalProblem<R>,
     settings: &PgsSettings,
     seed: u64,
-    mut stop: Option<&mut dyn FnMut(&[SVector<f64, R>]) -> bool>,
+    mut stop: Option<&mut super::Stop<R>>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
     let count = problem.contacts.len();
@@ -114,13 +114,9 @@ fn pgs_local<const R: usize>(
                     }
                 }
                 (RowBounds::Free, LocalSolve::Rows) => solve_free_rows(&laws[k], &mut rows, l),
-                (RowBounds::Contact, LocalSolve::Rows) => solve_contact(
-                    problem.friction,
-                    &laws[k],
-                    &contact.lambda0,
-                    &mut rows,
-                    l,
-                ),
+                (RowBounds::Contact, LocalSolve::Rows) => {
+                    solve_contact(problem.friction, &laws[k], &contact.lambda0, &mut rows, l)
+                }
             }
         }
         iterations += 1;

@@ -121,7 +121,13 @@ pub fn load(path: &Path) -> Result<AnyLocalProblem, String> {
                 2 => file.to_local::<2>().map(AnyLocalProblem::Two),
                 r => Err(format!("rows_per_contact {r}: 3 (3D) or 2 (2D)")),
             }
-            .map_err(|e| if e.starts_with(&name.to_string()) { e } else { format!("{name}: {e}") })
+            .map_err(|e| {
+                if e.starts_with(&name.to_string()) {
+                    e
+                } else {
+                    format!("{name}: {e}")
+                }
+            })
         }
         Some("hdf5" | "h5") => read_hdf5(path),
         _ => Err(format!(
@@ -156,7 +162,8 @@ fn read_hdf5(path: &Path) -> Result<AnyLocalProblem, String> {
 /// local). `source` names where it came from (the file's `source`, FCLIB's `info/title`).
 pub fn write(problem: &AnyLocalProblem, source: &str, path: &Path) -> Result<(), String> {
     let name = path.display();
-    let text = |s: String| std::fs::write(path, s).map_err(|e| format!("{name}: cannot write: {e}"));
+    let text =
+        |s: String| std::fs::write(path, s).map_err(|e| format!("{name}: cannot write: {e}"));
     match path.extension().and_then(|e| e.to_str()) {
         Some("json") => {
             let mut file = match problem {
@@ -261,27 +268,41 @@ pub fn attempt<const R: usize>(
     }
 }
 
+/// The largest of an answer's three physical parts (Signorini, cone boundary, maximum
+/// dissipation; docs/contact.md §"Physical criteria"), J: zero at a Coulomb solution.
+pub fn physical(criteria: &ContactCriteria) -> f64 {
+    criteria
+        .signorini
+        .max(criteria.cone_boundary)
+        .max(criteria.max_dissipation)
+}
+
 /// The entries as a Markdown table: per problem its size and, per solver, converged or not,
-/// iterations, time and Siconos' error; then per solver how many it solved.
+/// iterations, time, Siconos' error and the largest physical criterion ([`physical`]); then
+/// per solver how many it solved.
 pub fn markdown_table(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> String {
     let mut s = String::from("| problem | contacts | asymmetry |");
     for solver in solvers {
-        s += &format!(" {} | iter | time (s) | error |", solver.name());
+        s += &format!(
+            " {} | iter | time (s) | error | criteria (J) |",
+            solver.name()
+        );
     }
     s += "\n|---|---:|---:|";
     for _ in solvers {
-        s += "---|---:|---:|---:|";
+        s += "---|---:|---:|---:|---:|";
     }
     s += "\n";
     for e in entries {
         s += &format!("| {} | {} | {:.0e} |", e.name, e.contacts, e.asymmetry);
         for a in &e.attempts {
             s += &format!(
-                " {} | {} | {:.3e} | {:.1e} |",
+                " {} | {} | {:.3e} | {:.1e} | {:.1e} |",
                 if a.converged { "yes" } else { "**no**" },
                 a.iterations,
                 a.seconds,
-                a.error
+                a.error,
+                physical(&a.criteria)
             );
         }
         s += "\n";
@@ -289,7 +310,7 @@ pub fn markdown_table(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> St
     s += &format!("| **solved** | {} problems | |", entries.len());
     for (i, _) in solvers.iter().enumerate() {
         let solved = entries.iter().filter(|e| e.attempts[i].converged).count();
-        s += &format!(" **{solved}** | | | |");
+        s += &format!(" **{solved}** | | | | |");
     }
     s + "\n"
 }

@@ -16,7 +16,9 @@ use crate::problem::{FrictionModel, ProblemView, RowBounds};
 use crate::solve::projection::project_friction;
 use crate::solve::qp::{QpFormulation, QpSettings, objective, solve_qp};
 use crate::solve::residual::coulomb_residual;
-use crate::solve::{LocalSolve, NewtonSettings, PgsSettings, Solvable, SolveReport, Solver, residual};
+use crate::solve::{
+    LocalSolve, NewtonSettings, PgsSettings, Solvable, SolveReport, Solver, residual,
+};
 use nalgebra::{DMatrix, DVector, SVector};
 use serde::Serialize;
 

@@ -31,6 +31,7 @@ fn _rigidref(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(problem::residual, m)?)?;
     m.add_function(wrap_pyfunction!(problem::coulomb_residual, m)?)?;
     m.add_function(wrap_pyfunction!(problem::criteria, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::siconos_error, m)?)?;
     m.add_function(wrap_pyfunction!(grading::compare_traces, m)?)?;
     m.add_function(wrap_pyfunction!(grading::grade, m)?)?;
     m.add("DENSE_LIMIT", arrays::DENSE_LIMIT)?;

@@ -9,36 +9,63 @@ use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rigidref::problem::json::ProblemFile;
+use rigidref::problem::local_json::{AnyProblemFile, LocalProblemFile};
+use rigidref::problem::siconos::AnyLocalProblem;
 use rigidref::problem::{
-    ContactProblem as Problem, FrictionModel, ProblemBody, ProblemContact, RowBounds, SolveReport,
+    ContactProblem as Problem, FrictionModel, LocalProblem, ProblemBody, ProblemContact,
+    ProblemView, RowBounds, SolveReport,
 };
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
 use rigidref::solve::{
-    ContactOrder, LocalSolve, NewtonSettings, NewtonWorkspace, PgsSettings, PgsWorkspace,
-    solve_newton as newton, solve_pgs as pgs,
+    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, PgsWorkspace, Solvable,
+    solve_pgs as pgs, solve_pgs_local,
 };
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// A problem of either system.
+/// A problem of either system, in either form.
 #[derive(Clone, Debug)]
 pub enum AnyProblem {
     /// 3D: 6 degrees of freedom per body (v, ω), 3 rows per contact (n, t1, t2).
     P3(Problem<6, 3>),
     /// 2D: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
     P2(Problem<3, 2>),
+    /// The local form (W, q, μ; docs/contact.md §"The local form"), 3 rows per contact.
+    L3(LocalProblem<3>),
+    /// The local form, 2 rows per contact.
+    L2(LocalProblem<2>),
 }
 
-/// Runs `$body` with `$p` bound to the problem inside, whichever system it is.
+/// Runs `$body` with `$p` bound to the problem inside, whichever system and form it is: the
+/// body may use only what both forms have ([`ProblemView`], the solvers' generic functions).
 macro_rules! with_problem {
     ($any:expr, $p:ident => $body:expr) => {
         match $any {
             AnyProblem::P3($p) => $body,
             AnyProblem::P2($p) => $body,
+            AnyProblem::L3($p) => $body,
+            AnyProblem::L2($p) => $body,
         }
     };
 }
 pub(crate) use with_problem;
+
+/// Runs `$body` with `$p` bound to a body-form problem; a local-form problem raises ProblemError
+/// saying that it has no `$what`.
+macro_rules! with_bodies {
+    ($any:expr, $what:expr, $p:ident => $body:expr) => {
+        match $any {
+            AnyProblem::P3($p) => $body,
+            AnyProblem::P2($p) => $body,
+            AnyProblem::L3(_) | AnyProblem::L2(_) => {
+                return Err(errors::problem(format!(
+                    "{}: a local-form problem (W, q) has no bodies or Jacobian; it has W, b (= q), mu",
+                    $what
+                )))
+            }
+        }
+    };
+}
 
 /// One contact problem (docs/contact.md §"The contact problem"): find impulses λ with
 /// w = (A + C) λ + b, A = J M⁻¹ Jᵀ, and each contact's complementarity and friction conditions.
@@ -302,63 +329,187 @@ fn friction_model(name: &str) -> PyResult<FrictionModel> {
 }
 
 impl ContactProblem {
+    /// (D, R): D is 0 for the local form (no bodies).
     fn dims(&self) -> (usize, usize) {
         match &self.inner {
             AnyProblem::P3(_) => (6, 3),
             AnyProblem::P2(_) => (3, 2),
+            AnyProblem::L3(_) => (0, 3),
+            AnyProblem::L2(_) => (0, 2),
         }
     }
+
+    fn is_local(&self) -> bool {
+        matches!(self.inner, AnyProblem::L3(_) | AnyProblem::L2(_))
+    }
+}
+
+/// W (R·contacts square) of a local problem as triplets, block by block.
+fn local_triplets<const R: usize>(p: &LocalProblem<R>) -> Vec<(usize, usize, f64)> {
+    let mut t = Vec::new();
+    for (k, c) in p.contacts.iter().enumerate() {
+        for (j, block) in &c.row {
+            for a in 0..R {
+                for b in 0..R {
+                    t.push((R * k + a, R * j + b, block[(a, b)]));
+                }
+            }
+        }
+    }
+    t
+}
+
+/// A local problem of R rows per contact from a dense W (A), b and μ, with the optional warm
+/// start and bounds.
+fn build_local<const R: usize>(
+    a: &Bound<'_, PyAny>,
+    b: &Bound<'_, PyAny>,
+    mu: &Bound<'_, PyAny>,
+    friction: FrictionModel,
+    lambda0: Option<&Bound<'_, PyAny>>,
+    bounds: Option<Vec<RowBounds>>,
+) -> PyResult<LocalProblem<R>> {
+    let (w, shape) = arrays::numbers(a, "A")?;
+    if shape.len() != 2 || shape[0] != shape[1] || shape[0] % R != 0 {
+        return Err(errors::problem(format!(
+            "A: shape {shape:?}, expected ({R}·contacts, {R}·contacts)"
+        )));
+    }
+    let n = shape[0];
+    let m = n / R;
+    let (q, _) = arrays::numbers(b, "b")?;
+    if q.len() != n {
+        return Err(errors::problem(format!(
+            "b: {} entries, expected {n} (A's rows)",
+            q.len()
+        )));
+    }
+    let (mu_values, mu_shape) = arrays::numbers(mu, "mu")?;
+    let mu = match mu_shape.len() {
+        0 => vec![mu_values[0]; m],
+        1 if mu_values.len() == m => mu_values,
+        _ => {
+            return Err(errors::problem(format!(
+                "mu: shape {mu_shape:?}, expected a number or ({m},), one per contact"
+            )));
+        }
+    };
+    let entries = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .filter_map(|(i, j)| {
+            let v = w[i * n + j];
+            (v != 0.0 || i / R == j / R).then_some((i, j, v))
+        });
+    let mut problem =
+        LocalProblem::<R>::from_entries(friction, entries, &q, &mu).map_err(errors::problem)?;
+    if let Some(l) = lambda0 {
+        for (c, l) in problem
+            .contacts
+            .iter_mut()
+            .zip(lambdas::<R>(l, m, "lambda0")?)
+        {
+            c.lambda0 = l;
+        }
+    }
+    if let Some(bounds) = bounds {
+        if bounds.len() != m {
+            return Err(errors::problem(format!(
+                "bounds: {} entries, expected {m}, one per contact",
+                bounds.len()
+            )));
+        }
+        for (c, b) in problem.contacts.iter_mut().zip(bounds) {
+            c.bounds = b;
+        }
+    }
+    problem.validate().map_err(errors::problem)?;
+    Ok(problem)
 }
 
 #[pymethods]
 impl ContactProblem {
-    /// Reads a contact-problem file (docs/contact-problem-format.md), 3D or 2D. Raises
+    /// Reads a contact-problem file (docs/contact-problem-format.md), 3D or 2D, body or local
+    /// form, or a Siconos `.dat` problem (docs/problem-library.md; the local form). Raises
     /// ProblemError naming the file and what is wrong.
     #[staticmethod]
     fn read(path: PathBuf) -> PyResult<ContactProblem> {
         let name = path.display().to_string();
         rigidref::common::input::check_size(&path)
             .map_err(|e| errors::problem(format!("{name}: {e}")))?;
-        let file = ProblemFile::read(&path).map_err(errors::problem)?;
         let named = |e: String| errors::problem(format!("{name}: {e}"));
-        let inner = match (file.dof_per_body, file.rows_per_contact) {
-            (6, 3) => AnyProblem::P3(file.to_problem::<6, 3>().map_err(named)?),
-            (3, 2) => AnyProblem::P2(file.to_problem::<3, 2>().map_err(named)?),
-            (d, r) => {
-                return Err(errors::problem(format!(
-                    "{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"
-                )));
-            }
+        if path.extension().is_some_and(|e| e == "dat") {
+            let inner =
+                match rigidref::problem::siconos::read_dat(&path).map_err(errors::problem)? {
+                    AnyLocalProblem::Three(p) => AnyProblem::L3(p),
+                    AnyLocalProblem::Two(p) => AnyProblem::L2(p),
+                };
+            return Ok(ContactProblem { inner });
+        }
+        let inner = match AnyProblemFile::read(&path).map_err(errors::problem)? {
+            AnyProblemFile::Body(file) => match (file.dof_per_body, file.rows_per_contact) {
+                (6, 3) => AnyProblem::P3(file.to_problem::<6, 3>().map_err(named)?),
+                (3, 2) => AnyProblem::P2(file.to_problem::<3, 2>().map_err(named)?),
+                (d, r) => {
+                    return Err(errors::problem(format!(
+                        "{name}: dof_per_body {d} with rows_per_contact {r} is not a problem rigidref knows (6/3 in 3D, 3/2 in 2D)"
+                    )));
+                }
+            },
+            AnyProblemFile::Local(file) => match file.rows_per_contact {
+                3 => AnyProblem::L3(file.to_problem::<3>().map_err(named)?),
+                2 => AnyProblem::L2(file.to_problem::<2>().map_err(named)?),
+                r => {
+                    return Err(errors::problem(format!(
+                        "{name}: rows_per_contact {r}: 3 (3D) or 2 (2D)"
+                    )));
+                }
+            },
         };
         Ok(ContactProblem { inner })
     }
 
     /// Writes the problem as a contact-problem file (no provenance, no solution).
     fn write(&self, path: PathBuf) -> PyResult<()> {
-        let file = with_problem!(&self.inner, p => ProblemFile::new(p));
+        let file = match &self.inner {
+            AnyProblem::P3(p) => serde_json::to_value(ProblemFile::new(p)),
+            AnyProblem::P2(p) => serde_json::to_value(ProblemFile::new(p)),
+            AnyProblem::L3(p) => serde_json::to_value(LocalProblemFile::new(p)),
+            AnyProblem::L2(p) => serde_json::to_value(LocalProblemFile::new(p)),
+        }
+        .map_err(|e| errors::problem(format!("{}: {e}", path.display())))?;
         let text = serde_json::to_string(&file)
             .map_err(|e| errors::problem(format!("{}: {e}", path.display())))?;
         std::fs::write(&path, text + "\n")
             .map_err(|e| errors::problem(format!("{}: cannot write: {e}", path.display())))
     }
 
-    /// A problem from arrays: J (R·contacts × D·bodies; each contact's rows act on at most two
-    /// bodies, which are read off J's nonzero column blocks and kept in ascending order, so the
-    /// normal's direction is J's), Minv (block diagonal, D·bodies square, or its blocks as
-    /// (bodies, D, D)), b (R·contacts entries in contact order, any shape), mu (a number or one
-    /// per contact, ≥ 0); optionally friction_model ("box" or "cone"), compliance (kg⁻¹, a
-    /// number or one per contact), lambda0 ((contacts, R), the warm start), velocity (the
-    /// bodies' u before contact, D·bodies entries) and bounds ("contact" or "free" per
-    /// constraint, default all "contact"). dof_per_body is 6 (3D: R = 3) or 3 (2D: R = 2). Checked as a problem file is:
-    /// a ProblemError says what is wrong (shapes, non-finite numbers, negative μ, ...).
+    /// A problem from arrays, in either form.
+    ///
+    /// Body form, from_arrays(J, Minv, b, mu, ...): J (R·contacts × D·bodies; each contact's
+    /// rows act on at most two bodies, which are read off J's nonzero column blocks and kept in
+    /// ascending order, so the normal's direction is J's), Minv (block diagonal, D·bodies
+    /// square, or its blocks as (bodies, D, D)), b (R·contacts entries in contact order, any
+    /// shape), mu (a number or one per contact, ≥ 0); optionally compliance (kg⁻¹, a number or
+    /// one per contact) and velocity (the bodies' u before contact, D·bodies entries).
+    /// dof_per_body is 6 (3D: R = 3) or 3 (2D: R = 2).
+    ///
+    /// Local form (docs/contact.md §"The local form"), from_arrays(A, b, mu, ...) with three
+    /// arrays, or from_arrays(A=..., b=..., mu=...): A the Delassus operator W (R·contacts
+    /// square, kg⁻¹, compliance included; it need not be symmetric), b (= q), mu; R is 3, or 2
+    /// with dof_per_body=3. Its blocks are those with a nonzero entry, and every diagonal block.
+    ///
+    /// Both: friction_model ("box" or "cone"), lambda0 ((contacts, R), the warm start) and
+    /// bounds ("contact" or "free" per constraint, default all "contact"). Checked as a problem
+    /// file is: a ProblemError says what is wrong (shapes, non-finite numbers, negative μ, ...).
     #[staticmethod]
-    #[pyo3(signature = (J, Minv, b, mu, *, friction_model = "box", compliance = None, lambda0 = None, velocity = None, bounds = None, dof_per_body = 6))]
+    #[pyo3(signature = (J = None, Minv = None, b = None, mu = None, *, A = None, friction_model = "box", compliance = None, lambda0 = None, velocity = None, bounds = None, dof_per_body = 6))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn from_arrays(
-        J: &Bound<'_, PyAny>,
-        Minv: &Bound<'_, PyAny>,
-        b: &Bound<'_, PyAny>,
-        mu: &Bound<'_, PyAny>,
+        J: Option<&Bound<'_, PyAny>>,
+        Minv: Option<&Bound<'_, PyAny>>,
+        b: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        A: Option<&Bound<'_, PyAny>>,
         friction_model: &str,
         compliance: Option<&Bound<'_, PyAny>>,
         lambda0: Option<&Bound<'_, PyAny>>,
@@ -374,6 +525,39 @@ impl ContactProblem {
                     .collect::<PyResult<Vec<_>>>()
             })
             .transpose()?;
+        // The local form: A given by name, or three positional arrays (A, b, mu).
+        let local = match (A, J, Minv, b, mu) {
+            (Some(a), None, None, Some(b), Some(mu)) => Some((a, b, mu)),
+            (None, Some(a), Some(b), Some(mu), None) => Some((a, b, mu)),
+            (Some(_), _, _, _, _) => {
+                return Err(errors::problem(
+                    "from_arrays(A=..., b=..., mu=...): with A give b and mu, and no J or Minv",
+                ));
+            }
+            _ => None,
+        };
+        if let Some((a, b, mu)) = local {
+            if compliance.is_some() || velocity.is_some() {
+                return Err(errors::problem(
+                    "the local form has no compliance or velocity: put the compliance in A's diagonal (A + C) and the velocities in b",
+                ));
+            }
+            let inner = match dof_per_body {
+                6 => AnyProblem::L3(build_local::<3>(a, b, mu, friction, lambda0, bounds)?),
+                3 => AnyProblem::L2(build_local::<2>(a, b, mu, friction, lambda0, bounds)?),
+                d => {
+                    return Err(errors::problem(format!(
+                        "dof_per_body {d}: expected 6 (3D) or 3 (2D)"
+                    )));
+                }
+            };
+            return Ok(ContactProblem { inner });
+        }
+        let (Some(J), Some(Minv), Some(b), Some(mu)) = (J, Minv, b, mu) else {
+            return Err(errors::problem(
+                "from_arrays: give J, Minv, b and mu (the body form), or A, b and mu (the local form)",
+            ));
+        };
         let inner = match dof_per_body {
             6 => AnyProblem::P3(build::<6, 3>(
                 J, Minv, b, mu, friction, compliance, lambda0, velocity, bounds,
@@ -390,6 +574,37 @@ impl ContactProblem {
         Ok(ContactProblem { inner })
     }
 
+    /// "body" (bodies, J, M⁻¹, b) or "local" (W, q, μ only).
+    #[getter]
+    fn form(&self) -> &'static str {
+        if self.is_local() { "local" } else { "body" }
+    }
+
+    /// The problem in local form (docs/contact.md §"The local form"): W = J M⁻¹ Jᵀ + C, q = b;
+    /// a local problem is returned as it is.
+    fn to_local(&self) -> ContactProblem {
+        let inner = match &self.inner {
+            AnyProblem::P3(p) => AnyProblem::L3(p.to_local()),
+            AnyProblem::P2(p) => AnyProblem::L2(p.to_local()),
+            other => other.clone(),
+        };
+        ContactProblem { inner }
+    }
+
+    /// W = A + C (R·contacts square, kg⁻¹): the operator of w = W λ + b, compliance included,
+    /// in either form.
+    #[getter(W)]
+    fn operator<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let n = self.dims().1 * self.num_contacts();
+        let triplets = match &self.inner {
+            AnyProblem::P3(p) => local_triplets(&p.to_local()),
+            AnyProblem::P2(p) => local_triplets(&p.to_local()),
+            AnyProblem::L3(p) => local_triplets(p),
+            AnyProblem::L2(p) => local_triplets(p),
+        };
+        arrays::dense_or_sparse(py, (n, n), triplets)
+    }
+
     /// Degrees of freedom per body D: 6 in 3D (v, ω), 3 in 2D (vx, vy, ω).
     #[getter]
     fn dof_per_body(&self) -> usize {
@@ -403,58 +618,68 @@ impl ContactProblem {
     /// Number of contacts.
     #[getter]
     fn num_contacts(&self) -> usize {
-        with_problem!(&self.inner, p => p.contacts.len())
+        with_problem!(&self.inner, p => p.count())
     }
-    /// Number of bodies.
+    /// Number of bodies (0 in the local form).
     #[getter]
     fn num_bodies(&self) -> usize {
-        with_problem!(&self.inner, p => p.bodies.len())
+        match &self.inner {
+            AnyProblem::P3(p) => p.bodies.len(),
+            AnyProblem::P2(p) => p.bodies.len(),
+            _ => 0,
+        }
     }
     /// "box" or "cone".
     #[getter]
     fn friction_model(&self) -> &'static str {
-        with_problem!(&self.inner, p => p.friction.name())
+        with_problem!(&self.inner, p => ProblemView::friction(p).name())
     }
     /// The Jacobian J (R·contacts × D·bodies): J u is the contacts' relative velocity (m/s).
     #[getter(J)]
     fn jacobian<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let (d, r) = self.dims();
         let shape = (r * self.num_contacts(), d * self.num_bodies());
-        arrays::dense_or_sparse(
-            py,
-            shape,
-            with_problem!(&self.inner, p => jacobian_triplets(p)),
-        )
+        let triplets = with_bodies!(&self.inner, "J", p => jacobian_triplets(p));
+        arrays::dense_or_sparse(py, shape, triplets)
     }
     /// The inverse mass M⁻¹ (D·bodies square, block diagonal; kg⁻¹ and (kg·m²)⁻¹).
     #[getter(Minv)]
     fn inverse_mass<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dims().0 * self.num_bodies();
-        arrays::dense_or_sparse(
-            py,
-            (n, n),
-            with_problem!(&self.inner, p => inverse_mass_triplets(p)),
-        )
+        let triplets = with_bodies!(&self.inner, "Minv", p => inverse_mass_triplets(p));
+        arrays::dense_or_sparse(py, (n, n), triplets)
     }
-    /// The Delassus operator A = J M⁻¹ Jᵀ (R·contacts square, kg⁻¹), without compliance.
+    /// The Delassus operator A = J M⁻¹ Jᵀ (R·contacts square, kg⁻¹), without compliance; in the
+    /// local form, W itself (which holds any compliance).
     #[getter(A)]
     fn delassus<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let n = self.dims().1 * self.num_contacts();
-        arrays::dense_or_sparse(
-            py,
-            (n, n),
-            with_problem!(&self.inner, p => delassus_triplets(p)),
-        )
+        let triplets = match &self.inner {
+            AnyProblem::P3(p) => delassus_triplets(p),
+            AnyProblem::P2(p) => delassus_triplets(p),
+            AnyProblem::L3(p) => local_triplets(p),
+            AnyProblem::L2(p) => local_triplets(p),
+        };
+        arrays::dense_or_sparse(py, (n, n), triplets)
     }
-    /// The matrix `name` ("J", "Minv" or "A") as a CooMatrix, whatever its size.
+    /// The matrix `name` ("J", "Minv", "A" or "W") as a CooMatrix, whatever its size.
     fn sparse(&self, py: Python<'_>, name: &str) -> PyResult<Py<arrays::CooMatrix>> {
         let (d, r) = self.dims();
         let (m, n) = (self.num_contacts(), self.num_bodies());
-        let coo = with_problem!(&self.inner, p => match name {
+        if name == "W" || (name == "A" && self.is_local()) {
+            let triplets = match &self.inner {
+                AnyProblem::P3(p) => local_triplets(&p.to_local()),
+                AnyProblem::P2(p) => local_triplets(&p.to_local()),
+                AnyProblem::L3(p) => local_triplets(p),
+                AnyProblem::L2(p) => local_triplets(p),
+            };
+            return Py::new(py, arrays::CooMatrix::new((r * m, r * m), triplets));
+        }
+        let coo = with_bodies!(&self.inner, name, p => match name {
             "J" => arrays::CooMatrix::new((r * m, d * n), jacobian_triplets(p)),
             "Minv" => arrays::CooMatrix::new((d * n, d * n), inverse_mass_triplets(p)),
             "A" => arrays::CooMatrix::new((r * m, r * m), delassus_triplets(p)),
-            other => return Err(errors::problem(format!("matrix {other:?}: expected \"J\", \"Minv\" or \"A\""))),
+            other => return Err(errors::problem(format!("matrix {other:?}: expected \"J\", \"Minv\", \"A\" or \"W\""))),
         });
         Py::new(py, coo)
     }
@@ -463,7 +688,7 @@ impl ContactProblem {
     fn b<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         arrays::vector(
             py,
-            with_problem!(&self.inner, p => p.dense_b().iter().copied().collect()),
+            with_problem!(&self.inner, p => ProblemView::dense_b(p).iter().copied().collect()),
         )
     }
     /// Friction coefficient μ per contact.
@@ -471,49 +696,45 @@ impl ContactProblem {
     fn mu<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         arrays::vector(
             py,
-            with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.mu).collect()),
+            with_problem!(&self.inner, p => (0..p.count()).map(|k| p.mu(k)).collect()),
         )
     }
-    /// Compliance c per contact (kg⁻¹), on its normal row.
+    /// Compliance c per contact (kg⁻¹), on its normal row (the local form holds it in W).
     #[getter]
-    fn compliance<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::vector(
-            py,
-            with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.compliance).collect()),
-        )
+    fn compliance<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let c = with_bodies!(&self.inner, "compliance", p => p.contacts.iter().map(|c| c.compliance).collect());
+        Ok(arrays::vector(py, c))
     }
     /// The warm start λ0 (contacts × R, N·s).
     #[getter]
     fn lambda0<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
         with_problem!(&self.inner, p => {
-            let l: Vec<_> = p.contacts.iter().map(|c| c.lambda0).collect();
+            let l: Vec<_> = (0..p.count()).map(|k| p.lambda0(k)).collect();
             lambda_array(py, &l)
         })
     }
     /// The bodies' velocities u before contact (D·bodies).
     #[getter]
-    fn velocity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        arrays::vector(
-            py,
-            with_problem!(&self.inner, p => p.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect()),
-        )
+    fn velocity<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let u = with_bodies!(&self.inner, "velocity", p => p.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect());
+        Ok(arrays::vector(py, u))
     }
     /// Each constraint's row bounds: "contact" (λn ≥ 0, friction bounded by μ λn) or "free" (a
     /// joint's rows, unbounded; docs/contact.md §"Row bounds").
     #[getter]
     fn bounds(&self) -> Vec<&'static str> {
-        with_problem!(&self.inner, p => p.contacts.iter().map(|c| c.bounds.name()).collect())
+        with_problem!(&self.inner, p => (0..p.count()).map(|k| p.bounds(k).name()).collect())
     }
     /// Each contact's two bodies (contacts × 2, int64; −1 is the static world). The normal
     /// points from the second into the first.
     #[getter]
-    fn bodies<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<i64>> {
-        let pairs: Vec<i64> = with_problem!(&self.inner, p => p.contacts.iter().flat_map(|c| c.bodies.map(|b| b.map_or(-1, |b| b as i64))).collect());
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<i64>>> {
+        let pairs: Vec<i64> = with_bodies!(&self.inner, "bodies", p => p.contacts.iter().flat_map(|c| c.bodies.map(|b| b.map_or(-1, |b| b as i64))).collect());
         let m = pairs.len() / 2;
-        numpy::IntoPyArray::into_pyarray(
+        Ok(numpy::IntoPyArray::into_pyarray(
             numpy::ndarray::Array2::from_shape_vec((m, 2), pairs).expect("pairs"),
             py,
-        )
+        ))
     }
     /// w = (A + C) λ + b for impulses λ (contacts × R): the contacts' velocities after them.
     fn w<'py>(
@@ -522,14 +743,21 @@ impl ContactProblem {
         lam: &Bound<'_, PyAny>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         with_problem!(&self.inner, p => {
-            let l = lambdas(lam, p.contacts.len(), "lam")?;
-            Ok(lambda_array(py, &p.constraint_velocity(&l)))
+            let l = lambdas(lam, p.count(), "lam")?;
+            Ok(lambda_array(py, &ProblemView::constraint_velocity(p, &l)))
         })
     }
     fn __repr__(&self) -> String {
+        let dimension = if self.dims().1 == 3 { 3 } else { 2 };
+        if self.is_local() {
+            return format!(
+                "ContactProblem({dimension}D, local form, {} contacts, friction_model={:?})",
+                self.num_contacts(),
+                self.friction_model()
+            );
+        }
         format!(
-            "ContactProblem({}D, {} bodies, {} contacts, friction_model={:?})",
-            if self.dims().0 == 6 { 3 } else { 2 },
+            "ContactProblem({dimension}D, {} bodies, {} contacts, friction_model={:?})",
             self.num_bodies(),
             self.num_contacts(),
             self.friction_model()
@@ -591,16 +819,34 @@ pub fn solution<const R: usize>(
     }
 }
 
+/// A problem whose warm start can be replaced, in either form.
+trait WarmStart<const R: usize>: Clone + ProblemView<R> {
+    /// Sets contact k's warm start.
+    fn set_lambda0(&mut self, k: usize, l: SVector<f64, R>);
+}
+
+impl<const D: usize, const R: usize> WarmStart<R> for Problem<D, R> {
+    fn set_lambda0(&mut self, k: usize, l: SVector<f64, R>) {
+        self.contacts[k].lambda0 = l;
+    }
+}
+
+impl<const R: usize> WarmStart<R> for LocalProblem<R> {
+    fn set_lambda0(&mut self, k: usize, l: SVector<f64, R>) {
+        self.contacts[k].lambda0 = l;
+    }
+}
+
 /// The problem with its warm start replaced by `warm_start` (contacts × R), when given.
-fn warm<const D: usize, const R: usize>(
-    p: &Problem<D, R>,
+fn warm<const R: usize, P: WarmStart<R>>(
+    p: &P,
     warm_start: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Problem<D, R>> {
+) -> PyResult<P> {
     let mut p = p.clone();
     if let Some(ws) = warm_start {
-        let l = lambdas::<R>(ws, p.contacts.len(), "warm_start")?;
-        for (c, l) in p.contacts.iter_mut().zip(l) {
-            c.lambda0 = l;
+        let l = lambdas::<R>(ws, p.count(), "warm_start")?;
+        for (k, l) in l.into_iter().enumerate() {
+            p.set_lambda0(k, l);
         }
     }
     Ok(p)
@@ -653,15 +899,60 @@ pub fn solve_pgs(
         order,
         local,
     };
-    with_problem!(&problem.inner, p => {
-        let p = warm(p, warm_start)?;
-        let (report, lambda) = py.detach(|| {
-            let mut lambda = Vec::new();
-            let report = pgs(&p, &settings, &mut PgsWorkspace::new(seed), &mut lambda);
-            (report, lambda)
-        });
-        Ok(solution(py, &report, &lambda))
-    })
+    match &problem.inner {
+        AnyProblem::P3(p) => run_pgs(py, p, warm_start, &settings, seed),
+        AnyProblem::P2(p) => run_pgs(py, p, warm_start, &settings, seed),
+        AnyProblem::L3(p) => run_pgs(py, p, warm_start, &settings, seed),
+        AnyProblem::L2(p) => run_pgs(py, p, warm_start, &settings, seed),
+    }
+}
+
+/// PGS on either form: through the bodies' Δu, or through W (src/solve/pgs_delassus.rs).
+trait PgsForm<const R: usize>: WarmStart<R> + Send + Sync {
+    fn pgs(
+        &self,
+        settings: &PgsSettings,
+        seed: u64,
+        lambda: &mut Vec<SVector<f64, R>>,
+    ) -> SolveReport;
+}
+
+impl<const D: usize, const R: usize> PgsForm<R> for Problem<D, R> {
+    fn pgs(
+        &self,
+        settings: &PgsSettings,
+        seed: u64,
+        lambda: &mut Vec<SVector<f64, R>>,
+    ) -> SolveReport {
+        pgs(self, settings, &mut PgsWorkspace::new(seed), lambda)
+    }
+}
+
+impl<const R: usize> PgsForm<R> for LocalProblem<R> {
+    fn pgs(
+        &self,
+        settings: &PgsSettings,
+        seed: u64,
+        lambda: &mut Vec<SVector<f64, R>>,
+    ) -> SolveReport {
+        solve_pgs_local(self, settings, seed, lambda)
+    }
+}
+
+fn run_pgs<const R: usize, P: PgsForm<R>>(
+    py: Python<'_>,
+    p: &P,
+    warm_start: Option<&Bound<'_, PyAny>>,
+    settings: &PgsSettings,
+    seed: u64,
+) -> PyResult<Solution> {
+    let p = warm(p, warm_start)?;
+    let (report, lambda) = py.detach(|| {
+        let mut lambda = Vec::new();
+        let report = p.pgs(settings, seed, &mut lambda);
+        (report, lambda)
+    });
+    Ok(solution(py, &report, &lambda))
 }
 
 /// The exact solver (src/solve/newton.rs, docs/contact.md §"Newton solver"): semismooth Newton
@@ -691,7 +982,7 @@ pub fn solve_newton(
         let p = warm(p, warm_start)?;
         let (report, lambda) = py.detach(|| {
             let mut lambda = Vec::new();
-            let report = newton(&p, &settings, &mut NewtonWorkspace::default(), &mut lambda);
+            let report = Solvable::newton(&p, &settings, &mut lambda);
             (report, lambda)
         });
         Ok(solution(py, &report, &lambda))
@@ -750,7 +1041,7 @@ pub fn solve_clarabel(
     with_problem!(&problem.inner, p => {
         let solved = py.detach(|| solve_qp(p, &formulation, &settings)).map_err(errors::problem)?;
         let residual = rigidref::solve::residual(p, &solved.lambda);
-        let coulomb = (p.friction == FrictionModel::Cone)
+        let coulomb = (ProblemView::friction(p) == FrictionModel::Cone)
             .then(|| rigidref::solve::residual::coulomb_residual(p, &solved.lambda));
         Ok(Solution {
             lam: lambda_array(py, &solved.lambda).unbind(),
@@ -768,14 +1059,14 @@ pub fn solve_clarabel(
 /// (docs/contact.md §"Residual"): 0 exactly at a solution of the problem's friction model.
 #[pyfunction]
 pub fn residual(problem: &ContactProblem, lam: &Bound<'_, PyAny>) -> PyResult<f64> {
-    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual(p, &lambdas(lam, p.contacts.len(), "lam")?)))
+    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual(p, &lambdas(lam, p.count(), "lam")?)))
 }
 
 /// The exact Coulomb law's residual of `lam` (De Saxcé's natural map, m/s; docs/contact.md
 /// §"The exact Coulomb residual"), whatever the problem's friction model.
 #[pyfunction]
 pub fn coulomb_residual(problem: &ContactProblem, lam: &Bound<'_, PyAny>) -> PyResult<f64> {
-    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual::coulomb_residual(p, &lambdas(lam, p.contacts.len(), "lam")?)))
+    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual::coulomb_residual(p, &lambdas(lam, p.count(), "lam")?)))
 }
 
 /// The physical criteria of `lam` against Coulomb's law, per contact (docs/contact.md §"Physical
@@ -787,7 +1078,7 @@ pub fn criteria<'py>(
     problem: &ContactProblem,
     lam: &Bound<'_, PyAny>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let (each, max) = with_problem!(&problem.inner, p => rigidref::solve::criteria::criteria(p, &lambdas(lam, p.contacts.len(), "lam")?));
+    let (each, max) = with_problem!(&problem.inner, p => rigidref::solve::criteria::criteria(p, &lambdas(lam, p.count(), "lam")?));
     criteria_dict(py, &each, &max)
 }
 
@@ -814,4 +1105,12 @@ pub fn criteria_dict<'py>(
     }
     d.set_item("max", largest)?;
     Ok(d)
+}
+
+/// Siconos' error measure of `lam` (docs/problem-library.md §"Siconos' error measure"): the
+/// unit-scale natural map of the Coulomb law, 2-norm over the contacts, divided by
+/// max(‖b‖, ‖λ‖, ‖w‖); the stopping criterion of `rigidref solve-problems`.
+#[pyfunction]
+pub fn siconos_error(problem: &ContactProblem, lam: &Bound<'_, PyAny>) -> PyResult<f64> {
+    with_problem!(&problem.inner, p => Ok(rigidref::solve::residual::siconos_error(p, &lambdas(lam, p.count(), "lam")?)))
 }

@@ -461,6 +461,6 @@ impl Solve {
 
 impl ContactProblem {
     fn inner_contacts(&self) -> usize {
-        crate::problem::with_problem!(&self.inner, p => p.contacts.len())
+        crate::problem::with_problem!(&self.inner, p => rigidref::problem::ProblemView::count(p))
     }
 }

@@ -23,16 +23,38 @@ fn solve_problems_tables_every_problem_and_draws_a_profile() {
     common::assert_success(&out);
     let table = String::from_utf8(out.stdout.clone()).unwrap();
     // One row per local problem (21), each solver solving all of them to 1e-8.
-    assert_eq!(table.lines().filter(|l| l.starts_with("| Rover")).count(), 14, "{table}");
-    assert!(table.contains("| **solved** | 21 problems | | **21** | | | | **21** | | | | **21** |"), "{table}");
+    assert_eq!(
+        table.lines().filter(|l| l.starts_with("| Rover")).count(),
+        14,
+        "{table}"
+    );
+    assert!(
+        table.contains("| **solved** | 21 problems | | **21** | | | | | **21** | | | | | **21** |"),
+        "{table}"
+    );
     // The global problem in the folder is skipped with a note that says why.
     let stderr = common::stderr(&out);
-    assert!(stderr.contains("skipped") && stderr.contains("GFC3D_Example00.dat") && stderr.contains("global problem"), "{stderr}");
+    assert!(
+        stderr.contains("skipped")
+            && stderr.contains("GFC3D_Example00.dat")
+            && stderr.contains("global problem"),
+        "{stderr}"
+    );
     let svg = std::fs::read_to_string(&profile).unwrap();
-    assert!(svg.starts_with("<svg") && svg.contains("newton (21/21)") && svg.contains("pgs-exact (21/21)"));
+    assert!(
+        svg.starts_with("<svg")
+            && svg.contains("newton (21/21)")
+            && svg.contains("pgs-exact (21/21)")
+    );
     // JSON has the per-solve criteria and residuals too.
     let out = common::rigidref(
-        &["solve-problems", data().join("Rover4396.dat").to_str().unwrap(), "--json", "--solver", "newton"],
+        &[
+            "solve-problems",
+            data().join("Rover4396.dat").to_str().unwrap(),
+            "--json",
+            "--solver",
+            "newton",
+        ],
         dir.path(),
     );
     common::assert_success(&out);
@@ -44,12 +66,22 @@ fn solve_problems_tables_every_problem_and_draws_a_profile() {
     assert!(attempt["criteria"]["signorini"].as_f64().unwrap() < 1e-8);
     // A tight cap makes PGS fail honestly on a problem that needs more sweeps.
     let out = common::rigidref(
-        &["solve-problems", data().join("Rover1039.dat").to_str().unwrap(), "--solver", "pgs", "--sweeps", "10"],
+        &[
+            "solve-problems",
+            data().join("Rover1039.dat").to_str().unwrap(),
+            "--solver",
+            "pgs",
+            "--sweeps",
+            "10",
+        ],
         dir.path(),
     );
     common::assert_success(&out);
     let table = String::from_utf8(out.stdout).unwrap();
-    assert!(table.contains("| Rover1039.dat | 4 | 9e-6 | **no** | 10 |"), "{table}");
+    assert!(
+        table.contains("| Rover1039.dat | 4 | 9e-6 | **no** | 10 |"),
+        "{table}"
+    );
 }
 
 #[test]
@@ -60,10 +92,22 @@ fn problem_commands_refuse_bad_input_in_one_line() {
     let not_a_problem = dir.path().join("notes.dat");
     std::fs::write(&not_a_problem, "3\n1\nhello\n").unwrap();
     let cases: [(&[&str], &str); 4] = [
-        (&["solve-problems", "missing.dat"], "missing.dat: no such file or folder"),
-        (&["solve-problems", not_a_problem.to_str().unwrap()], "none of the 1 files could be read"),
-        (&["solve-problems", folder, "--tolerance", "0"], "--tolerance must be a positive number"),
-        (&["convert-problem", not_a_problem.to_str().unwrap(), "x.json"], "notes.dat: token 3: W's storage type: \"hello\""),
+        (
+            &["solve-problems", "missing.dat"],
+            "missing.dat: no such file or folder",
+        ),
+        (
+            &["solve-problems", not_a_problem.to_str().unwrap()],
+            "none of the 1 files could be read",
+        ),
+        (
+            &["solve-problems", folder, "--tolerance", "0"],
+            "--tolerance must be a positive number",
+        ),
+        (
+            &["convert-problem", not_a_problem.to_str().unwrap(), "x.json"],
+            "notes.dat: token 3: W's storage type: \"hello\"",
+        ),
     ];
     for (args, expected) in cases {
         let out = common::rigidref(args, dir.path());
@@ -80,7 +124,17 @@ fn converted_problems_solve_alike_and_crosscheck_reads_the_local_form() {
     // A run's problem (body form) → local JSON → Siconos .dat → local JSON: the same W and q.
     let scene = common::project_root().join("scenes/cube_stack.json");
     let out = common::rigidref(
-        &["run", scene.to_str().unwrap(), "--steps", "3", "-q", "--dump-problems", "problems", "--out", "t.jsonl"],
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--steps",
+            "3",
+            "-q",
+            "--dump-problems",
+            "problems",
+            "--out",
+            "t.jsonl",
+        ],
         dir.path(),
     );
     common::assert_success(&out);
@@ -90,7 +144,11 @@ fn converted_problems_solve_alike_and_crosscheck_reads_the_local_form() {
         .collect();
     dumps.sort();
     let body = dumps.last().unwrap().clone();
-    for (from, to) in [(body.clone(), "a.json"), (dir.path().join("a.json"), "b.dat"), (dir.path().join("b.dat"), "c.json")] {
+    for (from, to) in [
+        (body.clone(), "a.json"),
+        (dir.path().join("a.json"), "b.dat"),
+        (dir.path().join("b.dat"), "c.json"),
+    ] {
         let out = common::rigidref(&["convert-problem", from.to_str().unwrap(), to], dir.path());
         common::assert_success(&out);
     }
@@ -103,20 +161,42 @@ fn converted_problems_solve_alike_and_crosscheck_reads_the_local_form() {
     let (a, c) = (read("a.json"), read("c.json"));
     assert_eq!(a.dense_w(), c.dense_w());
     assert_eq!(a.dense_q(), c.dense_q());
-    let body_local = rigidref::problem::local_json::AnyProblemFile::read(&body).unwrap().to_local::<3>().unwrap();
+    let body_local = rigidref::problem::local_json::AnyProblemFile::read(&body)
+        .unwrap()
+        .to_local::<3>()
+        .unwrap();
     assert_eq!(a, body_local);
     // crosscheck accepts the local file and agrees with clarabel on it.
     let out = common::rigidref(&["crosscheck", "a.json"], dir.path());
     common::assert_success(&out);
-    assert!(String::from_utf8_lossy(&out.stdout).contains("agree"), "{}", String::from_utf8_lossy(&out.stdout));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("agree"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     // A non-symmetric W (Siconos' Rover problems) is refused by crosscheck with the reason.
-    let out = common::rigidref(&["convert-problem", data().join("Rover4396.dat").to_str().unwrap(), "rover.json"], dir.path());
+    let out = common::rigidref(
+        &[
+            "convert-problem",
+            data().join("Rover4396.dat").to_str().unwrap(),
+            "rover.json",
+        ],
+        dir.path(),
+    );
     common::assert_success(&out);
     let out = common::rigidref(&["crosscheck", "rover.json"], dir.path());
     assert_ne!(out.status.code(), Some(0));
-    assert!(common::stderr(&out).contains("W is not symmetric"), "{}", common::stderr(&out));
+    assert!(
+        common::stderr(&out).contains("W is not symmetric"),
+        "{}",
+        common::stderr(&out)
+    );
     // compare-problem needs bodies and says so.
     let out = common::rigidref(&["compare-problem", "a.json", "a.json"], dir.path());
     assert_ne!(out.status.code(), Some(0));
-    assert!(common::stderr(&out).contains("local-form problem"), "{}", common::stderr(&out));
+    assert!(
+        common::stderr(&out).contains("local-form problem"),
+        "{}",
+        common::stderr(&out)
+    );
 }

@@ -129,19 +129,30 @@ fn a_local_problem_file_round_trips_bit_for_bit() {
     let bad = r#"{"format":"rigidref-contact-problem","version":1,"form":"local","rows_per_contact":3,
         "friction":"cone","W":[{"row":0,"col":1,"block":[[1,0,0],[0,1,0],[0,0,1]]}],
         "contacts":[{"q":[0,0,0],"mu":0.5}]}"#;
-    let AnyProblemFile::Local(file) = AnyProblemFile::parse(bad).unwrap() else { panic!() };
+    let AnyProblemFile::Local(file) = AnyProblemFile::parse(bad).unwrap() else {
+        panic!()
+    };
     let err = file.to_problem::<3>().unwrap_err();
     assert!(err.contains("out of range"), "{err}");
-    let missing = bad.replace(r#""col":1"#, r#""col":0"#).replace(r#""row":0"#, r#""row":0"#)
-        .replace(r#"{"q":[0,0,0],"mu":0.5}"#, r#"{"q":[0,0,0],"mu":0.5},{"q":[0,0,0],"mu":0.5}"#);
-    let AnyProblemFile::Local(file) = AnyProblemFile::parse(&missing).unwrap() else { panic!() };
+    let missing = bad.replace(r#""col":1"#, r#""col":0"#).replace(
+        r#"{"q":[0,0,0],"mu":0.5}"#,
+        r#"{"q":[0,0,0],"mu":0.5},{"q":[0,0,0],"mu":0.5}"#,
+    );
+    let AnyProblemFile::Local(file) = AnyProblemFile::parse(&missing).unwrap() else {
+        panic!()
+    };
     let err = file.to_problem::<3>().unwrap_err();
-    assert!(err.contains("contact 1: the diagonal block W[1][1] is missing"), "{err}");
+    assert!(
+        err.contains("contact 1: the diagonal block W[1][1] is missing"),
+        "{err}"
+    );
     let err = AnyProblemFile::parse(&bad.replace(r#""local""#, r#""global""#)).unwrap_err();
     assert!(err.contains("form \"global\" is not known"), "{err}");
 }
 
 #[test]
+// The file's own 25 digits, as Siconos printed them: f64 reads them to the nearest double.
+#[allow(clippy::excessive_precision)]
 fn siconos_dat_files_read_as_their_text_says() {
     // FrictionContact3D_1c.dat: W = [[15,-1,-2],[-1,14,1],[-2,1,16]], q = (-1, 2, 3), μ = 0.1.
     let one = three("FrictionContact3D_1c.dat");
@@ -173,12 +184,18 @@ fn siconos_dat_files_read_as_their_text_says() {
     assert_eq!(three("FC3D_Example1.dat").dense_w(), sbm.dense_w());
     // A global problem is refused as such; so are truncated and malformed files.
     let err = read_dat(&data("GFC3D_Example00.dat")).unwrap_err();
-    assert!(err.contains("GFC3D_Example00.dat") && err.contains("global problem"), "{err}");
+    assert!(
+        err.contains("GFC3D_Example00.dat") && err.contains("global problem"),
+        "{err}"
+    );
     let text = std::fs::read_to_string(data("Rover4396.dat")).unwrap();
     let err = parse_dat(&text[..text.len() / 2]).unwrap_err();
     assert!(err.contains("the file ends before"), "{err}");
     let err = parse_dat("3 1 0 3 3 3 3 1 0 0 0 x 0 0 0 1 0 0 0 0.5").unwrap_err();
-    assert!(err.contains("token 12") && err.contains("\"x\" is not a number"), "{err}");
+    assert!(
+        err.contains("token 12") && err.contains("\"x\" is not a number"),
+        "{err}"
+    );
     let err = parse_dat("4 1").unwrap_err();
     assert!(err.contains("dimension 4"), "{err}");
     let err = parse_dat("3 1 1 3 3 1 1 1 3 3 2 1 0 1 0 0 1 0 0 0 1 0 0 0 1 0 0 0 -1").unwrap_err();
@@ -190,26 +207,36 @@ fn newton_and_pgs_solve_the_small_siconos_problems_to_siconos_tolerance() {
     // Every local 3D problem kept in tests/data/siconos, solved to 1e-8 in Siconos' own
     // measure (the tolerance of Acary, Brémond and Huber's comparison) by the Newton solver and
     // by PGS with exact local solves (Siconos' NSGS) within 20 000 sweeps, as Siconos does.
-    let mut names: Vec<String> = std::fs::read_dir(common::project_root().join("tests/data/siconos"))
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .filter(|n| n.ends_with(".dat") && !n.starts_with("GFC3D_Example00"))
-        .collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(common::project_root().join("tests/data/siconos"))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".dat") && !n.starts_with("GFC3D_Example00"))
+            .collect();
     names.sort();
     assert_eq!(names.len(), 21, "{names:?}");
     for name in &names {
         let problem = three(name);
-        let newton = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        let newton = NewtonSettings {
+            tolerance: 1e-12,
+            ..NewtonSettings::default()
+        };
         let mut lambda = Vec::new();
         let report = solve_newton_local(&problem, &newton, &mut lambda);
         let error = siconos_error(&problem, &lambda);
-        assert!(error <= 1e-8, "{name}: Newton {report:?}, Siconos error {error:e}");
+        assert!(
+            error <= 1e-8,
+            "{name}: Newton {report:?}, Siconos error {error:e}"
+        );
         assert!(coulomb_residual(&problem, &lambda) <= 1e-8, "{name}");
         let mut nsgs = Vec::new();
         let settings = pgs_settings(LocalSolve::Exact, 20_000, Some(1e-12));
         solve_pgs_local(&problem, &settings, 0, &mut nsgs);
         let error = siconos_error(&problem, &nsgs);
-        assert!(error <= 1e-8, "{name}: PGS (exact visits) Siconos error {error:e}");
+        assert!(
+            error <= 1e-8,
+            "{name}: PGS (exact visits) Siconos error {error:e}"
+        );
     }
 }
 
@@ -221,12 +248,22 @@ fn newton_matches_siconos_solutions_on_known_problems() {
     // carries the load (Confeti). Ours must agree to 1e-7 of ‖r‖: Siconos stopped at its
     // relative error 1e-8 or below, ours at 1e-12 m/s.
     let known: [(&str, Vec<[f64; 3]>); 4] = [
-        ("Rover11035.dat", vec![[3.855527686824136, 1.0750356386021485, 2.4755189982088317]]),
+        (
+            "Rover11035.dat",
+            vec![[3.855527686824136, 1.0750356386021485, 2.4755189982088317]],
+        ),
         (
             "FrictionContact3D_1c.dat",
-            vec![[0.06569568289769018, -0.0036786149069098152, -0.005443070813868708]],
+            vec![[
+                0.06569568289769018,
+                -0.0036786149069098152,
+                -0.005443070813868708,
+            ]],
         ),
-        ("FC3D_Example1_SBM.dat", vec![[1.0, -0.0316227766016838, -0.09486832980505139]; 3]),
+        (
+            "FC3D_Example1_SBM.dat",
+            vec![[1.0, -0.0316227766016838, -0.09486832980505139]; 3],
+        ),
         (
             "Confeti-ex13-4contact-Fc3D-SBM.dat",
             vec![
@@ -240,17 +277,27 @@ fn newton_matches_siconos_solutions_on_known_problems() {
     for (name, r) in known {
         let problem = three(name);
         let mut lambda = Vec::new();
-        let settings = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        let settings = NewtonSettings {
+            tolerance: 1e-12,
+            ..NewtonSettings::default()
+        };
         let report = solve_newton_local(&problem, &settings, &mut lambda);
         assert!(report.converged, "{name}: {report:?}");
-        let size = r.iter().map(|x| x.iter().map(|v| v * v).sum::<f64>()).sum::<f64>().sqrt();
+        let size = r
+            .iter()
+            .map(|x| x.iter().map(|v| v * v).sum::<f64>())
+            .sum::<f64>()
+            .sqrt();
         let difference = lambda
             .iter()
             .zip(&r)
             .map(|(l, r)| (l - SVector::<f64, 3>::from_column_slice(r)).norm_squared())
             .sum::<f64>()
             .sqrt();
-        assert!(difference <= 1e-7 * size, "{name}: {lambda:?} vs Siconos {r:?}");
+        assert!(
+            difference <= 1e-7 * size,
+            "{name}: {lambda:?} vs Siconos {r:?}"
+        );
     }
 }
 
@@ -284,8 +331,10 @@ mod fclib {
     #[test]
     fn the_fclib_reader_reads_the_fclib_test_problem_as_h5py_does() {
         let path = common::project_root().join("tests/data/fclib/local_problem_test.hdf5");
-        let FclibProblem::Local { problem: AnyLocalProblem::Three(p), solution } =
-            read_fclib(&path).unwrap()
+        let FclibProblem::Local {
+            problem: AnyLocalProblem::Three(p),
+            solution,
+        } = read_fclib(&path).unwrap()
         else {
             panic!("not a 3D local problem")
         };
@@ -310,12 +359,18 @@ mod fclib {
         assert!(p.blocks() * 9 >= 4896);
         // And it is solved to Siconos' tolerance.
         let mut lambda = Vec::new();
-        let settings = NewtonSettings { tolerance: 1e-12, ..NewtonSettings::default() };
+        let settings = NewtonSettings {
+            tolerance: 1e-12,
+            ..NewtonSettings::default()
+        };
         solve_newton_local(&p, &settings, &mut lambda);
         assert!(siconos_error(&p, &lambda) <= 1e-8);
         // Something that is not an FCLIB file is refused with the file's name.
         let err = read_fclib(&data("Rover4396.dat")).unwrap_err();
-        assert!(err.contains("Rover4396.dat") && err.contains("not an HDF5 file"), "{err}");
+        assert!(
+            err.contains("Rover4396.dat") && err.contains("not an HDF5 file"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -364,7 +419,11 @@ mod fclib {
     /// An FCLIB global file of a body-form problem, written with the hdf5 crate directly (the
     /// project writes local files only).
     fn write_global(problem: &rigidref::problem::ContactProblem<6, 3>, path: &std::path::Path) {
-        let file = hdf5::File::create(path).unwrap();
+        // Unlocked, as the project's writer does (src/problem/fclib.rs::unlocked).
+        let file = hdf5::File::with_options()
+            .with_fapl(|p| p.file_locking(false))
+            .create(path)
+            .unwrap();
         let g = file.create_group("fclib_global").unwrap();
         let put_i = |g: &hdf5::Group, n: &str, v: &[i32]| {
             g.new_dataset_builder().with_data(v).create(n).unwrap();
@@ -389,7 +448,12 @@ mod fclib {
             }
         }
         let mg = g.create_group("M").unwrap();
-        for (n, v) in [("m", 6 * nb), ("n", 6 * nb), ("nz", x.len()), ("nzmax", x.len())] {
+        for (n, v) in [
+            ("m", 6 * nb),
+            ("n", 6 * nb),
+            ("nz", x.len()),
+            ("nzmax", x.len()),
+        ] {
             put_i(&mg, n, &[v as i32]);
         }
         put_i(&mg, "i", &i);
@@ -408,19 +472,32 @@ mod fclib {
             }
         }
         let hg = g.create_group("H").unwrap();
-        for (n, v) in [("m", j.ncols()), ("n", j.nrows()), ("nz", x.len()), ("nzmax", x.len())] {
+        for (n, v) in [
+            ("m", j.ncols()),
+            ("n", j.nrows()),
+            ("nz", x.len()),
+            ("nzmax", x.len()),
+        ] {
             put_i(&hg, n, &[v as i32]);
         }
         put_i(&hg, "i", &i);
         put_i(&hg, "p", &p);
         put_f(&hg, "x", &x);
-        let u: Vec<f64> = problem.bodies.iter().flat_map(|b| b.velocity.iter().copied()).collect();
+        let u: Vec<f64> = problem
+            .bodies
+            .iter()
+            .flat_map(|b| b.velocity.iter().copied())
+            .collect();
         let ju = &j * nalgebra::DVector::from_vec(u);
-        let w: Vec<f64> = (0..j.nrows()).map(|r| problem.dense_b()[r] - ju[r]).collect();
+        let w: Vec<f64> = (0..j.nrows())
+            .map(|r| problem.dense_b()[r] - ju[r])
+            .collect();
         let v = g.create_group("vectors").unwrap();
         put_f(&v, "f", &f);
         put_f(&v, "w", &w);
         let mu: Vec<f64> = problem.contacts.iter().map(|c| c.mu).collect();
         put_f(&v, "mu", &mu);
+        drop((g, mg, hg, v));
+        file.close().unwrap();
     }
 }

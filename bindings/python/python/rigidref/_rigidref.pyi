@@ -49,16 +49,17 @@ class ContactProblem:
     complementarity and friction conditions (docs/contact.md)."""
     @staticmethod
     def read(path: _Path) -> "ContactProblem":
-        """Reads a contact-problem file (3D or 2D)."""
+        """Reads a contact-problem file (3D or 2D, body or local form) or a Siconos .dat file."""
     def write(self, path: _Path) -> None:
-        """Writes a contact-problem file (no provenance, no solution)."""
+        """Writes a contact-problem file (no provenance, no solution), in the problem's form."""
     @staticmethod
     def from_arrays(
-        J: npt.ArrayLike,
-        Minv: npt.ArrayLike,
-        b: npt.ArrayLike,
-        mu: npt.ArrayLike,
+        J: Optional[npt.ArrayLike] = None,
+        Minv: Optional[npt.ArrayLike] = None,
+        b: Optional[npt.ArrayLike] = None,
+        mu: Optional[npt.ArrayLike] = None,
         *,
+        A: Optional[npt.ArrayLike] = None,
         friction_model: Literal["box", "cone"] = "box",
         compliance: Optional[npt.ArrayLike] = None,
         lambda0: Optional[npt.ArrayLike] = None,
@@ -66,8 +67,18 @@ class ContactProblem:
         bounds: Optional[Sequence[Literal["contact", "free"]]] = None,
         dof_per_body: Literal[6, 3] = 6,
     ) -> "ContactProblem":
-        """A problem from J (R*contacts x D*bodies), Minv (block diagonal, or (bodies, D, D)),
-        b (R*contacts), mu (number or per contact)."""
+        """The body form from J (R*contacts x D*bodies), Minv (block diagonal, or (bodies, D, D)),
+        b (R*contacts), mu (number or per contact); or the local form from A (the Delassus
+        operator W, R*contacts square, compliance included), b and mu: from_arrays(A, b, mu)
+        or from_arrays(A=..., b=..., mu=...)."""
+    @property
+    def form(self) -> Literal["body", "local"]:
+        """"body" (bodies, J, Minv) or "local" (W, b, mu only)."""
+    def to_local(self) -> "ContactProblem":
+        """The local form: W = J Minv J^T + C, b unchanged."""
+    @property
+    def W(self) -> _Matrix:
+        """W = A + C (R*contacts square), kg^-1, in either form."""
     @property
     def dof_per_body(self) -> int: ...
     @property
@@ -80,13 +91,13 @@ class ContactProblem:
     def friction_model(self) -> Literal["box", "cone"]: ...
     @property
     def J(self) -> _Matrix:
-        """The Jacobian (R*contacts x D*bodies)."""
+        """The Jacobian (R*contacts x D*bodies); ProblemError in the local form."""
     @property
     def Minv(self) -> _Matrix:
         """The inverse mass (D*bodies square, block diagonal)."""
     @property
     def A(self) -> _Matrix:
-        """The Delassus operator J Minv J^T (R*contacts square), kg^-1."""
+        """The Delassus operator J Minv J^T (R*contacts square), kg^-1; W in the local form."""
     @property
     def b(self) -> _F64:
         """b = J u - bias (R*contacts), m/s."""
@@ -106,7 +117,7 @@ class ContactProblem:
     @property
     def bounds(self) -> List[Literal["contact", "free"]]:
         """Each constraint's row bounds."""
-    def sparse(self, name: Literal["J", "Minv", "A"]) -> CooMatrix:
+    def sparse(self, name: Literal["J", "Minv", "A", "W"]) -> CooMatrix:
         """The matrix as coordinate triplets, whatever its size."""
     def w(self, lam: npt.ArrayLike) -> _F64:
         """w = (A + C) lam + b (contacts x R), m/s."""
@@ -211,6 +222,8 @@ def solve_clarabel(
 def residual(problem: ContactProblem, lam: npt.ArrayLike) -> float: ...
 def coulomb_residual(problem: ContactProblem, lam: npt.ArrayLike) -> float: ...
 def criteria(problem: ContactProblem, lam: npt.ArrayLike) -> Dict[str, Any]: ...
+def siconos_error(problem: ContactProblem, lam: npt.ArrayLike) -> float:
+    """Siconos' error measure of lam (docs/problem-library.md), relative."""
 def compare_traces(
     reference: _Path,
     candidate: _Path,

@@ -1,0 +1,73 @@
+"""The local (Delassus) form from Python: a problem from A, b, mu alone (docs/python.md
+§"The local form"), read from Siconos' files, solved by every solver, and the same answers as
+the body form it came from."""
+
+import numpy as np
+import pytest
+
+import rigidref
+
+
+@pytest.fixture(scope="module")
+def stack(root):
+    world = rigidref.World.load(root / "scenes" / "box_stack.json")
+    world.step(60)
+    return world.last_solves()[-1]
+
+
+def test_from_arrays_with_a_alone_is_the_same_problem_as_the_body_form(stack):
+    body = stack.problem
+    W = body.W if isinstance(body.W, np.ndarray) else body.W.to_dense()
+    local = rigidref.ContactProblem.from_arrays(W, body.b, body.mu, friction_model=body.friction_model,
+                                                lambda0=body.lambda0)
+    assert local.form == "local" and body.form == "body"
+    assert local.num_contacts == body.num_contacts and local.num_bodies == 0
+    np.testing.assert_array_equal(local.W, W)
+    np.testing.assert_array_equal(local.b, body.b)
+    # By keyword too; and to_local() gives the same operator.
+    by_name = rigidref.ContactProblem.from_arrays(A=W, b=body.b, mu=body.mu, friction_model=body.friction_model)
+    np.testing.assert_array_equal(by_name.A, W)
+    np.testing.assert_array_equal(body.to_local().W, W)
+    # Every solver answers it, with the body form's answer: Newton to 1e-10 m/s (w to 1e-8),
+    # PGS in order to round-off (its visits are the same, w read through W instead of the bodies).
+    exact_body, exact_local = rigidref.solve_newton(body), rigidref.solve_newton(local)
+    assert exact_local.converged and exact_local.residual <= 1e-10
+    np.testing.assert_allclose(local.w(exact_local.lam), body.w(exact_body.lam), atol=1e-8)
+    pgs_body = rigidref.solve_pgs(body, iterations=50)
+    pgs_local = rigidref.solve_pgs(local, iterations=50, warm_start=body.lambda0)
+    np.testing.assert_allclose(pgs_local.lam, pgs_body.lam, rtol=0, atol=1e-9 * np.abs(pgs_body.lam).max())
+    qp = rigidref.solve_clarabel(local, formulation="cone_fixed", fixed_normal=exact_local.lam[:, 0])
+    assert qp.converged
+    assert rigidref.criteria(local, exact_local.lam)["max"]["signorini"] <= 1e-8
+
+
+def test_the_local_form_says_what_it_does_not_have(stack):
+    W = stack.problem.W
+    local = rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5)
+    for name in ("J", "Minv", "velocity", "bodies", "compliance"):
+        with pytest.raises(rigidref.ProblemError, match=f"{name}: a local-form problem"):
+            getattr(local, name)
+    with pytest.raises(rigidref.ProblemError, match="no compliance or velocity"):
+        rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5, compliance=0.1)
+    with pytest.raises(rigidref.ProblemError, match="expected \\(3·contacts, 3·contacts\\)"):
+        rigidref.ContactProblem.from_arrays(A=np.eye(4), b=np.zeros(4), mu=0.5)
+    with pytest.raises(rigidref.ProblemError, match="mu must be ≥ 0"):
+        rigidref.ContactProblem.from_arrays(np.eye(3), np.zeros(3), -1.0)
+    with pytest.raises(rigidref.ProblemError, match="give J, Minv, b and mu"):
+        rigidref.ContactProblem.from_arrays(np.eye(3), np.eye(3))
+
+
+def test_siconos_problems_read_and_solve_to_siconos_tolerance(root, tmp_path):
+    # Rover11035: one sliding contact, W not symmetric; Siconos' Newton answer (tests/data/siconos).
+    p = rigidref.ContactProblem.read(root / "tests" / "data" / "siconos" / "Rover11035.dat")
+    assert p.form == "local" and p.friction_model == "cone" and p.num_contacts == 1
+    assert p.W[0, 1] == -1.438285701497408206397943e-04 and p.W[1, 0] == -1.426574206813656375825161e-04
+    s = rigidref.solve_newton(p, tolerance=1e-12)
+    np.testing.assert_allclose(s.lam[0], [3.855527686824136, 1.0750356386021485, 2.4755189982088317], rtol=1e-7)
+    assert rigidref.siconos_error(p, s.lam) <= 1e-8
+    # A local problem writes and reads back as it was.
+    p.write(tmp_path / "p.json")
+    back = rigidref.ContactProblem.read(tmp_path / "p.json")
+    assert back.form == "local"
+    np.testing.assert_array_equal(back.W, p.W)
+    np.testing.assert_array_equal(back.b, p.b)
