@@ -55,6 +55,13 @@ def test_the_local_form_says_what_it_does_not_have(stack):
         rigidref.ContactProblem.from_arrays(np.eye(3), np.zeros(3), -1.0)
     with pytest.raises(rigidref.ProblemError, match="give J, Minv, b and mu"):
         rigidref.ContactProblem.from_arrays(np.eye(3), np.eye(3))
+    # A NaN in A itself (not only through J or Minv) never reaches a solver.
+    bad = np.eye(3)
+    bad[1, 2] = np.nan
+    with pytest.raises(rigidref.ProblemError, match="non-finite"):
+        rigidref.ContactProblem.from_arrays(A=bad, b=np.zeros(3), mu=0.5)
+    with pytest.raises(rigidref.ProblemError, match="non-finite"):
+        rigidref.ContactProblem.from_arrays(A=np.eye(3), b=[0.0, np.nan, 0.0], mu=0.5)
 
 
 def test_siconos_problems_read_and_solve_to_siconos_tolerance(root, tmp_path):
