@@ -14,7 +14,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigidref::rigid3d::body::RigidBody;
 use rigidref::rigid3d::collide::MeshCollider;
-use rigidref::rigid3d::collide::mesh::vertex_contacts;
+use rigidref::rigid3d::collide::mesh_pair::vertex_contacts;
 use rigidref::rigid3d::collide::pieces::ConvexPieces;
 use rigidref::rigid3d::collide::sphere_tree::DEFAULT_DEPTH;
 use rigidref::rigid3d::mesh::TriMesh;

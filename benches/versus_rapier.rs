@@ -17,8 +17,8 @@ use rigidref::rigid3d::collide::penetration::penetrations;
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
 use rigidref::solve::{PgsWorkspace, solve_pgs};
-use rigidref::tools::bench::{BenchScene, cube_pyramid, stack_grid};
-use rigidref::tools::factory::{Pieces, packed_pile};
+use rigidref::tools::experiments::bench::{BenchScene, cube_pyramid, stack_grid};
+use rigidref::tools::experiments::factory::{Pieces, packed_pile};
 use rigidref::verify::references::rapier::RapierMirror;
 use std::path::Path;
 
@@ -38,7 +38,7 @@ fn scene(file: &str) -> Scene {
     .unwrap()
 }
 
-fn rigid3d(case: rigidref::tools::bench::BenchCase) -> Scene {
+fn rigid3d(case: rigidref::tools::experiments::bench::BenchCase) -> Scene {
     let BenchScene::Rigid3d(scene) = case.scene else {
         unreachable!("a 3D case")
     };

@@ -3,7 +3,7 @@
 #![no_main]
 use libfuzzer_sys::fuzz_target;
 use rigidref::rigid3d::trace::read_trace;
-use rigidref::tools::compare::{
+use rigidref::tools::grading::compare::{
     OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
 };
 

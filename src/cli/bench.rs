@@ -3,12 +3,12 @@
 use anyhow::Context;
 use clap::Args;
 use rigidref::rigid3d::scene::load_scene;
-use rigidref::tools::bench::{
+use rigidref::tools::experiments::bench::{
     BenchSettings, assignment_scene, cube_pyramid, cube_stack_grid, factory_pile, markdown,
     peak_memory_bytes, pyramid_grid, run_case, solver_markdown, solver_row, sphere_rain,
     stack_grid, svg,
 };
-use rigidref::tools::factory::Pieces;
+use rigidref::tools::experiments::factory::Pieces;
 use std::path::PathBuf;
 
 /// Arguments of `rigidref bench`.
@@ -165,7 +165,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
             .iter()
             .any(|n| c.name.ends_with(n))
     }) {
-        if let rigidref::tools::bench::BenchScene::Rigid3d(scene) = &case.scene {
+        if let rigidref::tools::experiments::bench::BenchScene::Rigid3d(scene) = &case.scene {
             eprintln!("[solvers] {}", case.name);
             solver_rows.push(
                 solver_row(&case.name, scene, &settings.for_bodies(scene.bodies.len()))

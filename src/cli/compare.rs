@@ -5,7 +5,7 @@
 use anyhow::bail;
 use clap::Args;
 use rigidref::rigid3d::trace::{Trace, read_trace_file};
-use rigidref::tools::compare::{
+use rigidref::tools::grading::compare::{
     Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
     outcome_scene,
 };

@@ -5,7 +5,7 @@ use super::compare::Unreadable;
 use anyhow::bail;
 use clap::Args;
 use rigidref::problem::json::ProblemFile;
-use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
+use rigidref::tools::grading::compare_problem::{ProblemTolerance, compare_problems};
 use std::path::PathBuf;
 
 /// Arguments of `rigidref compare-problem`.

@@ -29,7 +29,7 @@ struct Contact2Json {
 /// §"Contact problem"), with the 2 × 6 Jacobian [J₁ | J₂] (columns vx₁ vy₁ ω₁ vx₂ vy₂ ω₂) and the
 /// 2 × 2 Delassus block.
 pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<()> {
-    let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
+    let mut world = super::common::load_scene_2d(path, &Default::default(), &args.sets)?.world;
     if world.params.contact_model == rigidref::blocks2d::params::ContactModel::Penalty {
         bail!(
             "{}: the scene uses penalty contacts, which solve no contact problem; contacts shows PGS solves",

@@ -2,7 +2,7 @@
 //! form. docs/problem-library.md §"Converting problems".
 
 use clap::Args;
-use rigidref::tools::problem_library::{load, write};
+use rigidref::tools::experiments::problem_library::{load, write};
 use std::path::PathBuf;
 
 /// Arguments of `rigidref convert-problem`.

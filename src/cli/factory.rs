@@ -4,7 +4,7 @@
 
 use super::progress::Progress;
 use clap::Args;
-use rigidref::tools::factory::{FactoryReport, FactorySettings, Pieces, run_factory};
+use rigidref::tools::experiments::factory::{FactoryReport, FactorySettings, Pieces, run_factory};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `rigidref factory`.

@@ -2,7 +2,9 @@
 
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::tools::grade::{GradeMode, grade_all, reference, submissions, to_csv, to_markdown};
+use rigidref::tools::grading::grade::{
+    GradeMode, grade_all, reference, submissions, to_csv, to_markdown,
+};
 use std::path::PathBuf;
 
 /// Arguments of `rigidref grade`.
@@ -68,7 +70,7 @@ pub fn grade(args: GradeArgs) -> anyhow::Result<()> {
     let threads = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let limits = rigidref::tools::grade::Limits {
+    let limits = rigidref::tools::grading::grade::Limits {
         max_file_bytes: args.max_file_mb.saturating_mul(1 << 20),
     };
     let rows = grade_all(&folders, &references, args.mode, threads, &limits);
@@ -89,7 +91,7 @@ pub fn grade(args: GradeArgs) -> anyhow::Result<()> {
             let n = f.file_name().unwrap_or_default().to_string_lossy();
             names
                 .iter()
-                .all(|s| rigidref::tools::grade::verdict(&rows, &n, s) == "pass")
+                .all(|s| rigidref::tools::grading::grade::verdict(&rows, &n, s) == "pass")
         })
         .count();
     eprintln!(

@@ -4,6 +4,7 @@
 //! check).
 
 mod args;
+mod args2d;
 mod bench;
 mod common;
 mod compare;
@@ -14,7 +15,6 @@ mod contacts3d;
 mod converge;
 mod convert_problem;
 mod crosscheck;
-mod crosscheck_report;
 mod factory;
 mod golden;
 mod grade;
@@ -94,7 +94,7 @@ enum Command {
 }
 
 pub use compare::Unreadable;
-pub use crosscheck_report::Unverified;
+pub use crosscheck::Unverified;
 
 /// Runs the chosen subcommand; no subcommand means `run` (so `cargo run --release` runs the
 /// default scene).

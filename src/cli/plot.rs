@@ -3,9 +3,9 @@
 
 use anyhow::bail;
 use clap::Args;
-use rigidref::tools::plot::{PlottedRun, plot_runs};
-use rigidref::tools::series::{QUANTITIES, plots_2d, plots_3d};
-use rigidref::tools::view::ViewTrace;
+use rigidref::tools::viewing::plot::{PlottedRun, plot_runs};
+use rigidref::tools::viewing::series::{QUANTITIES, plots_2d, plots_3d};
+use rigidref::tools::viewing::view::RunTrace;
 use std::path::PathBuf;
 
 /// Arguments of `rigidref plot`.
@@ -70,13 +70,13 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
     let mut dimension = None;
     for path in &args.traces {
         let name = path.display().to_string();
-        let (trace, _) = super::view::read_trace_file(path, &args.bodies)?;
+        let (trace, _) = super::common::read_trace_file(path, &args.bodies)?;
         let omega = trace.omega_bodies(&args.bodies);
         let label = path
             .file_name()
             .map_or(name.clone(), |f| f.to_string_lossy().into_owned());
         let (dim, run) = match &trace {
-            ViewTrace::Three { header, records } => {
+            RunTrace::Three { header, records } => {
                 let t = records.iter().map(|r| r.t).collect();
                 (
                     3,
@@ -87,7 +87,7 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
                     },
                 )
             }
-            ViewTrace::Two { records, .. } => {
+            RunTrace::Two { records, .. } => {
                 let t = records.iter().map(|r| r.t).collect();
                 (
                     2,

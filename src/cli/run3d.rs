@@ -4,7 +4,7 @@ use super::progress::{Progress, Stopped};
 use super::run_args::RunArgs;
 use anyhow::Context;
 use rigidref::rigid3d::diagnostics::{Energy, Momentum};
-use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
+use rigidref::rigid3d::penetration_watch::InterpenetrationWatch;
 use rigidref::rigid3d::scene::embedded::BUILT_IN_SOURCE;
 use rigidref::rigid3d::trace::{TraceHeader, TraceRecord, TraceWriter};
 use rigidref::rigid3d::world::World;

@@ -91,10 +91,10 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
 /// The 2D version: the resolved parameters, each body's blocks, mass and centre, and the pins and
 /// springs.
 fn scene2(path: &std::path::Path, sets: &super::args::SceneSets) -> anyhow::Result<()> {
-    use rigidref::blocks2d::scene::{CommandLine2, load_2d};
-    let cli = CommandLine2 {
+    use rigidref::blocks2d::scene::{LoadOptions2, load_2d};
+    let cli = LoadOptions2 {
         overrides: sets.overrides()?,
-        ..CommandLine2::default()
+        ..LoadOptions2::default()
     };
     let scene = load_2d(path, &cli).map_err(|e| anyhow::anyhow!("{}", e.0))?;
     let (world, p) = (&scene.world, &scene.world.params);

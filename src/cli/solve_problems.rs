@@ -5,7 +5,7 @@
 use super::progress::Progress;
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::tools::problem_library::{
+use rigidref::tools::experiments::problem_library::{
     LibraryEntry, LibrarySettings, LibrarySolver, Profile, load, markdown_table, solve_entry,
 };
 use std::path::{Path, PathBuf};

@@ -1,15 +1,12 @@
 //! `rigidref view TRACE.jsonl|SCENE`: one self-contained HTML page showing the run (bodies,
 //! contacts, plots, a body's state), which opens offline in a browser. docs/viewing.md.
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets, TraceOutput};
-use super::run_args::{Run2dReports, RunArgs};
+use super::args::{Blocks2dOptions, RunLength, SceneSets};
+use super::common::{is_trace, read_trace_file, run_to_trace, scene_of_3d_trace};
 use anyhow::{Context, bail};
 use clap::Args;
-use rigidref::blocks2d::scene::is_2d_scene;
-use rigidref::rigid3d::scene::embedded::{BUILT_IN_SOURCE, default_scene_with};
-use rigidref::rigid3d::scene::{Overrides, load_scene_with};
-use rigidref::tools::view::{
-    DEFAULT_MAX_FRAMES, ViewTrace, html, read_view_trace, view_data_2d, view_data_3d,
+use rigidref::tools::viewing::view::{
+    DEFAULT_MAX_FRAMES, RunTrace, html, view_data_2d, view_data_3d,
 };
 use std::path::{Path, PathBuf};
 
@@ -62,21 +59,6 @@ pub struct ViewArgs {
     pub sets: SceneSets,
     #[command(flatten)]
     pub blocks: Blocks2dOptions,
-}
-
-/// Whether `path` is a trace (its first line a JSON object with a `format` key) rather than a
-/// scene.
-pub(crate) fn is_trace(path: &Path) -> bool {
-    use std::io::BufRead;
-    let Ok(file) = std::fs::File::open(path) else {
-        return false;
-    };
-    let mut first = String::new();
-    if std::io::BufReader::new(file).read_line(&mut first).is_err() {
-        return false;
-    }
-    serde_json::from_str::<serde_json::Value>(&first)
-        .is_ok_and(|v| v.get("format").is_some() && v.get("sim_parameters").is_none())
 }
 
 /// Writes the page.
@@ -162,105 +144,6 @@ fn run_scene(args: &ViewArgs, trace: &Path) -> anyhow::Result<()> {
     )
 }
 
-/// Runs `input` (a 3D scene, a 2D image or scene file, or the built-in default when `None`) as
-/// `rigidref run` would, recording every `every`-th frame to `trace` (2D: with all contacts).
-/// `view` and `render` run scenes through this.
-pub(crate) fn run_to_trace(
-    input: Option<&Path>,
-    length: &RunLength,
-    sets: &SceneSets,
-    blocks: &Blocks2dOptions,
-    every: u64,
-    quiet: bool,
-    trace: &Path,
-) -> anyhow::Result<()> {
-    let two_d = input.is_some_and(is_2d_scene);
-    if !two_d && !blocks.given().is_empty() {
-        bail!(
-            "{}: {} apply to 2D scenes only",
-            input.map_or("the built-in default scene".into(), |p| p
-                .display()
-                .to_string()),
-            blocks.given().join(", ")
-        );
-    }
-    let run = RunArgs {
-        scene: input.map(Path::to_path_buf),
-        length: length.clone(),
-        sets: sets.clone(),
-        output: TraceOutput {
-            out: Some(trace.to_path_buf()),
-            every,
-            format: None,
-            dump_problems: None,
-        },
-        quiet,
-        no_collisions: false,
-        blocks: blocks.clone(),
-        rest: RestThreshold {
-            rest_threshold: None,
-        },
-        reports: Run2dReports {
-            nut_report: None,
-            scaling_csv: None,
-            all_contacts: two_d,
-        },
-    };
-    super::run::run(run)
-}
-
-/// Reads the trace at `path` for viewing or plotting, printing its warnings (and returning
-/// them, for the page); fails, naming the
-/// file, when it is not a trace or `bodies` names a body it does not have.
-pub(crate) fn read_trace_file(
-    path: &Path,
-    bodies: &[usize],
-) -> anyhow::Result<(ViewTrace, Vec<String>)> {
-    let name = path.display().to_string();
-    let text =
-        rigidref::common::input::read_text(path).with_context(|| format!("{name}: cannot read"))?;
-    let mut warnings = Vec::new();
-    let trace = read_view_trace(&text, &name, &mut warnings).map_err(anyhow::Error::msg)?;
-    for w in &warnings {
-        eprintln!("warning: {w}");
-    }
-    let n = trace.body_count();
-    if let Some(&b) = bodies.iter().find(|&&b| b >= n) {
-        bail!(
-            "{name}: --bodies: no body {b}; the trace has {n} (0 to {})",
-            n - 1
-        );
-    }
-    Ok((trace, warnings))
-}
-
-/// The scene a 3D trace names (`source`, or the built-in default), whose meshes draw its bodies;
-/// fails, naming the trace `name`, when it cannot be loaded or has not `n` bodies.
-pub(crate) fn scene_of_3d_trace(
-    name: &str,
-    source: &str,
-    n: usize,
-) -> anyhow::Result<rigidref::rigid3d::scene::Scene> {
-    let cannot = |e: &dyn std::fmt::Display| {
-        anyhow::anyhow!(
-            "{name}: the bodies are drawn from the scene the trace names, {source}, which cannot be loaded: {e}"
-        )
-    };
-    let none = Overrides::default();
-    let scene = if source == BUILT_IN_SOURCE {
-        default_scene_with(&none).map_err(|e| cannot(&e))?
-    } else {
-        load_scene_with(Path::new(source), &none).map_err(|e| cannot(&e))?
-    };
-    if scene.bodies.len() != n {
-        bail!(
-            "{name}: the trace has {n} bodies but its scene {source} has {}; was the scene changed after the run?",
-            scene.bodies.len()
-        );
-    }
-    Ok(scene)
-}
-
 /// The page for the trace at `path`, its geometry from the scene the header names.
 fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
     let name = path.display().to_string();
@@ -274,14 +157,14 @@ fn page_for_trace(path: &Path, args: &ViewArgs) -> anyhow::Result<String> {
         )
     };
     let data = match &trace {
-        ViewTrace::Three { header, records } => {
+        RunTrace::Three { header, records } => {
             let scene = scene_of_3d_trace(&name, &source, n)?;
             let meshes: Vec<_> = scene.bodies.iter().map(|b| &*b.mesh).collect();
             view_data_3d(header, records, &meshes, &warnings, args.max_frames, &omega)
         }
-        ViewTrace::Two { header, records } => {
+        RunTrace::Two { header, records } => {
             // The overrides may change the physics, never the bodies; the 2D options likewise.
-            let scene = super::run2d::load_scene(
+            let scene = super::common::load_scene_2d(
                 Path::new(&source),
                 &Blocks2dOptions::default(),
                 &SceneSets::default(),

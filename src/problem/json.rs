@@ -163,6 +163,19 @@ fn body_index(i: Option<usize>) -> i64 {
     i.map_or(-1, |i| i as i64)
 }
 
+/// A problem file's `format` and `version` (of either form) must be this reader's.
+pub(super) fn check_format_and_version(format: &str, version: u32) -> Result<(), String> {
+    if format != PROBLEM_FORMAT {
+        return Err(format!("format is {format:?}, expected {PROBLEM_FORMAT:?}"));
+    }
+    if version != PROBLEM_VERSION {
+        return Err(format!(
+            "version {version} is not supported (this rigidref reads version {PROBLEM_VERSION})"
+        ));
+    }
+    Ok(())
+}
+
 impl ProblemFile {
     /// The file for `problem`, without provenance or solution (set those fields after).
     pub fn new<const D: usize, const R: usize>(problem: &ContactProblem<D, R>) -> ProblemFile {
@@ -237,18 +250,7 @@ impl ProblemFile {
     pub fn to_problem<const D: usize, const R: usize>(
         &self,
     ) -> Result<ContactProblem<D, R>, String> {
-        if self.format != PROBLEM_FORMAT {
-            return Err(format!(
-                "format is {:?}, expected {PROBLEM_FORMAT:?}",
-                self.format
-            ));
-        }
-        if self.version != PROBLEM_VERSION {
-            return Err(format!(
-                "version {} is not supported (this rigidref reads version {PROBLEM_VERSION})",
-                self.version
-            ));
-        }
+        check_format_and_version(&self.format, self.version)?;
         if self.dof_per_body != D || self.rows_per_contact != R {
             return Err(format!(
                 "dof_per_body {} and rows_per_contact {} do not match the expected {D} and {R}",

@@ -116,18 +116,7 @@ impl LocalProblemFile {
     /// The problem in the file, checked: R must match, every array must have its size, each
     /// block given once, and [`LocalProblem::validate`] must pass.
     pub fn to_problem<const R: usize>(&self) -> Result<LocalProblem<R>, String> {
-        if self.format != PROBLEM_FORMAT {
-            return Err(format!(
-                "format is {:?}, expected {PROBLEM_FORMAT:?}",
-                self.format
-            ));
-        }
-        if self.version != PROBLEM_VERSION {
-            return Err(format!(
-                "version {} is not supported (this rigidref reads version {PROBLEM_VERSION})",
-                self.version
-            ));
-        }
+        super::json::check_format_and_version(&self.format, self.version)?;
         if self.form != LOCAL_FORM {
             return Err(format!("form is {:?}, expected {LOCAL_FORM:?}", self.form));
         }

@@ -14,7 +14,7 @@
 //! (OBJ meshes and polyhedral mass properties), [`shape`] (the analytic ellipsoid a body may
 //! carry), [`diagnostics`] (energy, momentum, flips) and
 //! [`trace`] (the trace format); after each step the penetration measure, which
-//! [`interpenetration`] watches for missed contacts. docs/dynamics.md, docs/contact.md.
+//! [`penetration_watch`] watches for missed contacts. docs/dynamics.md, docs/contact.md.
 
 pub mod assemble;
 pub mod body;
@@ -22,9 +22,9 @@ pub mod collide;
 pub mod contact;
 pub mod diagnostics;
 pub mod frame;
-pub mod interpenetration;
 pub mod massprops;
 pub mod mesh;
+pub mod penetration_watch;
 pub mod rotation;
 pub mod scene;
 pub mod shape;

@@ -6,5 +6,5 @@ mod blocks2d;
 mod cli;
 mod common;
 mod rigid3d;
-mod solver;
+mod solve;
 mod verify;

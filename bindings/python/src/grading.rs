@@ -1,4 +1,4 @@
-//! `compare_traces` and `grade`: the library's `tools::compare` and `tools::grade`, the same
+//! `compare_traces` and `grade`: the library's `tools::grading::compare` and `tools::grading::grade`, the same
 //! verdicts and numbers as `rigidref compare` and `rigidref grade`, as Python dicts.
 
 use crate::errors;
@@ -7,10 +7,12 @@ use pyo3::types::PyDict;
 use rigidref::common::scene_json::Overrides;
 use rigidref::rigid3d::scene::load_scene_with;
 use rigidref::rigid3d::trace::read_trace_file;
-use rigidref::tools::compare::{
+use rigidref::tools::grading::compare::{
     OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories, outcome_scene,
 };
-use rigidref::tools::grade::{GradeMode, Limits, grade_all, reference, submissions, verdict};
+use rigidref::tools::grading::grade::{
+    GradeMode, Limits, grade_all, reference, submissions, verdict,
+};
 use std::path::PathBuf;
 
 /// A serialisable value as Python objects (dicts, lists, floats, str), through JSON.

@@ -5,7 +5,7 @@
 //! Everything here is a thin layer over the library: a scene is loaded and stepped by the same
 //! functions as `rigidref run`, problems are the library's [`rigidref::problem::ContactProblem`],
 //! the solvers, residuals and criteria are the library's, and compare and grade are the
-//! library's `tools::compare` and `tools::grade`. Arrays cross as float64 numpy arrays in C order;
+//! library's `tools::grading::compare` and `tools::grading::grade`. Arrays cross as float64 numpy arrays in C order;
 //! errors cross as the exception hierarchy of [`errors`], carrying the CLI's one-line messages.
 
 mod arrays;
@@ -25,13 +25,13 @@ fn _rigidref(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<problem::ContactProblem>()?;
     m.add_class::<problem::Solution>()?;
     m.add_class::<arrays::CooMatrix>()?;
-    m.add_function(wrap_pyfunction!(problem::solve_pgs, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::solve_newton, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::solve_clarabel, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::residual, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::coulomb_residual, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::criteria, m)?)?;
-    m.add_function(wrap_pyfunction!(problem::siconos_error, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::solve_pgs, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::solve_newton, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::solve_clarabel, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::residual, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::coulomb_residual, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::criteria, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::siconos_error, m)?)?;
     m.add_function(wrap_pyfunction!(grading::compare_traces, m)?)?;
     m.add_function(wrap_pyfunction!(grading::grade, m)?)?;
     m.add("DENSE_LIMIT", arrays::DENSE_LIMIT)?;

@@ -7,7 +7,7 @@ use crate::problem::{AnyProblem, ContactProblem, Solution, criteria_dict, lambda
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rigidref::blocks2d::scene::{CommandLine2, is_2d_scene, load_2d};
+use rigidref::blocks2d::scene::{LoadOptions2, is_2d_scene, load_2d};
 use rigidref::blocks2d::world::World2;
 use rigidref::common::scene_json::Overrides;
 use rigidref::rigid3d::scene::load_scene_with;
@@ -73,7 +73,7 @@ impl World {
         let overrides = Overrides::parse(&override_texts(overrides)?).map_err(errors::scene)?;
         let source = path.display().to_string();
         if is_2d_scene(&path) {
-            let cli = CommandLine2 {
+            let cli = LoadOptions2 {
                 overrides,
                 ..Default::default()
             };

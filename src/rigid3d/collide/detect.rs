@@ -3,7 +3,7 @@
 
 use super::ground::ground_contacts;
 use super::manifold::manifold_contacts;
-use super::mesh::{MeshCollider, vertex_contacts};
+use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
 use super::vertex_contact::Contact;
 use crate::common::broad::{Aabb, overlapping_pairs};

@@ -3,7 +3,7 @@
 //! pieces' supporting faces, edges or vertices clipped against each other). docs/contact.md
 //! §"Complete collision detection".
 
-use super::mesh::MeshCollider;
+use super::mesh_pair::MeshCollider;
 use super::pieces::{pose, world_point, world_vector};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;

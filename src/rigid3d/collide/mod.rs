@@ -8,11 +8,11 @@
 //!   ground, other meshes' vertices against its implicit surface;
 //! - [`crate::common::broad`]: sweep-and-prune on world bounding boxes picks the body pairs
 //!   worth testing;
-//! - [`mesh`]: the vertices of each body of a pair against the other body's surface (signed
+//! - [`mesh_pair`]: the vertices of each body of a pair against the other body's surface (signed
 //!   distance through parry3d's bounding-volume hierarchy), both directions;
 //! - [`sphere_tree`]: with `culling: sphere_tree`, a tree of spheres covering each mesh's solid
 //!   culls the vertices that cannot be inside it before the BVH query;
-//! - [`closest_point`]: the brute-force oracle that tests hold [`mesh`] against;
+//! - [`closest_point`]: the brute-force oracle that tests hold [`mesh_pair`] against;
 //! - [`pieces`]: each mesh as convex pieces (itself when convex, else a convex decomposition);
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
 //!   vertex rule misses (edge–edge crossings, faces on faces);
@@ -27,7 +27,7 @@ pub mod detect;
 pub mod ellipsoid;
 pub mod ground;
 pub mod manifold;
-pub mod mesh;
+pub mod mesh_pair;
 pub mod penetration;
 pub mod pieces;
 pub mod sat;
@@ -35,5 +35,5 @@ pub mod sphere_tree;
 pub mod vertex_contact;
 
 pub use detect::{CollisionMethod, Culling, detect_contacts};
-pub use mesh::MeshCollider;
+pub use mesh_pair::MeshCollider;
 pub use vertex_contact::{Contact, Feature};

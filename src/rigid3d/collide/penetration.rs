@@ -7,7 +7,7 @@
 //! convex piece of the other, from parry3d's GJK/EPA; [`super::sat`] is its brute-force oracle.
 //! For convex bodies this is exactly the distance one body must move to separate them.
 
-use super::mesh::MeshCollider;
+use super::mesh_pair::MeshCollider;
 use super::pieces::{ClimbingSupport, Cuboid, pose};
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;

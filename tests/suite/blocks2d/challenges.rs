@@ -418,7 +418,7 @@ fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
     }
 }
 
-/// The benchmark's factory pile (`tools::factory::packed_pile`, docs/performance.md) is a pile
+/// The benchmark's factory pile (`tools::experiments::factory::packed_pile`, docs/performance.md) is a pile
 /// like the factory's, made at once: every piece inside the container, no two block discs of
 /// different bodies overlapping by more than the thousandth of a block it is laid with (none
 /// would be pushed apart), in contact from its first step (about a contact per body, the
@@ -429,7 +429,7 @@ fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
 #[test]
 fn packed_factory_pile_starts_in_contact_and_settles_soundly() {
     use rigidref::blocks2d::collide::brute_force_contacts;
-    use rigidref::tools::factory::{DropZone, Pieces, packed_pile};
+    use rigidref::tools::experiments::factory::{DropZone, Pieces, packed_pile};
     let mut world = packed_pile(300, Pieces::Random, 3);
     assert_eq!(world.bodies.len(), 301);
     let zone = DropZone::above_pinned(&world).unwrap();

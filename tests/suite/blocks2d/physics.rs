@@ -247,7 +247,7 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
     let root = common::project_root();
     let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
     assert!(read("src/rigid3d/world.rs").contains("solve(&problem, &settings"));
-    assert!(read("src/blocks2d/world.rs").contains("crate::solve::solve("));
+    assert!(read("src/blocks2d/world/solve.rs").contains("crate::solve::solve("));
     assert!(read("src/solve/mod.rs").contains("Solver::Pgs => solve_pgs("));
     let mut definitions = 0;
     let mut stack = vec![root.join("src")];

@@ -800,7 +800,7 @@ fn compare_problem_accepts_another_frictional_solution_by_its_residual() {
     use rigidref::problem::{
         ContactProblem3, FrictionModel, ProblemBody, ProblemContact, RowBounds,
     };
-    use rigidref::tools::compare_problem::{ProblemTolerance, compare_problems};
+    use rigidref::tools::grading::compare_problem::{ProblemTolerance, compare_problems};
     let mut inverse_mass = nalgebra::SMatrix::<f64, 6, 6>::zeros();
     inverse_mass.set_diagonal(&nalgebra::SVector::from([0.1, 0.1, 0.1, 1.0, 1.0, 1.0]));
     let mut jacobian = nalgebra::SMatrix::<f64, 3, 6>::zeros();

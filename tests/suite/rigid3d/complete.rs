@@ -14,8 +14,8 @@ use rigidref::rigid3d::collide::pieces::ConvexPieces;
 use rigidref::rigid3d::collide::{
     CollisionMethod, Contact, Feature, MeshCollider, detect_contacts,
 };
-use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
 use rigidref::rigid3d::mesh::TriMesh;
+use rigidref::rigid3d::penetration_watch::InterpenetrationWatch;
 use rigidref::rigid3d::scene::{Scene, load_scene};
 use rigidref::rigid3d::world::World;
 use std::path::Path;

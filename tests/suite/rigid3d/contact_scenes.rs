@@ -814,7 +814,7 @@ fn the_sliding_stop_converges_at_first_order_in_the_step() {
 /// it does not (docs/contact.md §"Penetration measure").
 #[test]
 fn a_body_resting_deep_in_another_warns_once() {
-    use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
+    use rigidref::rigid3d::penetration_watch::InterpenetrationWatch;
     let count = |depth: f64| {
         let mut scene = canonical("sliding_cube.json");
         scene.params.stabilization = 0.0;

@@ -43,7 +43,7 @@ fn scene3d(data: &[u8]) -> bool {
 /// The trace harness (fuzz/fuzz_targets/trace.rs): read, then compare with itself in both
 /// modes. Returns whether the trace was read.
 fn trace(data: &[u8]) -> bool {
-    use rigidref::tools::compare::{
+    use rigidref::tools::grading::compare::{
         OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
     };
     let Ok(trace) = rigidref::rigid3d::trace::read_trace(std::io::Cursor::new(data), "fuzz.jsonl")

@@ -143,7 +143,7 @@ pub struct GradeRow {
     /// The observable or quantity (`trace` for the file as a whole).
     pub observable: String,
     /// `pass`, `fail`, `refused` (the trace is too short, degenerate or for other bodies:
-    /// [`crate::tools::compare::Refusal`]), `missing` or `unreadable`.
+    /// [`crate::tools::grading::compare::Refusal`]), `missing` or `unreadable`.
     pub result: String,
     /// The figure: the error, the observable's values, or what is wrong with the file.
     pub figure: String,

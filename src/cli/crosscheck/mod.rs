@@ -1,12 +1,17 @@
 //! `rigidref crosscheck`: every contact problem of a run (or of problem files) solved by PGS run
 //! to convergence and by clarabel, and compared. docs/verification.md §"clarabel".
 
-use super::crosscheck_report::{Limits, Row, print_summary, print_table, summarise};
-use super::progress::{Progress, Stopped};
+mod print;
+mod report;
+
+use crate::cli::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;
+use print::{describe_verdict, print_summary, print_table};
+pub use report::Unverified;
+use report::{Limits, Row, summarise};
 use rigidref::problem::local_json::AnyProblemFile;
-use rigidref::rigid3d::interpenetration::InterpenetrationWatch;
+use rigidref::rigid3d::penetration_watch::InterpenetrationWatch;
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
 use rigidref::verify::crosscheck::{CrosscheckSettings, check_problem, check_step};
@@ -71,13 +76,13 @@ pub struct CrosscheckArgs {
     #[arg(long)]
     pub rapier: bool,
     #[command(flatten)]
-    pub sets: super::args::SceneSets,
+    pub sets: crate::cli::args::SceneSets,
 }
 
 /// Runs the cross-check.
 pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     if args.rapier {
-        return super::rapier::rapier(args.input.as_deref(), &args.sets, args.time, args.json);
+        return crate::cli::rapier::rapier(args.input.as_deref(), &args.sets, args.time, args.json);
     }
     if !(args.tolerance > 0.0 && args.objective_tolerance > 0.0) {
         bail!("--tolerance and --objective-tolerance must be positive");
@@ -110,14 +115,10 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     match summary.verdict {
         "disagree" => bail!(
             "{input}: {} (worst: {})",
-            super::crosscheck_report::describe_verdict(&summary),
+            describe_verdict(&summary),
             summary.worst.as_deref().unwrap_or("-")
         ),
-        "unverified" => Err(super::crosscheck_report::Unverified(format!(
-            "{input}: {}",
-            super::crosscheck_report::describe_verdict(&summary)
-        ))
-        .into()),
+        "unverified" => Err(Unverified(format!("{input}: {}", describe_verdict(&summary))).into()),
         _ => Ok(()),
     }
 }
@@ -140,7 +141,8 @@ fn rows_of(
         ),
         Some(path) if rigidref::blocks2d::scene::is_2d_scene(path) => {
             // An image with the default parameters, or a 2D scene file with its own.
-            let mut world = super::run2d::load_scene(path, &Default::default(), &args.sets)?.world;
+            let mut world =
+                crate::cli::common::load_scene_2d(path, &Default::default(), &args.sets)?.world;
             settings.pgs.local = args.pgs_local_solve.unwrap_or(world.params.local_solve);
             settings.solver = world.params.solver;
             let source = path.display().to_string();
@@ -148,7 +150,7 @@ fn rows_of(
             (source, rows)
         }
         other => {
-            let scene = super::common::load_scene_or_default(other.as_deref(), &args.sets)?;
+            let scene = crate::cli::common::load_scene_or_default(other.as_deref(), &args.sets)?;
             if !scene.params.check_collisions {
                 eprintln!(
                     "note: {}: check_collisions is false: no contact problems to check",

@@ -3,7 +3,7 @@
 //! their normals, impulses and (3D) tangent frames; the plots of [`super::series`], synchronised
 //! with the slider; and the selected body's state. docs/viewing.md.
 //!
-//! The page is the project's own code (src/tools/view/viewer.{html,css,js}, plain WebGL and
+//! The page is the project's own code (src/tools/viewing/view/viewer.{html,css,js}, plain WebGL and
 //! canvas, no third-party script), compiled into the binary; the run's data is embedded in it as
 //! JSON (the schema is in docs/viewing.md §"The page's data").
 
@@ -26,9 +26,9 @@ pub const VIEW_FORMAT: &str = "rigidref-view";
 /// in a second or two (`rigidref view --max-frames`).
 pub const DEFAULT_MAX_FRAMES: usize = 1500;
 
-/// A trace read for viewing, of either system.
+/// A trace of either system (3D or 2D), as `view`, `plot` and `render` read it.
 #[derive(Clone, Debug)]
-pub enum ViewTrace {
+pub enum RunTrace {
     /// A 3D trace.
     Three {
         /// Header line.
@@ -45,12 +45,12 @@ pub enum ViewTrace {
     },
 }
 
-impl ViewTrace {
+impl RunTrace {
     /// The `source` the header names (the scene the run read, whose geometry the page draws).
     pub fn source(&self) -> &str {
         match self {
-            ViewTrace::Three { header, .. } => &header.source,
-            ViewTrace::Two { header, .. } => &header.source,
+            RunTrace::Three { header, .. } => &header.source,
+            RunTrace::Two { header, .. } => &header.source,
         }
     }
 
@@ -61,8 +61,8 @@ impl ViewTrace {
             return chosen.to_vec();
         }
         let pinned: Vec<bool> = match self {
-            ViewTrace::Three { header, .. } => vec![false; header.bodies.len()],
-            ViewTrace::Two { header, .. } => header.bodies.iter().map(|b| b.pinned).collect(),
+            RunTrace::Three { header, .. } => vec![false; header.bodies.len()],
+            RunTrace::Two { header, .. } => header.bodies.iter().map(|b| b.pinned).collect(),
         };
         super::series::default_omega_bodies(&pinned)
     }
@@ -70,8 +70,8 @@ impl ViewTrace {
     /// How many bodies the header lists.
     pub fn body_count(&self) -> usize {
         match self {
-            ViewTrace::Three { header, .. } => header.bodies.len(),
-            ViewTrace::Two { header, .. } => header.bodies.len(),
+            RunTrace::Three { header, .. } => header.bodies.len(),
+            RunTrace::Two { header, .. } => header.bodies.len(),
         }
     }
 }
@@ -79,11 +79,11 @@ impl ViewTrace {
 /// Reads a trace of either system for viewing. A trace cut off in its last line (a run that
 /// was stopped, a copy that was interrupted) keeps its complete records, with a warning in
 /// `warnings`; any other bad line is an error naming the file and the line.
-pub fn read_view_trace(
+pub fn read_run_trace(
     text: &str,
     source: &str,
     warnings: &mut Vec<String>,
-) -> Result<ViewTrace, String> {
+) -> Result<RunTrace, String> {
     let mut lines = text
         .lines()
         .enumerate()
@@ -117,7 +117,7 @@ pub fn read_view_trace(
                 warnings,
                 |r: &TraceRecord| r.bodies.len(),
             )?;
-            Ok(ViewTrace::Three { header, records })
+            Ok(RunTrace::Three { header, records })
         }
         Some(2) => {
             let header: TraceHeader2 = serde_json::from_value(header)
@@ -129,7 +129,7 @@ pub fn read_view_trace(
                 warnings,
                 |r: &Record2| r.bodies.len(),
             )?;
-            Ok(ViewTrace::Two { header, records })
+            Ok(RunTrace::Two { header, records })
         }
         _ => Err(format!(
             "{source}:1: the header's \"dimension\" must be 2 or 3"

@@ -395,7 +395,8 @@ impl Profile {
                 .draw()
                 .map_err(|e| e.to_string())?;
             for (i, (solver, ratios)) in self.ratios.iter().enumerate() {
-                let colour = crate::tools::plot::COLOURS[i % crate::tools::plot::COLOURS.len()];
+                let colour = crate::tools::viewing::plot::COLOURS
+                    [i % crate::tools::viewing::plot::COLOURS.len()];
                 // A step function: it rises at each ratio.
                 let mut points = vec![(0.0, self.fraction(i, 1.0))];
                 for &r in ratios {

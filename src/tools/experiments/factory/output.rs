@@ -1,0 +1,139 @@
+//! Every file a factory run writes, in one place: the CSV solve log (and its re-timing), the
+//! viewer page.
+
+use super::*;
+
+/// The viewer page of a factory run (docs/viewing.md): the final world's bodies, each drawn
+/// from the record where it was dropped on; the plots of the run.
+pub(super) fn write_view_page(
+    world: &World2,
+    records: &[crate::blocks2d::trace::Record2],
+    path: &Path,
+) -> Result<(), String> {
+    use crate::tools::viewing::view::{DEFAULT_MAX_FRAMES, html, view_data_2d};
+    let header =
+        crate::blocks2d::trace::TraceHeader2::for_world(world, "factory", "rigidref factory");
+    let pinned: Vec<bool> = world.bodies.iter().map(|b| b.pinned).collect();
+    let omega = crate::tools::viewing::series::default_omega_bodies(&pinned);
+    let data = view_data_2d(&header, records, world, &[], DEFAULT_MAX_FRAMES, &omega);
+    std::fs::write(path, html(&data)).map_err(|e| format!("{}: cannot write: {e}", path.display()))
+}
+
+/// Creates `path` for writing, naming it in the error.
+pub(super) fn create(path: &Path) -> Result<std::io::BufWriter<std::fs::File>, String> {
+    std::fs::File::create(path)
+        .map(std::io::BufWriter::new)
+        .map_err(|e| format!("{}: cannot create: {e}", path.display()))
+}
+
+/// What the run measures of its solves: the per-step CSV, the in-run points, the problems kept
+/// for re-timing.
+pub(super) struct SolveLog {
+    pub(super) csv: std::io::BufWriter<std::fs::File>,
+    pub(super) csv_path: std::path::PathBuf,
+    pub(super) keep_every: u64,
+    pub(super) kept: Vec<ContactProblem2>,
+    pub(super) in_run_wall: Vec<(f64, f64)>,
+    pub(super) in_run_cpu: Vec<(f64, f64)>,
+    pub(super) max_contacts: usize,
+    pub(super) pgs_seconds: f64,
+    pub(super) pgs_cpu_seconds: f64,
+}
+
+impl SolveLog {
+    pub(super) fn create(out: &Path, keep_every: u64) -> Result<SolveLog, String> {
+        let csv_path = out.join("scaling.csv");
+        let mut csv = create(&csv_path)?;
+        writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds")
+            .map_err(|e| format!("{}: cannot write: {e}", csv_path.display()))?;
+        Ok(SolveLog {
+            csv,
+            csv_path,
+            keep_every,
+            kept: Vec::new(),
+            in_run_wall: Vec::new(),
+            in_run_cpu: Vec::new(),
+            max_contacts: 0,
+            pgs_seconds: 0.0,
+            pgs_cpu_seconds: 0.0,
+        })
+    }
+
+    /// Step k's solves, summed over its substeps (one solve each), so that time and contacts
+    /// match. Returns the step's contacts.
+    pub(super) fn record(&mut self, w: &World2, k: u64) -> Result<usize, String> {
+        let totals = SolveTotals::of(&w.solves);
+        let (contacts, wall, cpu) = (
+            totals.contacts,
+            totals.solve_seconds,
+            totals.solve_cpu_seconds,
+        );
+        self.max_contacts = self.max_contacts.max(totals.most_contacts);
+        self.pgs_seconds += wall;
+        self.pgs_cpu_seconds += cpu;
+        writeln!(
+            self.csv,
+            "{},{},{},{},{wall:.9},{cpu:.9}",
+            w.step,
+            w.time(),
+            w.bodies.len(),
+            contacts,
+        )
+        .map_err(|e| format!("{}: cannot write: {e}", self.csv_path.display()))?;
+        if contacts > 0 {
+            self.in_run_wall.push((contacts as f64, wall));
+            self.in_run_cpu.push((contacts as f64, cpu));
+            if k.is_multiple_of(self.keep_every)
+                && let Some(solve) = w.solves.last()
+            {
+                self.kept.push(solve.problem.clone());
+            }
+        }
+        Ok(contacts)
+    }
+
+    /// Re-times the kept problems side by side, writes retimed.csv, scaling.svg and scaling.png
+    /// (the plot as a 2D scene image), and returns
+    /// the fit and how many problems were re-timed.
+    pub(super) fn write_fit(
+        &mut self,
+        out: &Path,
+        settings: &crate::solve::PgsSettings,
+        seed: u64,
+    ) -> Result<(Option<LinearFit>, usize), String> {
+        self.csv
+            .flush()
+            .map_err(|e| format!("{}: cannot write: {e}", self.csv_path.display()))?;
+        let retimed = retime(&self.kept, settings, RETIME_ROUNDS, seed);
+        let retimed_path = out.join("retimed.csv");
+        let mut retimed_csv = create(&retimed_path)?;
+        let retimed_err =
+            |e: std::io::Error| format!("{}: cannot write: {e}", retimed_path.display());
+        writeln!(retimed_csv, "contacts,pgs_cpu_seconds_median").map_err(retimed_err)?;
+        for (contacts, seconds) in &retimed {
+            writeln!(retimed_csv, "{contacts},{seconds:.9}").map_err(retimed_err)?;
+        }
+        retimed_csv.flush().map_err(retimed_err)?;
+        let fit = linear_fit(&retimed);
+        let svg = out.join("scaling.svg");
+        let png = out.join("scaling.png");
+        match &fit {
+            Some(f) => {
+                plot(
+                    &retimed,
+                    &self.in_run_cpu,
+                    f,
+                    &svg,
+                    "PGS solve CPU time (re-timed)",
+                )?;
+                crate::tools::experiments::scaling::scene_png(&retimed, f, &png)?;
+            }
+            // No line to draw: do not leave an earlier run's plot looking like this one's.
+            None => {
+                let _ = std::fs::remove_file(&svg);
+                let _ = std::fs::remove_file(&png);
+            }
+        }
+        Ok((fit, retimed.len()))
+    }
+}

@@ -1,0 +1,369 @@
+//! Comparing a simulator's 3D trace with the reference's: trajectories (every quantity over time,
+//! aligned by time; [`trajectory`]) or outcomes (what happened: first contact, rest, where and
+//! how bodies rest, energy at the end, Dzhanibekov flips; [`outcome`]), after the traces pass
+//! the checks of [`refusal`]. docs/grading.md.
+//!
+//! This file holds what both modes share: the reports' types, the bodies' matching and the
+//! interpolation of a trace between its records.
+
+mod outcome;
+mod refusal;
+mod trajectory;
+
+pub use outcome::{OutcomeTolerances, compare_outcomes, outcome_scene};
+pub use trajectory::compare_trajectories;
+
+use crate::rigid3d::trace::{BodyState, Trace, TraceRecord};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+
+/// Tolerances of trajectory mode, each an absolute bound on an error over time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrajectoryTolerances {
+    /// Position of a centre of mass, m.
+    pub position: f64,
+    /// Orientation: the angle of R_refᵀ R_other, rad.
+    pub angle: f64,
+    /// Velocity, m/s.
+    pub velocity: f64,
+    /// Angular velocity, rad/s.
+    pub omega: f64,
+    /// Energy terms, relative to the reference's energy scale: the largest of its largest
+    /// kinetic energy, the range of its potential energy and the energy of lifting every body by
+    /// 1 cm.
+    pub energy: f64,
+    /// Momenta, relative to the largest |momentum| of the reference, or to the total mass
+    /// × 1 m/s (× 1 m for angular momentum) when that is larger.
+    pub momentum: f64,
+}
+
+impl Default for TrajectoryTolerances {
+    /// 1 mm, 1 mrad, 1 mm/s, 1 mrad/s, 1e-3 relative: far above round-off and the interpolation
+    /// error of records a few frames apart, far below any modelling difference.
+    fn default() -> Self {
+        TrajectoryTolerances {
+            position: 1e-3,
+            angle: 1e-3,
+            velocity: 1e-3,
+            omega: 1e-3,
+            energy: 1e-3,
+            momentum: 1e-3,
+        }
+    }
+}
+
+impl TrajectoryTolerances {
+    /// Every tolerance `t` (in each quantity's own unit, or relative): what `rigidref compare
+    /// --tolerance t` and the Python module's `compare_traces(tolerance=t)` ask for.
+    pub fn uniform(t: f64) -> Self {
+        TrajectoryTolerances {
+            position: t,
+            angle: t,
+            velocity: t,
+            omega: t,
+            energy: t,
+            momentum: t,
+        }
+    }
+}
+
+/// One quantity's error over time.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct QuantityError {
+    /// What, e.g. `body 1 ("cube") position` or `energy.total`.
+    pub quantity: String,
+    /// Unit of the error.
+    pub unit: &'static str,
+    /// The largest error.
+    pub max_error: f64,
+    /// When it occurred, s.
+    pub at: f64,
+    /// The first time it exceeded the tolerance, s, if it did.
+    pub first_exceeded: Option<f64>,
+    /// The tolerance.
+    pub tolerance: f64,
+}
+
+/// The result of a comparison: every quantity's error (trajectory mode) or every observable
+/// (outcome mode), and the verdict.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Comparison {
+    /// `trajectory` or `outcome`.
+    pub mode: &'static str,
+    /// The times compared, s: from the later start to the earlier end of the two traces.
+    pub span: (f64, f64),
+    /// How the bodies were matched: `name` or `index`.
+    pub matched_by: &'static str,
+    /// Trajectory mode: the errors, in body order then system quantities.
+    pub errors: Vec<QuantityError>,
+    /// Outcome mode: the observables.
+    pub outcomes: Vec<Outcome>,
+    /// True when nothing exceeds its tolerance (false when the candidate was refused).
+    pub agree: bool,
+    /// Why the candidate trace was not compared at all, when it was refused (a trace that stops
+    /// early, repeats or reorders its times, is too sparse, has other bodies or non-finite
+    /// numbers); then `errors` and `outcomes` are empty. docs/grading.md §"Refused traces".
+    pub refused: Option<Refusal>,
+}
+
+/// Why a candidate trace is refused before any comparison: its own verdict.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Refusal {
+    /// `empty`, `wrong bodies`, `not finite`, `not a rotation`, `repeated times`,
+    /// `times out of order`, `late start`, `incomplete` or `too sparse`.
+    pub kind: &'static str,
+    /// What is wrong, in one line, e.g. "ends at 0.5 s of 2 s".
+    pub message: String,
+}
+
+/// How far apart a candidate's records may be, in reference steps (dt), where the reference
+/// itself records more often: the comparison samples at the sparser trace's record times, so a
+/// trace of a handful of records would otherwise be judged on a handful of states.
+pub const MAX_GAP_STEPS: f64 = 10.0;
+
+impl Comparison {
+    fn refused(mode: &'static str, refusal: Refusal) -> Comparison {
+        Comparison {
+            mode,
+            span: (f64::NAN, f64::NAN),
+            matched_by: "",
+            errors: Vec::new(),
+            outcomes: Vec::new(),
+            agree: false,
+            refused: Some(refusal),
+        }
+    }
+
+    /// The first failing quantity or observable, as a sentence.
+    pub fn first_failure(&self) -> Option<String> {
+        if let Some(r) = &self.refused {
+            return Some(format!("refused ({}): {}", r.kind, r.message));
+        }
+        let by_time = self
+            .errors
+            .iter()
+            .filter_map(|e| e.first_exceeded.map(|t| (t, e)))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        if let Some((t, e)) = by_time {
+            return Some(format!(
+                "{} exceeds {:.3e} {} first at t = {t} s (largest {:.3e} {} at t = {} s)",
+                e.quantity, e.tolerance, e.unit, e.max_error, e.unit, e.at
+            ));
+        }
+        self.outcomes.iter().find(|o| !o.passed).map(|o| {
+            format!(
+                "{}: reference {}, other {} (tolerance {})",
+                o.name, o.reference, o.other, o.tolerance
+            )
+        })
+    }
+}
+
+/// One observable of outcome mode.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Outcome {
+    /// What, e.g. `body 0 ("cube") rest position`.
+    pub name: String,
+    /// The reference's value, as text (a number, `never`, `yes`).
+    pub reference: String,
+    /// The other trace's value.
+    pub other: String,
+    /// The difference measured (NaN when not numeric).
+    pub difference: f64,
+    /// The tolerance, as text.
+    pub tolerance: String,
+    /// Whether the two agree.
+    pub passed: bool,
+}
+
+/// A body's state at a time, interpolated between records.
+#[derive(Clone, Copy, Debug)]
+struct State {
+    x: Vector3<f64>,
+    rotation: UnitQuaternion<f64>,
+    v: Vector3<f64>,
+    omega: Vector3<f64>,
+}
+
+fn v3(a: &[f64; 3]) -> Vector3<f64> {
+    Vector3::new(a[0], a[1], a[2])
+}
+
+fn rotation_of(b: &BodyState) -> UnitQuaternion<f64> {
+    // The traces were checked to hold rotations (orthonormal within 1e-6), so the direct
+    // conversion (no iteration) applies; the quaternion is normalised.
+    let m = Matrix3::from_fn(|i, j| b.rotation[i][j]);
+    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(m))
+}
+
+/// Why `b.rotation` is not a rotation matrix (non-finite, not orthonormal within 1e-6, or a
+/// reflection), if it is not.
+fn not_a_rotation(b: &BodyState) -> Option<String> {
+    let m = Matrix3::from_fn(|i, j| b.rotation[i][j]);
+    if !m.iter().all(|x| x.is_finite()) {
+        return Some("R is not finite".into());
+    }
+    let error = (m.transpose() * m - Matrix3::identity()).norm();
+    if error > 1e-6 {
+        return Some(format!("R is not orthonormal (‖RᵀR − I‖ = {error:.3e})"));
+    }
+    if m.determinant() < 0.0 {
+        return Some("R is a reflection (det R < 0)".into());
+    }
+    None
+}
+
+fn state_of(b: &BodyState) -> State {
+    State {
+        x: v3(&b.x),
+        rotation: rotation_of(b),
+        v: v3(&b.v),
+        omega: v3(&b.omega),
+    }
+}
+
+/// The trace's records bracketing `t` and the fraction of the way from the first to the second.
+fn bracket(records: &[TraceRecord], t: f64) -> (usize, usize, f64) {
+    let k = records.partition_point(|r| r.t <= t);
+    if k == 0 {
+        return (0, 0, 0.0);
+    }
+    if k >= records.len() {
+        let last = records.len() - 1;
+        return (last, last, 0.0);
+    }
+    let (a, b) = (&records[k - 1], &records[k]);
+    if a.t == t {
+        // A record at exactly this time: itself, not an interpolation that could round.
+        return (k - 1, k - 1, 0.0);
+    }
+    let s = if b.t > a.t {
+        (t - a.t) / (b.t - a.t)
+    } else {
+        0.0
+    };
+    (k - 1, k, s)
+}
+
+/// The angle of the rotation from `a` to `b`, rad: 2 atan2(|d_xyz|, |d_w|) for d = a⁻¹ b
+/// (accurate for small angles, where acos of d_w is not); exactly 0 for equal orientations.
+fn angle_between(a: &UnitQuaternion<f64>, b: &UnitQuaternion<f64>) -> f64 {
+    if a == b {
+        return 0.0;
+    }
+    let d = a.inverse() * b;
+    2.0 * d.imag().norm().atan2(d.w.abs())
+}
+
+fn lerp(a: f64, b: f64, s: f64) -> f64 {
+    a + (b - a) * s
+}
+
+/// Body `i`'s state at time `t`: linear interpolation of x, v, ω and slerp of the orientation.
+fn body_at(records: &[TraceRecord], i: usize, t: f64) -> State {
+    let (a, b, s) = bracket(records, t);
+    let (p, q) = (
+        state_of(&records[a].bodies[i]),
+        state_of(&records[b].bodies[i]),
+    );
+    if a == b {
+        return p;
+    }
+    State {
+        x: p.x.lerp(&q.x, s),
+        rotation: p.rotation.slerp(&q.rotation, s),
+        v: p.v.lerp(&q.v, s),
+        omega: p.omega.lerp(&q.omega, s),
+    }
+}
+
+/// System quantities at `t`: the energy terms and momenta, interpolated linearly.
+fn system_at(records: &[TraceRecord], t: f64) -> [f64; 13] {
+    let (a, b, s) = bracket(records, t);
+    let values = |r: &TraceRecord| {
+        let e = &r.energy;
+        let m = &r.momentum;
+        [
+            e.kinetic_linear,
+            e.kinetic_angular,
+            e.potential,
+            e.total,
+            m.linear[0],
+            m.linear[1],
+            m.linear[2],
+            m.angular[0],
+            m.angular[1],
+            m.angular[2],
+            m.angular_com[0],
+            m.angular_com[1],
+            m.angular_com[2],
+        ]
+    };
+    let (p, q) = (values(&records[a]), values(&records[b]));
+    std::array::from_fn(|k| lerp(p[k], q[k], s))
+}
+
+/// How bodies of `other` map onto the reference's: by name when both traces name the same set
+/// of bodies, else by index when they have as many. `map[i]` is the other's index of reference
+/// body i.
+pub fn match_bodies(
+    reference: &Trace,
+    other: &Trace,
+) -> Result<(Vec<usize>, &'static str), String> {
+    let (r, o) = (&reference.header.bodies, &other.header.bodies);
+    let by_name: Option<Vec<usize>> = r
+        .iter()
+        .map(|b| o.iter().position(|c| c.name == b.name))
+        .collect();
+    let names_unique = {
+        let mut names: Vec<&str> = r.iter().map(|b| b.name.as_str()).collect();
+        names.sort_unstable();
+        names.windows(2).all(|w| w[0] != w[1])
+    };
+    match by_name {
+        Some(map) if r.len() == o.len() && names_unique => Ok((map, "name")),
+        _ if r.len() == o.len() => {
+            // Matched by place: the masses must agree, or these are not the same scene's bodies.
+            if let Some(i) = (0..r.len()).find(|&i| {
+                (r[i].mass - o[i].mass).abs() > 1e-6 * r[i].mass.abs().max(o[i].mass.abs())
+            }) {
+                return Err(format!(
+                    "the bodies' names differ and body {i} has mass {} kg in one trace and {} kg in the other: not the same scene",
+                    r[i].mass, o[i].mass
+                ));
+            }
+            Ok(((0..r.len()).collect(), "index"))
+        }
+        _ => Err(format!(
+            "the traces have {} and {} bodies, and their names do not match",
+            r.len(),
+            o.len()
+        )),
+    }
+}
+
+/// The energy scale of a trace, J: the largest of its largest kinetic energy, the range of its
+/// potential energy (not |E|, which depends on where the potential is zero) and the energy of
+/// lifting every body by 1 cm against gravity (|g| taken as at least 1 m/s²), so that a scene at
+/// rest is not judged by round-off.
+fn energy_scale(trace: &Trace) -> f64 {
+    let g = trace.header.gravity;
+    let g = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt().max(1.0);
+    let total_mass: f64 = trace.header.bodies.iter().map(|b| b.mass).sum();
+    let lift = total_mass * g * 0.01;
+    let kinetic = trace
+        .records
+        .iter()
+        .map(|r| r.energy.kinetic_linear + r.energy.kinetic_angular)
+        .fold(0.0, f64::max);
+    let (low, high) = trace
+        .records
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+            (l.min(r.energy.potential), h.max(r.energy.potential))
+        });
+    kinetic.max(high - low).max(lift).max(f64::MIN_POSITIVE)
+}
+
+fn body_label(trace: &Trace, i: usize) -> String {
+    format!("body {i} ({:?})", trace.header.bodies[i].name)
+}
