@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 c=fuzz/corpus
-mkdir -p $c/scene3d $c/world3d $c/obj $c/scene2d $c/png $c/trace $c/problem $c/compare
+mkdir -p $c/scene3d $c/world3d $c/obj $c/scene2d $c/png $c/trace $c/problem $c/compare $c/siconos
 for s in scenes/*.json; do
   root=$(python3 -c "import json,sys; print(json.load(open('$s'))['bodies'][0]['file_root'])")
   body=scenes/$root
@@ -30,3 +30,6 @@ cargo run --release -q -- run scenes/box_stack.json --steps 2 --quiet --out "$tm
 cp "$tmp"/p/*.json $c/problem/ 2>/dev/null || true
 rm -rf "$tmp"
 echo "seeded: $(ls $c/* | wc -l) files"
+# Siconos' small problems (every storage the 3D ones use), and a local-form problem file
+cp tests/data/siconos/*.dat $c/siconos/
+cargo run --release -q -- convert-problem tests/data/siconos/Rover4396.dat "$c/problem/rover4396-local.json"

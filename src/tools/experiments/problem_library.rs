@@ -11,7 +11,7 @@
 
 use crate::problem::local_json::AnyProblemFile;
 use crate::problem::siconos::{AnyLocalProblem, read_dat};
-use crate::problem::{ContactCriteria, LocalProblem};
+use crate::problem::{ContactCriteria, FrictionModel, LocalProblem, RowBounds};
 use crate::solve::criteria::criteria;
 use crate::solve::residual::{coulomb_residual, residual, siconos_error};
 use crate::solve::{
@@ -160,33 +160,76 @@ fn read_hdf5(path: &Path) -> Result<AnyLocalProblem, String> {
 /// Writes a problem (either dimension) to `path` by its extension: `.json` (rigidref's
 /// local-form file), `.dat` (Siconos' text) or, with the feature `fclib`, `.hdf5`/`.h5` (FCLIB
 /// local). `source` names where it came from (the file's `source`, FCLIB's `info/title`).
-pub fn write(problem: &AnyLocalProblem, source: &str, path: &Path) -> Result<(), String> {
+/// Siconos and FCLIB describe contacts under the Coulomb cone only: a problem with joint rows
+/// (`bounds: free`) is refused for them, since they would become contacts; box friction (3D) is
+/// written with a warning, since another solver will answer for the cone. The warnings are
+/// returned.
+pub fn write(problem: &AnyLocalProblem, source: &str, path: &Path) -> Result<Vec<String>, String> {
     let name = path.display();
     let text =
         |s: String| std::fs::write(path, s).map_err(|e| format!("{name}: cannot write: {e}"));
-    match path.extension().and_then(|e| e.to_str()) {
+    let extension = path.extension().and_then(|e| e.to_str());
+    let mut warnings = Vec::new();
+    if matches!(extension, Some("dat" | "hdf5" | "h5")) {
+        let (joint, friction, rows, warm) = match problem {
+            AnyLocalProblem::Three(p) => facts(p),
+            AnyLocalProblem::Two(p) => facts(p),
+        };
+        if let Some(k) = joint {
+            return Err(format!(
+                "{name}: constraint {k} is a joint (bounds \"free\"): Siconos' and FCLIB's formats \
+                 have contacts only, so it would be solved as a contact; keep this problem as .json"
+            ));
+        }
+        if friction == FrictionModel::Box && rows == 3 {
+            warnings.push(format!(
+                "{name}: the problem has box friction; Siconos and FCLIB readers solve the \
+                 Coulomb cone, whose answer differs wherever a contact slides off the tangent axes"
+            ));
+        }
+        if warm && extension == Some("dat") {
+            warnings.push(format!(
+                "{name}: the warm start is not written (Siconos' .dat format has none)"
+            ));
+        }
+    }
+    match extension {
         Some("json") => {
             let mut file = match problem {
                 AnyLocalProblem::Three(p) => crate::problem::local_json::LocalProblemFile::new(p),
                 AnyLocalProblem::Two(p) => crate::problem::local_json::LocalProblemFile::new(p),
             };
             file.source = Some(source.to_string());
-            text(serde_json::to_string(&file).map_err(|e| format!("{name}: {e}"))? + "\n")
+            text(serde_json::to_string(&file).map_err(|e| format!("{name}: {e}"))? + "\n")?
         }
         Some("dat") => text(match problem {
             AnyLocalProblem::Three(p) => crate::problem::siconos::write_dat(p),
             AnyLocalProblem::Two(p) => crate::problem::siconos::write_dat(p),
-        }),
+        })?,
         #[cfg(feature = "fclib")]
         Some("hdf5" | "h5") => match problem {
             AnyLocalProblem::Three(p) => crate::problem::fclib::write_fclib(p, source, None, path),
             AnyLocalProblem::Two(p) => crate::problem::fclib::write_fclib(p, source, None, path),
-        },
-        _ => Err(format!(
-            "{name}: write .json (rigidref's local form), .dat (Siconos) or, built with \
-             `--features fclib`, .hdf5 (FCLIB)"
-        )),
+        }?,
+        _ => {
+            return Err(format!(
+                "{name}: write .json (rigidref's local form), .dat (Siconos) or, built with \
+                 `--features fclib`, .hdf5 (FCLIB)"
+            ));
+        }
     }
+    Ok(warnings)
+}
+
+/// A problem's first joint (free rows), friction model, rows per contact and whether it has a
+/// warm start.
+fn facts<const R: usize>(p: &LocalProblem<R>) -> (Option<usize>, FrictionModel, usize, bool) {
+    let joint = p.contacts.iter().position(|c| c.bounds == RowBounds::Free);
+    let warm = p
+        .contacts
+        .iter()
+        .any(|c| c.lambda0.iter().any(|x| *x != 0.0));
+    (joint, p.friction, R, warm)
 }
 
 /// Solves `problem` with every solver of `solvers` and records what each did.
