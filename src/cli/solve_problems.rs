@@ -20,7 +20,9 @@ below the tolerance (checked after every PGS sweep and at every Newton iterate):
   error = √(Σ_k ‖λ_k − proj_K(λ_k − ŵ_k)‖²) / max(‖q‖, ‖λ‖, ‖w‖),
 
 w = W λ + q and ŵ De Saxcé's velocity (docs/problem-library.md §\"Siconos' error measure\"), the
-measure of Acary, Brémond and Huber (2018). The table gives per problem and solver: converged or
+measure of Acary, Brémond and Huber (2018). A box-friction problem (a rigidref problem of the
+assignment's friction model) is judged by its own law instead: rigidref's residual divided by
+max(‖q‖, ‖w‖). The table gives per problem and solver: converged or
 not, iterations (PGS sweeps, Newton iterations with its fallbacks), wall time of the solve, the
 final error, and the largest of the answer's physical criteria (Signorini, cone boundary,
 maximum dissipation, J; docs/contact.md §\"Physical criteria\"); --json adds rigidref's

@@ -31,6 +31,12 @@ pub fn set_max_image_pixels(pixels: u64) {
     MAX_IMAGE_PIXELS.store(pixels, Ordering::Relaxed);
 }
 
+/// The largest input now allowed, bytes (`--max-input-mb`): also the bound on what a file's
+/// header may make a reader allocate.
+pub fn max_input_bytes() -> u64 {
+    MAX_INPUT_BYTES.load(Ordering::Relaxed)
+}
+
 /// The largest image now allowed, pixels.
 pub fn max_image_pixels() -> u64 {
     MAX_IMAGE_PIXELS.load(Ordering::Relaxed)

@@ -12,7 +12,7 @@
 
 use super::siconos::AnyLocalProblem;
 use super::{ContactProblem, FrictionModel, LocalProblem, ProblemBody, ProblemContact, RowBounds};
-use nalgebra::{DMatrix, SMatrix, SVector};
+use nalgebra::{SMatrix, SVector};
 use std::path::Path;
 
 /// What an FCLIB file holds.
@@ -35,6 +35,41 @@ fn h5(path: &Path, what: &str) -> impl Fn(hdf5::Error) -> String {
     move |e| format!("{name}: {what}: {e}")
 }
 
+/// A dataset read whole, after its declared size is checked against `most` elements: a file's
+/// declarations are untrusted (a chunked dataset with no stored chunks can declare 2⁴⁰
+/// elements of a file of a few bytes), so nothing is allocated for more than the input limit.
+fn dataset<T: hdf5::H5Type>(
+    group: &hdf5::Group,
+    name: &str,
+    path: &Path,
+    most: usize,
+) -> Result<Vec<T>, String> {
+    let err = h5(path, name);
+    let d = group.dataset(name).map_err(&err)?;
+    let declared = d.size();
+    if declared > most {
+        return Err(format!(
+            "{}: {name} declares {declared} entries, more than the {most} that fit the input \
+             limit (--max-input-mb)",
+            path.display()
+        ));
+    }
+    d.read_raw::<T>().map_err(&err)
+}
+
+/// Elements of 8 bytes that fit the input limit.
+fn most_elements() -> usize {
+    usize::try_from(crate::common::input::max_input_bytes() / 8).unwrap_or(usize::MAX)
+}
+
+/// The first value of a one-element integer dataset (FCLIB writes sizes and `spacedim` so).
+fn scalar(group: &hdf5::Group, name: &str, path: &Path) -> Result<i64, String> {
+    dataset::<i64>(group, name, path, 1)?
+        .first()
+        .copied()
+        .ok_or_else(|| format!("{}: {name} is empty", path.display()))
+}
+
 /// A matrix's entries: (row, column, value).
 type Entries = Vec<(usize, usize, f64)>;
 
@@ -44,36 +79,16 @@ fn read_matrix(
     path: &Path,
     what: &str,
 ) -> Result<(usize, usize, Entries), String> {
-    let err = h5(path, what);
-    let int = |name: &str| -> Result<i64, String> {
-        let v = group
-            .dataset(name)
-            .map_err(&err)?
-            .read_raw::<i64>()
-            .map_err(&err)?;
-        v.first()
-            .copied()
-            .ok_or_else(|| format!("{}: {what}/{name} is empty", path.display()))
-    };
+    let int = |name: &str| scalar(group, name, path).map_err(|e| format!("{e} (in {what})"));
     let (m, n, nz) = (int("m")?, int("n")?, int("nz")?);
     if m < 0 || n < 0 {
         return Err(format!("{}: {what}: size {m}×{n}", path.display()));
     }
     let (m, n) = (m as usize, n as usize);
-    let ints = |name: &str| -> Result<Vec<i64>, String> {
-        group
-            .dataset(name)
-            .map_err(&err)?
-            .read_raw::<i64>()
-            .map_err(&err)
-    };
-    let p = ints("p")?;
-    let i = ints("i")?;
-    let x = group
-        .dataset("x")
-        .map_err(&err)?
-        .read_raw::<f64>()
-        .map_err(&err)?;
+    let most = most_elements();
+    let p = dataset::<i64>(group, "p", path, most)?;
+    let i = dataset::<i64>(group, "i", path, most)?;
+    let x = dataset::<f64>(group, "x", path, most)?;
     let bad = |msg: &str| format!("{}: {what}: {msg}", path.display());
     let index = |v: i64, bound: usize| -> Result<usize, String> {
         usize::try_from(v)
@@ -127,12 +142,7 @@ fn read_matrix(
 }
 
 fn read_vector(group: &hdf5::Group, name: &str, path: &Path) -> Result<Vec<f64>, String> {
-    let err = h5(path, name);
-    group
-        .dataset(name)
-        .map_err(&err)?
-        .read_raw::<f64>()
-        .map_err(&err)
+    dataset::<f64>(group, name, path, most_elements())
 }
 
 /// Without HDF5's file locks: rigidref only reads a file or writes a new one, and a lock is
@@ -165,13 +175,7 @@ pub fn read_fclib(path: &Path) -> Result<FclibProblem, String> {
 fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
     let name = path.display().to_string();
     let group = file.group("fclib_local").map_err(h5(path, "fclib_local"))?;
-    let spacedim = group
-        .dataset("spacedim")
-        .and_then(|d| d.read_raw::<i64>())
-        .map_err(h5(path, "fclib_local/spacedim"))?
-        .first()
-        .copied()
-        .unwrap_or(0);
+    let spacedim = scalar(&group, "spacedim", path)?;
     if group.link_exists("R") || group.link_exists("V") {
         return Err(format!(
             "{name}: a local problem with equality constraints (R, V) is not supported"
@@ -191,42 +195,65 @@ fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
             mu.len()
         ));
     }
+    // A vector of the wrong length is an error, not dropped: the file says something else than
+    // its problem.
+    let of_length = |v: Vec<f64>, what: &str| -> Result<Vec<f64>, String> {
+        if v.len() == m {
+            Ok(v)
+        } else {
+            Err(format!("{name}: {what} has {} entries, W has {m} rows", v.len()))
+        }
+    };
     let solution = if file.link_exists("solution") {
         let s = file.group("solution").map_err(h5(path, "solution"))?;
-        Some(read_vector(&s, "r", path)?).filter(|r| r.len() == m)
+        Some(of_length(read_vector(&s, "r", path)?, "solution/r")?)
     } else {
         None
     };
     let guess = if file.link_exists("guesses/1") {
         let g = file.group("guesses/1").map_err(h5(path, "guesses/1"))?;
-        Some(read_vector(&g, "r", path)?).filter(|r| r.len() == m)
+        Some(of_length(read_vector(&g, "r", path)?, "guesses/1/r")?)
     } else {
         None
     };
+    // Triplets may repeat an entry; CSparse (FCLIB's library) sums them, and so does this.
+    let mut summed: std::collections::BTreeMap<(usize, usize), f64> = Default::default();
+    for (i, j, v) in entries {
+        *summed.entry((i, j)).or_insert(0.0) += v;
+    }
+    let entries: Vec<(usize, usize, f64)> = summed.into_iter().map(|((i, j), v)| (i, j, v)).collect();
     let named = |e: String| format!("{name}: {e}");
     let problem = match d {
-        3 => AnyLocalProblem::Three(with_guess(
-            LocalProblem::from_entries(FrictionModel::Cone, entries, &q, &mu).map_err(named)?,
-            guess.as_deref(),
-        )),
-        _ => AnyLocalProblem::Two(with_guess(
-            LocalProblem::from_entries(FrictionModel::Cone, entries, &q, &mu).map_err(named)?,
-            guess.as_deref(),
-        )),
+        3 => AnyLocalProblem::Three(
+            with_guess(
+                LocalProblem::from_entries(FrictionModel::Cone, entries, &q, &mu).map_err(named)?,
+                guess.as_deref(),
+            )
+            .map_err(named)?,
+        ),
+        _ => AnyLocalProblem::Two(
+            with_guess(
+                LocalProblem::from_entries(FrictionModel::Cone, entries, &q, &mu).map_err(named)?,
+                guess.as_deref(),
+            )
+            .map_err(named)?,
+        ),
     };
     Ok(FclibProblem::Local { problem, solution })
 }
 
+/// The problem with the first guess as its warm start, checked again (a guess may hold a NaN).
 fn with_guess<const R: usize>(
     mut problem: LocalProblem<R>,
     guess: Option<&[f64]>,
-) -> LocalProblem<R> {
+) -> Result<LocalProblem<R>, String> {
     if let Some(r) = guess {
         for (k, c) in problem.contacts.iter_mut().enumerate() {
             c.lambda0 = SVector::from_column_slice(&r[R * k..R * k + R]);
         }
     }
-    problem
+    problem.validate()?;
+    Ok(problem)
 }
 
 /// `/fclib_global` as the body form: M v = H r + f, u = Hᵀ v + w, so J = Hᵀ, the free velocity
@@ -241,13 +268,7 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
             "{name}: a global problem with equality constraints (G) is not supported"
         ));
     }
-    let spacedim = group
-        .dataset("spacedim")
-        .and_then(|d| d.read_raw::<i64>())
-        .map_err(h5(path, "fclib_global/spacedim"))?
-        .first()
-        .copied()
-        .unwrap_or(0);
+    let spacedim = scalar(&group, "spacedim", path)?;
     if spacedim != 3 {
         return Err(format!(
             "{name}: a global problem of spacedim {spacedim}: rigidref reads 3D ones"
@@ -296,6 +317,11 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
     }
     let mut bodies = Vec::with_capacity(bodies_count);
     for (b, block) in blocks.iter().enumerate() {
+        // A mass matrix is symmetric; one that is not (beyond its printed digits) is refused
+        // rather than symmetrised, which would change the problem.
+        if (block - block.transpose()).amax() > 1e-9 * block.amax() {
+            return Err(format!("{name}: body {b}'s mass block is not symmetric"));
+        }
         let inverse = block
             .try_inverse()
             .ok_or_else(|| format!("{name}: body {b}'s mass block is singular"))?;
@@ -306,17 +332,23 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
             velocity,
         });
     }
-    // J = Hᵀ, contact by contact (3 rows), each acting on at most two bodies.
+    // J = Hᵀ, contact by contact (3 rows), each acting on at most two bodies: H's entries
+    // sorted by contact, each contact's row blocks built for the bodies it touches (sparse: a
+    // dense 3 × nm row block per contact would be nm · contacts numbers).
     let contacts_count = mu.len();
-    let mut ht = vec![DMatrix::<f64>::zeros(3, nm); contacts_count];
+    let mut per_contact: Vec<Vec<(usize, usize, f64)>> = vec![Vec::new(); contacts_count];
     for (i, j, v) in h_entries {
-        ht[j / 3][(j % 3, i)] += v;
+        per_contact[j / 3].push((j % 3, i, v));
     }
     let mut contacts = Vec::with_capacity(contacts_count);
-    for (k, rows) in ht.iter().enumerate() {
-        let touched: Vec<usize> = (0..bodies_count)
-            .filter(|&b| (0..3).any(|r| (0..D).any(|d| rows[(r, D * b + d)] != 0.0)))
+    for (k, entries) in per_contact.iter().enumerate() {
+        let mut touched: Vec<usize> = entries
+            .iter()
+            .filter(|(_, _, v)| *v != 0.0)
+            .map(|(_, col, _)| col / D)
             .collect();
+        touched.sort_unstable();
+        touched.dedup();
         if touched.is_empty() || touched.len() > 2 {
             return Err(format!(
                 "{name}: contact {k} acts on {} bodies; a contact acts on one or two",
@@ -325,7 +357,15 @@ fn read_global(file: &hdf5::File, path: &Path) -> Result<ContactProblem<6, 3>, S
         }
         let side = |s: usize| -> (Option<usize>, SMatrix<f64, 3, D>) {
             match touched.get(s) {
-                Some(&b) => (Some(b), SMatrix::from_fn(|r, d| rows[(r, D * b + d)])),
+                Some(&b) => {
+                    let mut block = SMatrix::<f64, 3, D>::zeros();
+                    for &(r, col, v) in entries {
+                        if col / D == b {
+                            block[(r, col % D)] += v;
+                        }
+                    }
+                    (Some(b), block)
+                }
                 None => (None, SMatrix::zeros()),
             }
         };

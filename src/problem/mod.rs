@@ -266,6 +266,13 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
             if c.bodies == [None, None] {
                 return Err(format!("contact {k}: both bodies are the static world"));
             }
+            if let [Some(a), Some(b)] = c.bodies
+                && a == b
+            {
+                return Err(format!(
+                    "contact {k}: both sides are body {a} (a contact is between two bodies)"
+                ));
+            }
             for body in c.bodies.iter().flatten() {
                 if *body >= self.bodies.len() {
                     return Err(format!(

@@ -150,13 +150,13 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
     let col_ends = sizes(t, block_cols, "the block column sizes")?;
     let filled1 = t.integer("filled1")?;
     let filled2 = t.integer("filled2")?;
-    if filled1 == 0 || filled1 > block_rows + 1 || filled2 != count {
+    if filled1 == 0 || filled1 > block_rows.saturating_add(1) || filled2 != count {
         return Err(format!(
             "filled1 {filled1} and filled2 {filled2} do not fit {block_rows} block rows and \
              {count} blocks"
         ));
     }
-    t.expect_at_least(filled1 + filled2, "the block indices")?;
+    t.expect_at_least(filled1.saturating_add(filled2), "the block indices")?;
     let pointer = (0..filled1)
         .map(|_| t.integer("the block-row pointer"))
         .collect::<Result<Vec<usize>, String>>()?;
@@ -181,7 +181,7 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
             let _number = t.integer("a block number")?;
             let (r0, c0) = (start(&row_ends, i), start(&col_ends, j));
             let (nr, ncol) = (row_ends[i] - r0, col_ends[j] - c0);
-            t.expect_at_least(nr * ncol, "a block's entries")?;
+            t.expect_at_least(nr.saturating_mul(ncol), "a block's entries")?;
             for b in 0..ncol {
                 for a in 0..nr {
                     // Column-major within the block.
@@ -196,30 +196,31 @@ fn read_block_sparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)
 }
 
 fn read_csparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)>, String> {
+    // Siconos' NSM_t: 1 triplet, 2 compressed columns, 3 compressed rows (4 half triplet).
     let origin = t.integer("the sparse origin")?;
     // The rest of the origin's line, the CSparse banner, then the header line.
     t.skip_line();
     t.skip_line();
     let header = t.line().ok_or("the sparse header line is missing")?;
     let words: Vec<&str> = header.split_whitespace().collect();
-    let triplet = words.first() == Some(&"triplet:");
     let number = |s: &str| -> Result<i64, String> {
         s.trim_end_matches(',')
             .parse::<i64>()
             .map_err(|_| format!("sparse header {header:?}: {s:?} is not an integer"))
     };
-    let mut entries = Vec::new();
     let index = |s: &str| -> Result<usize, String> {
         s.parse::<usize>()
             .ok()
             .filter(|i| *i < n)
             .ok_or_else(|| format!("sparse index {s:?} is not in 0..{n}"))
     };
-    if triplet {
-        if origin != 1 {
-            return Err("a triplet header with a non-triplet origin".into());
+    let mut entries = Vec::new();
+    if words.first() == Some(&"triplet:") {
+        // `triplet: M-by-N, nzmax: NZMAX nnz: NZ`, then NZ lines `i j : x`.
+        if origin != 1 && origin != 4 {
+            return Err(format!("a triplet header with origin {origin} (1 or 4 for triplets)"));
         }
-        let nz = number(words.get(6).copied().unwrap_or(""))?;
+        let nz = number(words.get(5).copied().unwrap_or(""))?;
         for _ in 0..nz.max(0) {
             let line = t.line().ok_or("a triplet entry is missing")?;
             let w: Vec<&str> = line.split_whitespace().collect();
@@ -229,22 +230,30 @@ fn read_csparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)>, St
             entries.push((index(w[0])?, index(w[1])?, parse_number(w[3])?));
         }
     } else {
+        // Compressed columns (origin 2) or rows (origin 3): per outer index j a line
+        // `col j : locations A to B` (or `row j : …`), then B − A + 1 lines `i : x`.
+        if origin != 2 && origin != 3 {
+            return Err(format!(
+                "a compressed header with origin {origin} (2 columns, 3 rows)"
+            ));
+        }
         for j in 0..n {
             let line = t.line().ok_or("a column header is missing")?;
             let w: Vec<&str> = line.split_whitespace().collect();
-            if w.len() != 6 || w[2] != ":" {
+            if w.len() != 7 || w[2] != ":" || w[5] != "to" || w[1] != j.to_string() {
                 return Err(format!(
-                    "column header {line:?} is not `col j : locations a to b`"
+                    "{line:?} is not `col {j} : locations A to B` (or `row {j} : …`)"
                 ));
             }
-            let (a, b) = (number(w[4])?, number(w[5])?);
+            let (a, b) = (number(w[4])?, number(w[6])?);
             for _ in a..=b {
                 let line = t.line().ok_or("a column entry is missing")?;
                 let w: Vec<&str> = line.split_whitespace().collect();
                 if w.len() != 3 || w[1] != ":" {
                     return Err(format!("column entry {line:?} is not `i : x`"));
                 }
-                entries.push((index(w[0])?, j, parse_number(w[2])?));
+                let (i, x) = (index(w[0])?, parse_number(w[2])?);
+                entries.push(if origin == 2 { (i, j, x) } else { (j, i, x) });
             }
         }
     }
@@ -351,6 +360,12 @@ pub fn write_dat<const R: usize>(problem: &LocalProblem<R>) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "{R}\n{nc}\n1\n{n}\n{n}");
     let count = problem.blocks();
+    if count == 0 {
+        // No contacts: a sparse-block matrix of no blocks ends at its count (Siconos reads no
+        // more of it), and q and μ are empty.
+        let _ = writeln!(s, "0");
+        return s;
+    }
     let _ = writeln!(s, "{count}\n{nc}\n{nc}");
     let cumulative: Vec<String> = (1..=nc).map(|k| (R * k).to_string()).collect();
     let _ = writeln!(s, "{}\n{}", cumulative.join("\t"), cumulative.join("\t"));

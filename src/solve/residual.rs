@@ -168,11 +168,13 @@ pub fn residual<const R: usize, P: ProblemView<R> + ?Sized>(
 pub fn project_cone<const R: usize>(lambda: &SVector<f64, R>, mu: f64) -> SVector<f64, R> {
     let n = lambda[0];
     let s = (1..R).map(|r| lambda[r] * lambda[r]).sum::<f64>().sqrt();
-    if s <= mu * n {
-        return *lambda;
-    }
+    // The polar cone first: with μ = 0, (n < 0, s = 0) also passes the inside test below
+    // (0 ≤ μ n = −0), though its projection onto K₀ = {λt = 0, λn ≥ 0} is 0.
     if mu * s <= -n {
         return SVector::zeros();
+    }
+    if s <= mu * n {
+        return *lambda;
     }
     // Here s > 0 (s = 0 is one of the cases above) and n + μ s > 0.
     let n_new = (n + mu * s) / (1.0 + mu * mu);

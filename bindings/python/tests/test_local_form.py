@@ -26,6 +26,9 @@ def test_from_arrays_with_a_alone_is_the_same_problem_as_the_body_form(stack):
     np.testing.assert_array_equal(local.b, body.b)
     # By keyword too; and to_local() gives the same operator.
     by_name = rigidref.ContactProblem.from_arrays(A=W, b=body.b, mu=body.mu, friction_model=body.friction_model)
+    # The local form has no default friction law (FCLIB's is the cone, the assignment's the box).
+    with pytest.raises(rigidref.ProblemError, match="give friction_model"):
+        rigidref.ContactProblem.from_arrays(W, body.b, body.mu)
     np.testing.assert_array_equal(by_name.A, W)
     np.testing.assert_array_equal(body.to_local().W, W)
     # Every solver answers it, with the body form's answer: Newton to 1e-10 m/s (w to 1e-8),
@@ -43,25 +46,25 @@ def test_from_arrays_with_a_alone_is_the_same_problem_as_the_body_form(stack):
 
 def test_the_local_form_says_what_it_does_not_have(stack):
     W = stack.problem.W
-    local = rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5)
+    local = rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5, friction_model="cone")
     for name in ("J", "Minv", "velocity", "bodies", "compliance"):
         with pytest.raises(rigidref.ProblemError, match=f"{name}: a local-form problem"):
             getattr(local, name)
     with pytest.raises(rigidref.ProblemError, match="no compliance or velocity"):
-        rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5, compliance=0.1)
+        rigidref.ContactProblem.from_arrays(A=W, b=stack.problem.b, mu=0.5, compliance=0.1, friction_model="cone")
     with pytest.raises(rigidref.ProblemError, match="expected \\(3·contacts, 3·contacts\\)"):
-        rigidref.ContactProblem.from_arrays(A=np.eye(4), b=np.zeros(4), mu=0.5)
+        rigidref.ContactProblem.from_arrays(A=np.eye(4), b=np.zeros(4), mu=0.5, friction_model="cone")
     with pytest.raises(rigidref.ProblemError, match="mu must be ≥ 0"):
-        rigidref.ContactProblem.from_arrays(np.eye(3), np.zeros(3), -1.0)
+        rigidref.ContactProblem.from_arrays(np.eye(3), np.zeros(3), -1.0, friction_model="cone")
     with pytest.raises(rigidref.ProblemError, match="give J, Minv, b and mu"):
         rigidref.ContactProblem.from_arrays(np.eye(3), np.eye(3))
     # A NaN in A itself (not only through J or Minv) never reaches a solver.
     bad = np.eye(3)
     bad[1, 2] = np.nan
     with pytest.raises(rigidref.ProblemError, match="non-finite"):
-        rigidref.ContactProblem.from_arrays(A=bad, b=np.zeros(3), mu=0.5)
+        rigidref.ContactProblem.from_arrays(A=bad, b=np.zeros(3), mu=0.5, friction_model="cone")
     with pytest.raises(rigidref.ProblemError, match="non-finite"):
-        rigidref.ContactProblem.from_arrays(A=np.eye(3), b=[0.0, np.nan, 0.0], mu=0.5)
+        rigidref.ContactProblem.from_arrays(A=np.eye(3), b=[0.0, np.nan, 0.0], mu=0.5, friction_model="cone")
 
 
 def test_siconos_problems_read_and_solve_to_siconos_tolerance(root, tmp_path):

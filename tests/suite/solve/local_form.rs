@@ -322,6 +322,98 @@ fn the_checks_read_both_forms_alike() {
     });
 }
 
+#[test]
+fn siconos_sparse_storage_and_hostile_headers_read_or_fail_in_one_line() {
+    // W = [[2, 0, 1], [0, 3, 0], [1, 0, 4]] (one 3D contact) in each CSparse layout Siconos
+    // writes: compressed columns (origin 2), compressed rows (3: the transpose's text), triplets.
+    let banner = "CSparse Version 3.1.9, May 4, 2016.  Copyright (c) Timothy A. Davis, 2006-2016";
+    let csc = format!(
+        "3\n1\n2\n3\n3\n2\n{banner}\n3-by-3, nzmax: 5 nnz: 5, 1-norm: 5\n    col 0 : locations 0 to 1\n      0 : 2\n      2 : 1\n    col 1 : locations 2 to 2\n      1 : 3\n    col 2 : locations 3 to 4\n      0 : 1\n      2 : 4\n-1 0 0\n0.5\n"
+    );
+    let w = DMatrix::from_row_slice(3, 3, &[2.0, 0.0, 1.0, 0.0, 3.0, 0.0, 1.0, 0.0, 4.0]);
+    let read = |text: &str| match parse_dat(text).unwrap() {
+        AnyLocalProblem::Three(p) => p.dense_w(),
+        AnyLocalProblem::Two(_) => panic!("2D"),
+    };
+    assert_eq!(read(&csc), w);
+    // Compressed rows of a non-symmetric W: row 0 holds (0, 0) = 2 and (0, 2) = 5.
+    let csr = csc.replace("\n2\n3\n3\n2\n", "\n2\n3\n3\n3\n").replace("col ", "row ").replace("      2 : 1\n    row 1", "      2 : 5\n    row 1");
+    let mut nonsymmetric = w.clone();
+    nonsymmetric[(0, 2)] = 5.0;
+    assert_eq!(read(&csr), nonsymmetric);
+    let triplet = format!(
+        "3\n1\n2\n3\n3\n1\n{banner}\ntriplet: 3-by-3, nzmax: 5 nnz: 5\n    0 0 : 2\n    2 0 : 1\n    1 1 : 3\n    0 2 : 1\n    2 2 : 4\n-1 0 0\n0.5\n"
+    );
+    assert_eq!(read(&triplet), w);
+    // A column header out of order is refused with the line.
+    let err = parse_dat(&csc.replace("col 1 :", "col 7 :")).unwrap_err();
+    assert!(err.contains("col 7"), "{err}");
+    // Headers that promise absurd sizes are refused before anything is allocated, never a
+    // panic (sizes near usize::MAX, whose sums and products overflow).
+    for text in [
+        "3 1 1 3 3 18446744073709551615 1 1 3 3 2 18446744073709551615",
+        "3 1431655766 1 4294967298 4294967298 1 1 1 4294967298 4294967298 2 1 0 1 0 0",
+        "3 6148914691236517206 0 18446744073709551618 0",
+    ] {
+        assert!(parse_dat(text).is_err(), "{text}");
+    }
+    // A problem without contacts writes and reads back.
+    let empty = LocalProblem::<3> { friction: FrictionModel::Cone, contacts: Vec::new() };
+    match parse_dat(&write_dat(&empty)).unwrap() {
+        AnyLocalProblem::Three(p) => assert!(p.contacts.is_empty()),
+        AnyLocalProblem::Two(_) => panic!("2D"),
+    }
+}
+
+#[test]
+fn frictionless_separation_is_a_solution_of_every_measure() {
+    // μ = 0, W = I, q = (1, 0, 0): the contact separates, λ = 0 exactly. The cone K₀ is the
+    // half-line λt = 0, λn ≥ 0; its polar must be tested first (a bug returned (n < 0, 0) as
+    // inside K₀ and reported this exact solution with error 1).
+    let problem = LocalProblem::<3>::from_dense(
+        FrictionModel::Cone,
+        &DMatrix::identity(3, 3),
+        &DVector::from_column_slice(&[1.0, 0.0, 0.0]),
+        &[0.0],
+    )
+    .unwrap();
+    let zero = vec![SVector::<f64, 3>::zeros()];
+    assert_eq!(siconos_error(&problem, &zero), 0.0);
+    assert_eq!(coulomb_residual(&problem, &zero), 0.0);
+    let (_, worst) = rigidref::solve::criteria::criteria(&problem, &zero);
+    assert_eq!(worst.dual, 0.0);
+    let mut lambda = Vec::new();
+    let report = solve_newton_local(&problem, &NewtonSettings::default(), &mut lambda);
+    assert!(report.converged && lambda[0] == SVector::<f64, 3>::zeros(), "{report:?} {lambda:?}");
+    // And a pulling λn is outside K₀: its distance is |λn|.
+    let pulling = vec![SVector::<f64, 3>::new(-1.0, 0.0, 0.0)];
+    assert_eq!(rigidref::solve::criteria::criteria(&problem, &pulling).1.primal, 1.0);
+}
+
+#[test]
+fn a_contact_of_a_body_with_itself_is_refused() {
+    // Its Delassus block would differ between the forms (the cross terms J₁M⁻¹J₂ᵀ of one body).
+    proptest!(common::seeded(5), |(s in physical_spec(1..3, 1..3))| {
+        let mut problem = build(&s, 0.5, 0.0, FrictionModel::Box);
+        problem.contacts[0].bodies = [Some(0), Some(0)];
+        let err = problem.validate().unwrap_err();
+        prop_assert!(err.contains("both sides are body 0"), "{}", err);
+    });
+}
+
+#[test]
+fn box_friction_problems_are_judged_by_their_own_law_in_the_library() {
+    // A run's problems have the assignment's box friction; solve-problems stops on the box
+    // law's residual (relative), which the solvers reach, not on the cone's error.
+    use rigidref::tools::experiments::problem_library::{LibrarySettings, LibrarySolver, attempt};
+    proptest!(common::seeded(20), |(s in physical_spec(1..3, 1..5), mu in 0.1..1.0f64)| {
+        let local = build(&s, mu, 1e-3, FrictionModel::Box).to_local();
+        let newton = attempt(&local, LibrarySolver::Newton, &LibrarySettings::default());
+        prop_assert!(newton.converged, "{:?}", newton);
+        prop_assert!(newton.error <= 1e-8);
+    });
+}
+
 #[cfg(feature = "fclib")]
 mod fclib {
     //! FCLIB's HDF5 files (docs/problem-library.md §"FCLIB"), with the feature `fclib`.
@@ -397,6 +489,31 @@ mod fclib {
             let r: Vec<f64> = lambda.iter().flat_map(|l| l.iter().copied()).collect();
             prop_assert_eq!(solution, Some(r));
         });
+    }
+
+    #[test]
+    fn fclib_files_that_contradict_themselves_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut problem = LocalProblem::<3>::from_dense(
+            FrictionModel::Cone,
+            &DMatrix::identity(3, 3),
+            &DVector::from_column_slice(&[-1.0, 0.0, 0.0]),
+            &[0.5],
+        )
+        .unwrap();
+        // A NaN in the first guess (the warm start) cannot reach a solver.
+        problem.contacts[0].lambda0 = nalgebra::Vector3::new(f64::NAN, 0.0, 0.0);
+        let path = dir.path().join("nan.hdf5");
+        write_fclib(&problem, "nan guess", None, &path).unwrap();
+        let err = read_fclib(&path).unwrap_err();
+        assert!(err.contains("nan.hdf5") && err.contains("non-finite"), "{err}");
+        // A solution of another length than W's rows is an error, not dropped.
+        problem.contacts[0].lambda0 = SVector::zeros();
+        let short = [SVector::<f64, 3>::zeros(); 2];
+        let path = dir.path().join("long.hdf5");
+        write_fclib(&problem, "two solutions", Some(&short), &path).unwrap();
+        let err = read_fclib(&path).unwrap_err();
+        assert!(err.contains("solution/r has 6 entries, W has 3 rows"), "{err}");
     }
 
     #[test]

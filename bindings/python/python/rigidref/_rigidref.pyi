@@ -60,7 +60,7 @@ class ContactProblem:
         mu: Optional[npt.ArrayLike] = None,
         *,
         A: Optional[npt.ArrayLike] = None,
-        friction_model: Literal["box", "cone"] = "box",
+        friction_model: Optional[Literal["box", "cone"]] = None,
         compliance: Optional[npt.ArrayLike] = None,
         lambda0: Optional[npt.ArrayLike] = None,
         velocity: Optional[npt.ArrayLike] = None,
@@ -69,8 +69,10 @@ class ContactProblem:
     ) -> "ContactProblem":
         """The body form from J (R*contacts x D*bodies), Minv (block diagonal, or (bodies, D, D)),
         b (R*contacts), mu (number or per contact); or the local form from A (the Delassus
-        operator W, R*contacts square, compliance included), b and mu: from_arrays(A, b, mu)
-        or from_arrays(A=..., b=..., mu=...)."""
+        operator W, R*contacts square, compliance included), b and mu: from_arrays(A, b, mu,
+        friction_model=...) or from_arrays(A=..., b=..., mu=..., friction_model=...). The body
+        form's friction_model defaults to "box" (the assignment's); the local form has no
+        default."""
     @property
     def form(self) -> Literal["body", "local"]:
         """"body" (bodies, J, Minv) or "local" (W, b, mu only)."""

@@ -175,11 +175,12 @@ impl ContactProblem {
     /// square, kg⁻¹, compliance included; it need not be symmetric), b (= q), mu; R is 3, or 2
     /// with dof_per_body=3. Its blocks are those with a nonzero entry, and every diagonal block.
     ///
-    /// Both: friction_model ("box" or "cone"), lambda0 ((contacts, R), the warm start) and
+    /// Both: friction_model ("box", the default of the body form, the assignment's; or "cone":
+    /// the local form has no default and must be given one), lambda0 ((contacts, R), the warm start) and
     /// bounds ("contact" or "free" per constraint, default all "contact"). Checked as a problem
     /// file is: a ProblemError says what is wrong (shapes, non-finite numbers, negative μ, ...).
     #[staticmethod]
-    #[pyo3(signature = (J = None, Minv = None, b = None, mu = None, *, A = None, friction_model = "box", compliance = None, lambda0 = None, velocity = None, bounds = None, dof_per_body = 6))]
+    #[pyo3(signature = (J = None, Minv = None, b = None, mu = None, *, A = None, friction_model = None, compliance = None, lambda0 = None, velocity = None, bounds = None, dof_per_body = 6))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn from_arrays(
         J: Option<&Bound<'_, PyAny>>,
@@ -187,14 +188,14 @@ impl ContactProblem {
         b: Option<&Bound<'_, PyAny>>,
         mu: Option<&Bound<'_, PyAny>>,
         A: Option<&Bound<'_, PyAny>>,
-        friction_model: &str,
+        friction_model: Option<&str>,
         compliance: Option<&Bound<'_, PyAny>>,
         lambda0: Option<&Bound<'_, PyAny>>,
         velocity: Option<&Bound<'_, PyAny>>,
         bounds: Option<Vec<String>>,
         dof_per_body: usize,
     ) -> PyResult<ContactProblem> {
-        let friction = self::friction_model(friction_model)?;
+        let given_friction = friction_model.map(self::friction_model).transpose()?;
         let bounds = bounds
             .map(|b| {
                 b.iter()
@@ -219,6 +220,13 @@ impl ContactProblem {
                     "the local form has no compliance or velocity: put the compliance in A's diagonal (A + C) and the velocities in b",
                 ));
             }
+            // No default law for a problem from elsewhere: FCLIB's and Siconos' are the cone,
+            // the assignment's the box; a default would change the physics without a word.
+            let Some(friction) = given_friction else {
+                return Err(errors::problem(
+                    "from_arrays(A, b, mu): give friction_model=\"cone\" (Coulomb's law, as FCLIB and Siconos problems) or \"box\" (the assignment's)",
+                ));
+            };
             let inner = match dof_per_body {
                 6 => AnyProblem::L3(build_local::<3>(a, b, mu, friction, lambda0, bounds)?),
                 3 => AnyProblem::L2(build_local::<2>(a, b, mu, friction, lambda0, bounds)?),
@@ -235,6 +243,7 @@ impl ContactProblem {
                 "from_arrays: give J, Minv, b and mu (the body form), or A, b and mu (the local form)",
             ));
         };
+        let friction = given_friction.unwrap_or(FrictionModel::Box);
         let inner = match dof_per_body {
             6 => AnyProblem::P3(build::<6, 3>(
                 J, Minv, b, mu, friction, compliance, lambda0, velocity, bounds,
