@@ -1,5 +1,5 @@
-//! `rigidref compare-problem`: two 3D contact-problem files for the same state, up to the
-//! tangent basis. docs/grading.md.
+//! `rigidref compare-problem`: two contact-problem files (3D or 2D) for the same state, up to
+//! the tangent basis. docs/grading.md.
 
 use super::compare::Unreadable;
 use anyhow::bail;
@@ -11,12 +11,15 @@ use std::path::PathBuf;
 /// Arguments of `rigidref compare-problem`.
 #[derive(Args)]
 #[command(after_long_help = "\
-Compares two 3D contact-problem files for the same state (docs/contact-problem-format.md), up to
-each contact's choice of tangent basis: bodies' velocities and inverse masses, and per contact
-(matched in order) the bodies, point and normal, μ, compliance, the normal Jacobian row, the
-friction rows through TᵀT (invariant under a rotation of t1, t2 about n), the Delassus block's
-normal entry, normal-tangent coupling norm, and tangent block's trace and determinant, b_n and
-|b_t|, and, when both files hold a solution, λn and |λ_t|. Each value must agree within
+Compares two contact-problem files for the same state (docs/contact-problem-format.md), 3D or
+2D (both the same), up to each contact's choice of tangent basis: bodies' velocities and inverse
+masses, and per contact (matched within the same pair of bodies by the nearest point, or normal
+row: two simulators may list contacts in different orders) the bodies, point and normal, μ,
+compliance, the normal Jacobian row, the friction rows through TᵀT (invariant under a rotation
+of t1, t2 about n in 3D, under the tangent's sign in 2D), the Delassus block's normal entry,
+normal-tangent coupling norm, the tangent block's trace (and in 3D determinant), b_n and |b_t|,
+and, when both files hold a solution, λn and |λ_t| (unless OTHER's λ solves OTHER's problem:
+with friction a problem can have several solutions). Each value must agree within
 tolerance · max(|a|, |b|, scale) + 1e-9 (docs/grading.md §\"Comparing contact problems\").
 
 Exit status: 0 the problems agree, 1 they differ, 2 a file is unreadable.")]

@@ -78,7 +78,7 @@ enum Command {
     Factory(factory::FactoryArgs),
     /// Compare a 3D trace with the reference's, trajectory by trajectory or by outcome.
     Compare(compare::CompareArgs),
-    /// Compare two 3D contact-problem files for the same state, up to the tangent basis.
+    /// Compare two contact-problem files (3D or 2D) for the same state, up to the tangent basis.
     CompareProblem(compare_problem::CompareProblemArgs),
     /// Write one HTML page that shows a run in a browser, offline: the bodies, contacts, plots.
     View(view::ViewArgs),
@@ -86,8 +86,8 @@ enum Command {
     Plot(plot::PlotArgs),
     /// Grade a folder of submissions (traces and problem files per scene) against the reference.
     Grade(grade::GradeArgs),
-    /// Solve a library of contact problems (Siconos .dat, rigidref problem files) with several
-    /// solvers: a table per problem and a performance profile.
+    /// Solve a library of contact problems (Siconos .dat, FCLIB .hdf5, rigidref problem files)
+    /// with several solvers: a table per problem and a performance profile.
     SolveProblems(solve_problems::SolveProblemsArgs),
     /// Convert a contact problem between file formats (rigidref JSON, Siconos .dat, FCLIB HDF5).
     ConvertProblem(convert_problem::ConvertProblemArgs),

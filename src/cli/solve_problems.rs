@@ -30,8 +30,9 @@ residual, the exact Coulomb residual and every criterion. --profile writes a Dol
 fraction of problems it solved within τ times the fastest solver's time.
 
 Files: Siconos' .dat text (dense, sparse-block and sparse storage; a global problem is skipped
-with a note), rigidref's .json problem files (local form, or body form converted). A folder is
-read for its .dat and .json files. Files that cannot be read are skipped with a one-line note;
+with a note), rigidref's .json problem files (local form, or body form converted), and FCLIB's
+.hdf5 files when rigidref is built with --features fclib (local problems, and global ones of
+rigid bodies through the body form). A folder is read for its .dat, .json and .hdf5 files. Files that cannot be read are skipped with a one-line note;
 the exit status is 1 only when none could be read. Solvers: pgs (row visits, the assignment's),
 pgs-exact (exact local solves: Siconos' NSGS), newton (the exact solver).")]
 pub struct SolveProblemsArgs {
@@ -82,7 +83,7 @@ fn files(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
             found.sort();
             if found.is_empty() {
                 bail!(
-                    "{}: no .dat or .json problem files in the folder",
+                    "{}: no problem files (.dat, .json, .hdf5) in the folder",
                     input.display()
                 );
             }

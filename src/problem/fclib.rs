@@ -201,7 +201,10 @@ fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
         if v.len() == m {
             Ok(v)
         } else {
-            Err(format!("{name}: {what} has {} entries, W has {m} rows", v.len()))
+            Err(format!(
+                "{name}: {what} has {} entries, W has {m} rows",
+                v.len()
+            ))
         }
     };
     let solution = if file.link_exists("solution") {
@@ -221,7 +224,8 @@ fn read_local(file: &hdf5::File, path: &Path) -> Result<FclibProblem, String> {
     for (i, j, v) in entries {
         *summed.entry((i, j)).or_insert(0.0) += v;
     }
-    let entries: Vec<(usize, usize, f64)> = summed.into_iter().map(|((i, j), v)| (i, j, v)).collect();
+    let entries: Vec<(usize, usize, f64)> =
+        summed.into_iter().map(|((i, j), v)| (i, j, v)).collect();
     let named = |e: String| format!("{name}: {e}");
     let problem = match d {
         3 => AnyLocalProblem::Three(

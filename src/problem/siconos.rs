@@ -218,7 +218,9 @@ fn read_csparse(t: &mut Tokens, n: usize) -> Result<Vec<(usize, usize, f64)>, St
     if words.first() == Some(&"triplet:") {
         // `triplet: M-by-N, nzmax: NZMAX nnz: NZ`, then NZ lines `i j : x`.
         if origin != 1 && origin != 4 {
-            return Err(format!("a triplet header with origin {origin} (1 or 4 for triplets)"));
+            return Err(format!(
+                "a triplet header with origin {origin} (1 or 4 for triplets)"
+            ));
         }
         let nz = number(words.get(5).copied().unwrap_or(""))?;
         for _ in 0..nz.max(0) {

@@ -1,15 +1,17 @@
-//! Comparing two 3D contact-problem files for the same state (the format of
-//! `run --dump-problems`, docs/contact-problem-format.md), up to the choice of each contact's
-//! tangent basis. docs/grading.md §"Comparing contact problems".
+//! Comparing two contact-problem files for the same state (the format of `run --dump-problems`,
+//! docs/contact-problem-format.md), 3D (6 degrees of freedom per body, 3 rows per contact) or 2D
+//! (3 and 2), up to the choice of each contact's tangent basis. docs/grading.md §"Comparing
+//! contact problems".
 //!
-//! Two simulators may pick different tangents t1, t2 at a contact: any rotation Q of the pair
-//! about n. Under it the friction rows T (2 × 12) become Q T, the Delassus block
-//! A = [[a, cᵀ], [c, B]] becomes [[a, (Q c)ᵀ], [Q c, Q B Qᵀ]], and b's and λ's tangential parts
-//! turn by Q. What does not change, and is compared: the normal row and a, b_n, λn exactly; TᵀT
-//! (the tangent-plane projector with its lever arms), |c|, trace B and det B, |b_t| and |λ_t|.
+//! Two simulators may pick different tangents at a contact: in 3D any rotation Q of the pair
+//! t1, t2 about n, in 2D the tangent's sign (Q = ±1). Under it the friction rows T ((R−1) × 2D)
+//! become Q T, the Delassus block A = [[a, cᵀ], [c, B]] becomes [[a, (Q c)ᵀ], [Q c, Q B Qᵀ]],
+//! and b's and λ's tangential parts turn by Q. What does not change, and is compared: the normal
+//! row and a, b_n, λn exactly; TᵀT (the tangent-plane projector with its lever arms), |c|,
+//! trace B and (3D) det B, |b_t| and |λ_t|.
 
 use crate::problem::json::{ContactJson, ProblemFile};
-use nalgebra::{DMatrix, DVector, Vector2};
+use nalgebra::{DMatrix, DVector};
 
 /// Tolerance of every comparison: relative to the larger magnitude of the two values (or of the
 /// quantity's scale), plus an absolute floor for values that should be zero.
@@ -43,7 +45,14 @@ pub struct ProblemDifference {
     pub other: f64,
 }
 
-const ENTRY: [&str; 6] = ["v_x", "v_y", "v_z", "ω_x", "ω_y", "ω_z"];
+/// The names of a body's velocity entries, 3D (6) or 2D (3).
+fn entry_names(dof: usize) -> &'static [&'static str] {
+    if dof == 6 {
+        &["v_x", "v_y", "v_z", "ω_x", "ω_y", "ω_z"]
+    } else {
+        &["v_x", "v_y", "ω"]
+    }
+}
 
 struct Checker {
     tol: ProblemTolerance,
@@ -67,54 +76,86 @@ impl Checker {
 }
 
 /// The residual (m/s, docs/contact.md §"Residual") of `lambda` on the file's own problem, or
-/// `None` when the file is not a well-formed 3D problem or λ has the wrong shape.
+/// `None` when the file is not a well-formed problem or λ has the wrong shape.
 fn own_residual(file: &ProblemFile, lambda: &[Vec<f64>]) -> Option<f64> {
-    let problem = file.to_problem::<6, 3>().ok()?;
-    if lambda.len() != problem.contacts.len() || lambda.iter().any(|l| l.len() != 3) {
-        return None;
+    fn of<const D: usize, const R: usize>(file: &ProblemFile, lambda: &[Vec<f64>]) -> Option<f64> {
+        let problem = file.to_problem::<D, R>().ok()?;
+        if lambda.len() != problem.contacts.len() || lambda.iter().any(|l| l.len() != R) {
+            return None;
+        }
+        let lambda: Vec<nalgebra::SVector<f64, R>> = lambda
+            .iter()
+            .map(|l| nalgebra::SVector::from_column_slice(l))
+            .collect();
+        Some(crate::solve::residual(&problem, &lambda))
     }
-    let lambda: Vec<nalgebra::SVector<f64, 3>> = lambda
-        .iter()
-        .map(|l| nalgebra::SVector::from_column_slice(l))
-        .collect();
-    Some(crate::solve::residual(&problem, &lambda))
+    match (file.dof_per_body, file.rows_per_contact) {
+        (6, 3) => of::<6, 3>(file, lambda),
+        (3, 2) => of::<3, 2>(file, lambda),
+        _ => None,
+    }
 }
 
-/// A contact's 3 × 12 Jacobian [J₁ | J₂] (a side whose body is −1 zeroed).
-fn jacobian(c: &ContactJson) -> DMatrix<f64> {
-    DMatrix::from_fn(3, 12, |r, k| {
-        let side = k / 6;
+/// A contact's R × 2D Jacobian [J₁ | J₂] (a side whose body is −1 zeroed).
+fn jacobian(p: &ProblemFile, c: &ContactJson) -> DMatrix<f64> {
+    let (d, r) = (p.dof_per_body, p.rows_per_contact);
+    DMatrix::from_fn(r, 2 * d, |row, k| {
+        let side = k / d;
         if c.bodies[side] < 0 {
             0.0
         } else {
-            c.jacobian[side][r][k % 6]
+            c.jacobian[side][row][k % d]
         }
     })
 }
 
-/// The 12 × 12 inverse mass of a contact's two bodies.
+/// The 2D × 2D inverse mass of a contact's two bodies.
 fn inverse_mass(p: &ProblemFile, c: &ContactJson) -> DMatrix<f64> {
-    DMatrix::from_fn(12, 12, |r, k| {
-        let (side_r, side_k) = (r / 6, k / 6);
+    let d = p.dof_per_body;
+    DMatrix::from_fn(2 * d, 2 * d, |r, k| {
+        let (side_r, side_k) = (r / d, k / d);
         let body = c.bodies[side_r];
         if side_r != side_k || body < 0 {
             0.0
         } else {
-            p.bodies[body as usize].inverse_mass[r % 6][k % 6]
+            p.bodies[body as usize].inverse_mass[r % d][k % d]
         }
     })
 }
 
-fn check_shape(p: &ProblemFile, what: &str) -> Result<(), String> {
-    if p.dof_per_body != 6 || p.rows_per_contact != 3 {
+/// Both files must be well-formed problems of the same system.
+fn check_shapes(reference: &ProblemFile, other: &ProblemFile) -> Result<(), String> {
+    for (p, what) in [(reference, "reference"), (other, "other")] {
+        match (p.dof_per_body, p.rows_per_contact) {
+            (6, 3) => p.to_problem::<6, 3>().map(|_| ()),
+            (3, 2) => p.to_problem::<3, 2>().map(|_| ()),
+            (d, r) => {
+                return Err(format!(
+                    "the {what} problem has {d} degrees of freedom per body and {r} rows per contact: compare-problem reads 3D (6 and 3) and 2D (3 and 2) problems"
+                ));
+            }
+        }
+        .map_err(|e| format!("the {what} problem: {e}"))?;
+    }
+    if (reference.dof_per_body, reference.rows_per_contact)
+        != (other.dof_per_body, other.rows_per_contact)
+    {
         return Err(format!(
-            "the {what} problem has {} degrees of freedom per body and {} rows per contact: compare-problem reads 3D problems (6 and 3)",
-            p.dof_per_body, p.rows_per_contact
+            "the reference problem is {}D and the other {}D",
+            if reference.rows_per_contact == 3 {
+                3
+            } else {
+                2
+            },
+            if other.rows_per_contact == 3 { 3 } else { 2 }
         ));
     }
-    p.to_problem::<6, 3>()
-        .map(|_| ())
-        .map_err(|e| format!("the {what} problem: {e}"))
+    Ok(())
+}
+
+/// The norm of the tangential entries (1..R) of a row of numbers.
+fn tangential(v: &[f64]) -> f64 {
+    v[1..].iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// Which contact of `other` each contact of `reference` is: among the other's contacts with
@@ -127,10 +168,15 @@ fn match_contacts(reference: &ProblemFile, other: &ProblemFile) -> Vec<Option<us
         .contacts
         .iter()
         .map(|ca| {
-            let ja = jacobian(ca);
+            let ja = jacobian(reference, ca);
             let distance = |cb: &ContactJson| match (&ca.geometry, &cb.geometry) {
-                (Some(ga), Some(gb)) => (0..3).map(|d| (ga.p[d] - gb.p[d]).powi(2)).sum::<f64>(),
-                _ => (ja.row(0) - jacobian(cb).row(0)).norm_squared(),
+                (Some(ga), Some(gb)) if ga.p.len() == gb.p.len() => {
+                    ga.p.iter()
+                        .zip(&gb.p)
+                        .map(|(a, b)| (a - b).powi(2))
+                        .sum::<f64>()
+                }
+                _ => (ja.row(0) - jacobian(other, cb).row(0)).norm_squared(),
             };
             let best = other
                 .contacts
@@ -156,8 +202,9 @@ pub fn compare_problems(
     other: &ProblemFile,
     tol: ProblemTolerance,
 ) -> Result<(Vec<ProblemDifference>, usize), String> {
-    check_shape(reference, "reference")?;
-    check_shape(other, "other")?;
+    check_shapes(reference, other)?;
+    let (dof, rows) = (reference.dof_per_body, reference.rows_per_contact);
+    let names = entry_names(dof);
     let mut c = Checker {
         tol,
         out: Vec::new(),
@@ -177,14 +224,14 @@ pub fn compare_problems(
     );
     for (i, (a, b)) in reference.bodies.iter().zip(&other.bodies).enumerate() {
         let scale = a.velocity.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-        for (k, entry) in ENTRY.iter().enumerate() {
+        for (k, entry) in names.iter().enumerate() {
             c.check(
                 || format!("body {i} velocity {entry}"),
                 a.velocity[k],
                 b.velocity[k],
                 scale,
             );
-            for m in 0..6 {
+            for m in 0..dof {
                 c.check(
                     || format!("body {i} inverse mass [{k}][{m}]"),
                     a.inverse_mass[k][m],
@@ -219,8 +266,11 @@ pub fn compare_problems(
             continue;
         };
         let cb = &other.contacts[m];
-        if let (Some(ga), Some(gb)) = (&ca.geometry, &cb.geometry) {
-            for d in 0..3 {
+        if let (Some(ga), Some(gb)) = (&ca.geometry, &cb.geometry)
+            && ga.p.len() == gb.p.len()
+            && ga.n.len() == gb.n.len()
+        {
+            for d in 0..ga.p.len().min(ga.n.len()) {
                 c.check(
                     || format!("contact {k}: point p[{d}]"),
                     ga.p[d],
@@ -248,15 +298,16 @@ pub fn compare_problems(
             cb.compliance,
             0.0,
         );
-        let (ja, jb) = (jacobian(ca), jacobian(cb));
+        let (ja, jb) = (jacobian(reference, ca), jacobian(other, cb));
         let scale = ja.abs().max().max(1.0);
-        for e in 0..12 {
+        let columns = 2 * dof;
+        for e in 0..columns {
             c.check(
                 || {
                     format!(
                         "contact {k}: normal row, body {} entry {e} ({})",
-                        e / 6 + 1,
-                        ENTRY[e % 6]
+                        e / dof + 1,
+                        names[e % dof]
                     )
                 },
                 ja[(0, e)],
@@ -264,19 +315,22 @@ pub fn compare_problems(
                 scale,
             );
         }
-        // The friction rows up to a rotation about n: TᵀT is invariant.
-        let (ta, tb) = (ja.rows(1, 2).into_owned(), jb.rows(1, 2).into_owned());
+        // The friction rows up to a rotation about n (2D: the tangent's sign): TᵀT is invariant.
+        let (ta, tb) = (
+            ja.rows(1, rows - 1).into_owned(),
+            jb.rows(1, rows - 1).into_owned(),
+        );
         let (pa, pb) = (ta.transpose() * &ta, tb.transpose() * &tb);
-        for r in 0..12 {
-            for e in 0..12 {
+        for r in 0..columns {
+            for e in 0..columns {
                 c.check(
                     || {
                         format!(
                             "contact {k}: friction rows' TᵀT [{r}][{e}] (body {} {}, body {} {})",
-                            r / 6 + 1,
-                            ENTRY[r % 6],
-                            e / 6 + 1,
-                            ENTRY[e % 6]
+                            r / dof + 1,
+                            names[r % dof],
+                            e / dof + 1,
+                            names[e % dof]
                         )
                     },
                     pa[(r, e)],
@@ -291,8 +345,8 @@ pub fn compare_problems(
         };
         let (aa, ab) = (delassus(reference, ca, &ja), delassus(other, cb, &jb));
         let scale_a = aa.abs().max();
-        let coupling = |m: &DMatrix<f64>| Vector2::new(m[(1, 0)], m[(2, 0)]).norm();
-        let tangent_det = |m: &DMatrix<f64>| m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)];
+        let coupling = |m: &DMatrix<f64>| (1..rows).map(|r| m[(r, 0)].powi(2)).sum::<f64>().sqrt();
+        let tangent_trace = |m: &DMatrix<f64>| (1..rows).map(|r| m[(r, r)]).sum::<f64>();
         c.check(
             || format!("contact {k}: Delassus A_nn"),
             aa[(0, 0)],
@@ -307,22 +361,25 @@ pub fn compare_problems(
         );
         c.check(
             || format!("contact {k}: Delassus trace of the tangent block"),
-            aa[(1, 1)] + aa[(2, 2)],
-            ab[(1, 1)] + ab[(2, 2)],
+            tangent_trace(&aa),
+            tangent_trace(&ab),
             scale_a,
         );
-        c.check(
-            || format!("contact {k}: Delassus det of the tangent block"),
-            tangent_det(&aa),
-            tangent_det(&ab),
-            scale_a * scale_a,
-        );
+        if rows == 3 {
+            let tangent_det = |m: &DMatrix<f64>| m[(1, 1)] * m[(2, 2)] - m[(1, 2)] * m[(2, 1)];
+            c.check(
+                || format!("contact {k}: Delassus det of the tangent block"),
+                tangent_det(&aa),
+                tangent_det(&ab),
+                scale_a * scale_a,
+            );
+        }
         let bscale = DVector::from_column_slice(&ca.b).abs().max();
         c.check(|| format!("contact {k}: b_n"), ca.b[0], cb.b[0], bscale);
         c.check(
             || format!("contact {k}: |b_t|"),
-            Vector2::new(ca.b[1], ca.b[2]).norm(),
-            Vector2::new(cb.b[1], cb.b[2]).norm(),
+            tangential(&ca.b),
+            tangential(&cb.b),
             bscale,
         );
     }
@@ -347,12 +404,25 @@ pub fn compare_problems(
             let Some(lb) = matching[k].and_then(|m| sb.lambda.get(m)) else {
                 continue;
             };
+            if la.len() != rows || lb.len() != rows {
+                c.compared += 1;
+                c.out.push(ProblemDifference {
+                    quantity: format!(
+                        "contact {k}: λ has {} and {} entries, not {rows}",
+                        la.len(),
+                        lb.len()
+                    ),
+                    reference: la.len() as f64,
+                    other: lb.len() as f64,
+                });
+                continue;
+            }
             let scale = la.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             c.check(|| format!("contact {k}: λn"), la[0], lb[0], scale);
             c.check(
                 || format!("contact {k}: |λ_t|"),
-                Vector2::new(la[1], la[2]).norm(),
-                Vector2::new(lb[1], lb[2]).norm(),
+                tangential(la),
+                tangential(lb),
                 scale,
             );
         }

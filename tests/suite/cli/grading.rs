@@ -532,6 +532,127 @@ fn compare_problem_ignores_the_tangent_basis_and_names_a_flipped_column() {
     );
 }
 
+#[test]
+fn compare_problem_reads_2d_problems_up_to_order_and_the_tangents_sign() {
+    // A 2D stack's dumped problem against a copy with its contacts in reverse order and every
+    // contact's tangent flipped (t → −t: the tangent row, b_t and λ_t change sign): the same
+    // problem. A copy with one Jacobian entry changed (a lever arm) is flagged, naming it.
+    use rigidref::problem::json::ProblemFile;
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let scene = common::project_root().join("scenes/blocks/stack.json");
+    let o = rigidref(
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--time",
+            "4",
+            "-q",
+            "--out",
+            "t.jsonl",
+            "--dump-problems",
+            "problems",
+        ],
+        dir,
+    );
+    common::assert_success(&o);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir.join("problems"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    let path = files.last().unwrap();
+    let reference = ProblemFile::read(path).unwrap();
+    assert_eq!((reference.dof_per_body, reference.rows_per_contact), (3, 2));
+    assert!(
+        reference.contacts.len() >= 3,
+        "{}",
+        reference.contacts.len()
+    );
+    let mut other = reference.clone();
+    for c in &mut other.contacts {
+        for side in 0..2 {
+            for value in &mut c.jacobian[side][1] {
+                *value = -*value;
+            }
+        }
+        c.b[1] = -c.b[1];
+        c.lambda0[1] = -c.lambda0[1];
+    }
+    other.contacts.reverse();
+    if let Some(solution) = &mut other.solution {
+        solution.lambda.reverse();
+        for l in &mut solution.lambda {
+            l[1] = -l[1];
+        }
+        if let Some(criteria) = &mut solution.criteria {
+            criteria.reverse();
+        }
+    }
+    let write = |name: &str, p: &ProblemFile| {
+        let path = dir.join(name);
+        std::fs::write(&path, serde_json::to_string(p).unwrap()).unwrap();
+        path.display().to_string()
+    };
+    let reference_path = path.display().to_string();
+    let other_path = write("reordered.json", &other);
+    let o = rigidref(&["compare-problem", &reference_path, &other_path], dir);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        common::stderr(&o)
+    );
+    // Contact 1's normal row, its body 1's ω entry (a lever arm), changed by 10%.
+    let mut changed = reference.clone();
+    changed.contacts[1].jacobian[0][0][2] *= 1.1;
+    if changed.contacts[1].jacobian[0][0][2] == 0.0 {
+        changed.contacts[1].jacobian[0][0][2] = 0.1;
+    }
+    let changed_path = write("changed.json", &changed);
+    let o = rigidref(&["compare-problem", &reference_path, &changed_path], dir);
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
+    assert!(
+        common::stderr(&o).contains("contact 1: normal row, body 1 entry 2 (ω)"),
+        "{}",
+        common::stderr(&o)
+    );
+    // A 2D file against a 3D one is refused as such (exit status 2).
+    let three = common::project_root().join("scenes/box_stack.json");
+    let o = rigidref(
+        &[
+            "run",
+            three.to_str().unwrap(),
+            "--steps",
+            "2",
+            "-q",
+            "--out",
+            "t3.jsonl",
+            "--dump-problems",
+            "p3",
+        ],
+        dir,
+    );
+    common::assert_success(&o);
+    let p3 = std::fs::read_dir(dir.join("p3"))
+        .unwrap()
+        .next()
+        .unwrap()
+        .unwrap()
+        .path();
+    let o = rigidref(
+        &["compare-problem", &reference_path, p3.to_str().unwrap()],
+        dir,
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert!(
+        common::stderr(&o).contains("the reference problem is 2D and the other 3D"),
+        "{}",
+        common::stderr(&o)
+    );
+}
+
 /// Five fabricated submissions for two scenes: exact; slightly off (a valid run with a
 /// different contact order: outcome mode passes it); gravity's sign wrong; a malformed trace; a
 /// scene missing. One table, every row accounted for, the batch never stopped.

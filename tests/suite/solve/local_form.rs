@@ -337,7 +337,10 @@ fn siconos_sparse_storage_and_hostile_headers_read_or_fail_in_one_line() {
     };
     assert_eq!(read(&csc), w);
     // Compressed rows of a non-symmetric W: row 0 holds (0, 0) = 2 and (0, 2) = 5.
-    let csr = csc.replace("\n2\n3\n3\n2\n", "\n2\n3\n3\n3\n").replace("col ", "row ").replace("      2 : 1\n    row 1", "      2 : 5\n    row 1");
+    let csr = csc
+        .replace("\n2\n3\n3\n2\n", "\n2\n3\n3\n3\n")
+        .replace("col ", "row ")
+        .replace("      2 : 1\n    row 1", "      2 : 5\n    row 1");
     let mut nonsymmetric = w.clone();
     nonsymmetric[(0, 2)] = 5.0;
     assert_eq!(read(&csr), nonsymmetric);
@@ -358,7 +361,10 @@ fn siconos_sparse_storage_and_hostile_headers_read_or_fail_in_one_line() {
         assert!(parse_dat(text).is_err(), "{text}");
     }
     // A problem without contacts writes and reads back.
-    let empty = LocalProblem::<3> { friction: FrictionModel::Cone, contacts: Vec::new() };
+    let empty = LocalProblem::<3> {
+        friction: FrictionModel::Cone,
+        contacts: Vec::new(),
+    };
     match parse_dat(&write_dat(&empty)).unwrap() {
         AnyLocalProblem::Three(p) => assert!(p.contacts.is_empty()),
         AnyLocalProblem::Two(_) => panic!("2D"),
@@ -384,10 +390,18 @@ fn frictionless_separation_is_a_solution_of_every_measure() {
     assert_eq!(worst.dual, 0.0);
     let mut lambda = Vec::new();
     let report = solve_newton_local(&problem, &NewtonSettings::default(), &mut lambda);
-    assert!(report.converged && lambda[0] == SVector::<f64, 3>::zeros(), "{report:?} {lambda:?}");
+    assert!(
+        report.converged && lambda[0] == SVector::<f64, 3>::zeros(),
+        "{report:?} {lambda:?}"
+    );
     // And a pulling λn is outside K₀: its distance is |λn|.
     let pulling = vec![SVector::<f64, 3>::new(-1.0, 0.0, 0.0)];
-    assert_eq!(rigidref::solve::criteria::criteria(&problem, &pulling).1.primal, 1.0);
+    assert_eq!(
+        rigidref::solve::criteria::criteria(&problem, &pulling)
+            .1
+            .primal,
+        1.0
+    );
 }
 
 #[test]
@@ -506,14 +520,20 @@ mod fclib {
         let path = dir.path().join("nan.hdf5");
         write_fclib(&problem, "nan guess", None, &path).unwrap();
         let err = read_fclib(&path).unwrap_err();
-        assert!(err.contains("nan.hdf5") && err.contains("non-finite"), "{err}");
+        assert!(
+            err.contains("nan.hdf5") && err.contains("non-finite"),
+            "{err}"
+        );
         // A solution of another length than W's rows is an error, not dropped.
         problem.contacts[0].lambda0 = SVector::zeros();
         let short = [SVector::<f64, 3>::zeros(); 2];
         let path = dir.path().join("long.hdf5");
         write_fclib(&problem, "two solutions", Some(&short), &path).unwrap();
         let err = read_fclib(&path).unwrap_err();
-        assert!(err.contains("solution/r has 6 entries, W has 3 rows"), "{err}");
+        assert!(
+            err.contains("solution/r has 6 entries, W has 3 rows"),
+            "{err}"
+        );
     }
 
     #[test]
