@@ -7,7 +7,7 @@ use clap::Args;
 use rigidref::rigid3d::trace::{Trace, read_trace_file};
 use rigidref::tools::grading::compare::{
     Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
-    outcome_scene,
+    compare_trajectories_2d, outcome_scene, read_trace2_file,
 };
 use std::path::{Path, PathBuf};
 
@@ -36,6 +36,11 @@ judged fairly: no records; other bodies than REF's; a non-finite number or a mat
 rotation; a time repeated or going back; a start later or an end earlier than REF's by more than
 one of REF's steps (\"ends at 0.5 s of 2 s\"); or records further apart than REF's own spacing
 or 10 of REF's steps, whichever is larger.
+
+2D traces (the image-block system; docs/grading.md §\"2D traces\") are compared in trajectory
+mode, in the 2D units (blocks, time units): positions, angles, velocities, angular velocities,
+energies and momenta, with the same refusals; bodies are matched by what the image gives (block
+count, mass and first centre), whatever order OTHER lists them in.
 
 Exit status: 0 the traces agree, 1 they differ or OTHER is refused, 2 a trace is unreadable (or
 REF itself is malformed).")]
@@ -126,13 +131,66 @@ fn print_comparison(c: &Comparison) {
     );
 }
 
-/// The scene for outcome mode and where it came from: --scene, else the reference header's
-/// source, looked up as written and then beside the reference trace, when it is a file.
+/// The `dimension` a trace's header line gives, when it can be read.
+fn trace_dimension(path: &Path) -> Option<u64> {
+    use std::io::BufRead;
+    let file = rigidref::common::input::open(path).ok()?;
+    let mut first = String::new();
+    std::io::BufReader::new(file).read_line(&mut first).ok()?;
+    serde_json::from_str::<serde_json::Value>(&first)
+        .ok()?
+        .get("dimension")?
+        .as_u64()
+}
+
+/// 2D traces (the image-block system): trajectory mode, bodies matched by the image.
+fn compare_2d(args: &CompareArgs) -> anyhow::Result<()> {
+    if args.outcome {
+        return Err(Unreadable(format!(
+            "{}: a 2D trace: outcome mode compares 3D traces only so far; compare 2D traces in \
+             trajectory mode (docs/grading.md §\"2D traces\")",
+            args.reference.display()
+        ))
+        .into());
+    }
+    let reference = read_trace2_file(&args.reference).map_err(Unreadable)?;
+    let other = read_trace2_file(&args.other).map_err(Unreadable)?;
+    let comparison = compare_trajectories_2d(
+        &reference,
+        &other,
+        &TrajectoryTolerances::uniform(args.tolerance),
+    )
+    .map_err(|e| {
+        Unreadable(format!(
+            "{} against {}: {e}",
+            args.other.display(),
+            args.reference.display()
+        ))
+    })?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&comparison)?);
+    } else {
+        print_comparison(&comparison);
+    }
+    if !comparison.agree {
+        bail!(
+            "{} differs from {}: {}",
+            args.other.display(),
+            args.reference.display(),
+            comparison.first_failure().unwrap_or_default()
+        );
+    }
+    Ok(())
+}
+
 /// Runs `rigidref compare`.
 pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
     if args.tolerance.is_nan() || args.tolerance <= 0.0 {
         let message = format!("--tolerance must be positive, got {}", args.tolerance);
         return Err(Unreadable(message).into());
+    }
+    if trace_dimension(&args.reference) == Some(2) {
+        return compare_2d(&args);
     }
     let reference = read(&args.reference)?;
     let other = read(&args.other)?;

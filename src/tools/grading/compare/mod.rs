@@ -9,9 +9,11 @@
 mod outcome;
 mod refusal;
 mod trajectory;
+mod two;
 
 pub use outcome::{OutcomeTolerances, compare_outcomes, outcome_scene};
 pub use trajectory::compare_trajectories;
+pub use two::{Trace2, compare_trajectories_2d, match_bodies_2d, read_trace2_file};
 
 use crate::rigid3d::trace::{BodyState, Trace, TraceRecord};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
