@@ -3,6 +3,7 @@
 mod challenges;
 mod commands;
 mod demonstrations;
+mod java_writer;
 mod joints;
 mod options;
 mod physics;
