@@ -7,7 +7,7 @@ use clap::Args;
 use rigidref::rigid3d::trace::{Trace, read_trace_file};
 use rigidref::tools::grading::compare::{
     Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
-    compare_trajectories_2d, outcome_scene, read_trace2_file,
+    compare_trajectories_2d, outcome_scene, read_trace2_file, trace_dimension,
 };
 use std::path::{Path, PathBuf};
 
@@ -129,18 +129,6 @@ fn print_comparison(c: &Comparison) {
             format!("differ: {}", c.first_failure().unwrap_or_default())
         }
     );
-}
-
-/// The `dimension` a trace's header line gives, when it can be read.
-fn trace_dimension(path: &Path) -> Option<u64> {
-    use std::io::BufRead;
-    let file = rigidref::common::input::open(path).ok()?;
-    let mut first = String::new();
-    std::io::BufReader::new(file).read_line(&mut first).ok()?;
-    serde_json::from_str::<serde_json::Value>(&first)
-        .ok()?
-        .get("dimension")?
-        .as_u64()
 }
 
 /// 2D traces (the image-block system): trajectory mode, bodies matched by the image.

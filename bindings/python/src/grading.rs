@@ -8,7 +8,8 @@ use rigidref::common::scene_json::Overrides;
 use rigidref::rigid3d::scene::load_scene_with;
 use rigidref::rigid3d::trace::read_trace_file;
 use rigidref::tools::grading::compare::{
-    OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories, outcome_scene,
+    OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
+    compare_trajectories_2d, outcome_scene, read_trace2_file, trace_dimension,
 };
 use rigidref::tools::grading::grade::{
     GradeMode, Limits, grade_all, reference, submissions, verdict,
@@ -23,7 +24,8 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 
 /// Compares a candidate trace with the reference trace, as `rigidref compare` does: mode
 /// "trajectory" (every quantity over time, to `tolerance`: m, rad, m/s, rad/s and relative for
-/// energies and momenta) or "outcome" (what happened; `scene` gives the bodies' sizes and
+/// energies and momenta; a 2D trace in blocks and time units, bodies matched by the image) or
+/// "outcome" (3D traces) (what happened; `scene` gives the bodies' sizes and
 /// symmetries, by default the scene the reference names). Returns the report as a dict: "agree"
 /// (bool), "mode", "refused" (None, or {"kind", "message"} when the candidate cannot be judged:
 /// too short, degenerate, other bodies, non-finite), "errors" (trajectory mode) and "outcomes"
@@ -43,8 +45,6 @@ pub fn compare_traces<'py>(
             "--tolerance must be positive, got {tolerance}"
         )));
     }
-    let reference_trace = read_trace_file(&reference).map_err(errors::trace)?;
-    let other = read_trace_file(&candidate).map_err(errors::trace)?;
     let against = |e: String| {
         errors::trace(format!(
             "{} against {}: {e}",
@@ -52,6 +52,28 @@ pub fn compare_traces<'py>(
             reference.display()
         ))
     };
+    // 2D traces (the image-block system): trajectory mode, bodies matched by the image, as
+    // `rigidref compare` does.
+    if trace_dimension(&reference) == Some(2) {
+        if mode != "trajectory" {
+            return Err(errors::trace(format!(
+                "{}: a 2D trace: outcome mode compares 3D traces only so far; compare 2D traces in trajectory mode",
+                reference.display()
+            )));
+        }
+        let reference_trace = read_trace2_file(&reference).map_err(errors::trace)?;
+        let other = read_trace2_file(&candidate).map_err(errors::trace)?;
+        let tol = TrajectoryTolerances::uniform(tolerance);
+        let comparison = py
+            .detach(|| compare_trajectories_2d(&reference_trace, &other, &tol))
+            .map_err(against)?;
+        let d = to_python(py, &comparison)?;
+        d.set_item("notes", Vec::<String>::new())?;
+        d.set_item("first_failure", comparison.first_failure())?;
+        return Ok(d);
+    }
+    let reference_trace = read_trace_file(&reference).map_err(errors::trace)?;
+    let other = read_trace_file(&candidate).map_err(errors::trace)?;
     let comparison = match mode {
         "trajectory" => {
             let tol = TrajectoryTolerances::uniform(tolerance);

@@ -80,3 +80,28 @@ def test_grade_gives_the_clis_rows(root, cli, traces, tmp_path):
 def test_the_trace_writer_is_importable_from_the_package():
     assert rigidref.TraceWriter.__module__ == "rigidref.trace"
     assert callable(rigidref.write_problem)
+
+
+def test_compare_reads_2d_traces_as_the_cli_does(root, cli, tmp_path):
+    # The 2D stack's trace against itself and against a copy with one body moved by 0.01 block:
+    # the same report as `rigidref compare --json`; outcome mode is refused for 2D, as there.
+    ref = tmp_path / "ref.jsonl"
+    run_cli(cli, "run", root / "scenes" / "blocks" / "stack.json", "--time", 2, "--out", ref, "--quiet")
+    lines = ref.read_text().splitlines()
+    moved = tmp_path / "moved.jsonl"
+    out = [lines[0]]
+    for line in lines[1:]:
+        record = json.loads(line)
+        if record["t"] >= 1.0:
+            record["bodies"][1]["x"][0] += 0.01
+        out.append(json.dumps(record))
+    moved.write_text("\n".join(out) + "\n")
+    same = rigidref.compare_traces(ref, ref)
+    assert same["agree"] and same["matched_by"] == "image" and same["first_failure"] is None
+    differs = rigidref.compare_traces(ref, moved)
+    assert not differs["agree"] and "body 1" in differs["first_failure"]
+    expected = cli_json(cli, ref, moved)
+    assert {k: v for k, v in differs.items() if k not in ("notes", "first_failure")} == expected
+    with pytest.raises(rigidref.TraceError, match="outcome mode compares 3D traces only so far"):
+        rigidref.compare_traces(ref, ref, mode="outcome")
+

@@ -13,7 +13,9 @@ mod two;
 
 pub use outcome::{OutcomeTolerances, compare_outcomes, outcome_scene};
 pub use trajectory::compare_trajectories;
-pub use two::{Trace2, compare_trajectories_2d, match_bodies_2d, read_trace2_file};
+pub use two::{
+    Trace2, compare_trajectories_2d, match_bodies_2d, read_trace2_file, trace_dimension,
+};
 
 use crate::rigid3d::trace::{BodyState, Trace, TraceRecord};
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};

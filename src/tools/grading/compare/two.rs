@@ -19,6 +19,19 @@ pub struct Trace2 {
     pub records: Vec<Record2>,
 }
 
+/// The `dimension` a trace file's header line gives (2 or 3), when it can be read: how
+/// `compare` (the command and the Python function) picks the 3D or the 2D comparison.
+pub fn trace_dimension(path: &std::path::Path) -> Option<u64> {
+    use std::io::BufRead;
+    let file = crate::common::input::open(path).ok()?;
+    let mut first = String::new();
+    std::io::BufReader::new(file).read_line(&mut first).ok()?;
+    serde_json::from_str::<serde_json::Value>(&first)
+        .ok()?
+        .get("dimension")?
+        .as_u64()
+}
+
 /// Reads a 2D trace; a 3D one, a malformed one or one cut off anywhere but in its last line is
 /// an error naming the file (a cut last line is dropped, as the viewer does).
 pub fn read_trace2_file(path: &std::path::Path) -> Result<Trace2, String> {
