@@ -148,7 +148,7 @@ pub fn solve_problems(args: SolveProblemsArgs) -> anyhow::Result<()> {
     let profile = Profile::of(&entries, &solvers);
     if let Some(path) = &args.profile {
         let title = format!(
-            "Performance profile, {} problems, Siconos error ≤ {:.0e}",
+            "Performance profile, {} problems, error ≤ {:.0e} (docs/problem-library.md)",
             entries.len(),
             args.tolerance
         );

@@ -225,9 +225,10 @@ fn state_of(b: &BodyState) -> State {
     }
 }
 
-/// The trace's records bracketing `t` and the fraction of the way from the first to the second.
-fn bracket(records: &[TraceRecord], t: f64) -> (usize, usize, f64) {
-    let k = records.partition_point(|r| r.t <= t);
+/// The records (of either system; `time` reads one's t) bracketing `t` and the fraction of
+/// the way from the first to the second.
+fn bracket<T>(records: &[T], time: impl Fn(&T) -> f64, t: f64) -> (usize, usize, f64) {
+    let k = records.partition_point(|r| time(r) <= t);
     if k == 0 {
         return (0, 0, 0.0);
     }
@@ -235,17 +236,43 @@ fn bracket(records: &[TraceRecord], t: f64) -> (usize, usize, f64) {
         let last = records.len() - 1;
         return (last, last, 0.0);
     }
-    let (a, b) = (&records[k - 1], &records[k]);
-    if a.t == t {
+    let (a, b) = (time(&records[k - 1]), time(&records[k]));
+    if a == t {
         // A record at exactly this time: itself, not an interpolation that could round.
         return (k - 1, k - 1, 0.0);
     }
-    let s = if b.t > a.t {
-        (t - a.t) / (b.t - a.t)
-    } else {
-        0.0
-    };
+    let s = if b > a { (t - a) / (b - a) } else { 0.0 };
     (k - 1, k, s)
+}
+
+/// One quantity's error over the sample times: `errors` gives (t, error) in time order; the
+/// largest error (a NaN counts as infinite) and when, and the first time it exceeds `tolerance`.
+fn quantity_error(
+    quantity: String,
+    unit: &'static str,
+    tolerance: f64,
+    start: f64,
+    errors: impl Iterator<Item = (f64, f64)>,
+) -> QuantityError {
+    let mut e = QuantityError {
+        quantity,
+        unit,
+        max_error: 0.0,
+        at: start,
+        first_exceeded: None,
+        tolerance,
+    };
+    for (t, err) in errors {
+        if err > e.max_error || err.is_nan() {
+            e.max_error = if err.is_nan() { f64::INFINITY } else { err };
+            e.at = t;
+        }
+        // NaN counts as exceeding.
+        if e.first_exceeded.is_none() && (err.is_nan() || err > tolerance) {
+            e.first_exceeded = Some(t);
+        }
+    }
+    e
 }
 
 /// The angle of the rotation from `a` to `b`, rad: 2 atan2(|d_xyz|, |d_w|) for d = a⁻¹ b
@@ -264,7 +291,7 @@ fn lerp(a: f64, b: f64, s: f64) -> f64 {
 
 /// Body `i`'s state at time `t`: linear interpolation of x, v, ω and slerp of the orientation.
 fn body_at(records: &[TraceRecord], i: usize, t: f64) -> State {
-    let (a, b, s) = bracket(records, t);
+    let (a, b, s) = bracket(records, |r: &TraceRecord| r.t, t);
     let (p, q) = (
         state_of(&records[a].bodies[i]),
         state_of(&records[b].bodies[i]),
@@ -282,7 +309,7 @@ fn body_at(records: &[TraceRecord], i: usize, t: f64) -> State {
 
 /// System quantities at `t`: the energy terms and momenta, interpolated linearly.
 fn system_at(records: &[TraceRecord], t: f64) -> [f64; 13] {
-    let (a, b, s) = bracket(records, t);
+    let (a, b, s) = bracket(records, |r: &TraceRecord| r.t, t);
     let values = |r: &TraceRecord| {
         let e = &r.energy;
         let m = &r.momentum;

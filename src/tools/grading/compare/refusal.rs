@@ -26,9 +26,9 @@ pub(super) fn check_reference(reference: &Trace) -> Result<(), String> {
 /// records at most max(the reference's own spacing, [`MAX_GAP_STEPS`] reference steps) apart.
 pub(super) fn candidate_defect(reference: &Trace, other: &Trace) -> Option<Refusal> {
     let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
-    let (Some(first), Some(last)) = (other.records.first(), other.records.last()) else {
+    if other.records.is_empty() {
         return refuse("empty", "the trace has no records".into());
-    };
+    }
     let bodies = reference.header.bodies.len();
     if other.header.bodies.len() != bodies {
         return refuse(
@@ -87,49 +87,61 @@ pub(super) fn candidate_defect(reference: &Trace, other: &Trace) -> Option<Refus
             }
         }
     }
-    if let Some(w) = other.records.windows(2).find(|w| w[1].t <= w[0].t) {
-        if w[1].t == w[0].t {
-            let repeats = other.records.iter().filter(|r| r.t == w[0].t).count();
+    let times =
+        |t: &Trace| -> Vec<(u64, f64)> { t.records.iter().map(|r| (r.step, r.t)).collect() };
+    time_defect(&times(reference), reference.header.dt, &times(other), " s")
+}
+
+/// The checks on a candidate's record times (both systems): strictly increasing, the
+/// reference's span covered to one reference step at each end, and records at most max(the
+/// reference's own spacing, [`MAX_GAP_STEPS`] reference steps) apart. `reference` and `other`
+/// are (step, t) per record (the reference non-empty); `unit` follows each time in a message
+/// (" s" in 3D, "" in the 2D system's time units).
+pub(super) fn time_defect(
+    reference: &[(u64, f64)],
+    dt: f64,
+    other: &[(u64, f64)],
+    unit: &str,
+) -> Option<Refusal> {
+    let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
+    let (first, last) = (other.first()?.1, other.last()?.1);
+    if let Some(w) = other.windows(2).find(|w| w[1].1 <= w[0].1) {
+        if w[1].1 == w[0].1 {
+            let repeats = other.iter().filter(|r| r.1 == w[0].1).count();
             return refuse(
                 "repeated times",
-                format!("time {} s repeated {repeats} times", w[0].t),
+                format!("time {}{unit} repeated {repeats} times", w[0].1),
             );
         }
         return refuse(
             "times out of order",
             format!(
-                "the time goes back from {} s to {} s at step {}",
-                w[0].t, w[1].t, w[1].step
+                "the time goes back from {}{unit} to {}{unit} at step {}",
+                w[0].1, w[1].1, w[1].0
             ),
         );
     }
-    let dt = reference.header.dt;
     // One reference step at each end, with room for the round-off of a time written as k·dt.
     let slack = dt * (1.0 + 1e-9);
-    let (start, end) = (reference.records[0].t, reference.records.last().unwrap().t);
-    if first.t > start + slack {
+    let (start, end) = (reference.first()?.1, reference.last()?.1);
+    if first > start + slack {
         return refuse(
             "late start",
-            format!("starts at {} s, the reference at {start} s", first.t),
+            format!("starts at {first}{unit}, the reference at {start}{unit}"),
         );
     }
-    if last.t < end - slack {
-        return refuse("incomplete", format!("ends at {} s of {end} s", last.t));
+    if last < end - slack {
+        return refuse("incomplete", format!("ends at {last}{unit} of {end}{unit}"));
     }
-    let largest_gap = |t: &Trace| {
-        t.records
-            .windows(2)
-            .map(|w| w[1].t - w[0].t)
-            .fold(0.0, f64::max)
-    };
+    let largest_gap = |t: &[(u64, f64)]| t.windows(2).map(|w| w[1].1 - w[0].1).fold(0.0, f64::max);
     let allowed = largest_gap(reference).max(MAX_GAP_STEPS * dt) * (1.0 + 1e-9);
-    if let Some(w) = other.records.windows(2).find(|w| w[1].t - w[0].t > allowed) {
+    if let Some(w) = other.windows(2).find(|w| w[1].1 - w[0].1 > allowed) {
         return refuse(
             "too sparse",
             format!(
-                "records {} s apart (from t = {} s); at most {allowed:.6} s is compared (the reference's own spacing or {MAX_GAP_STEPS} of its steps)",
-                w[1].t - w[0].t,
-                w[0].t
+                "records {}{unit} apart (from t = {}{unit}); at most {allowed:.6}{unit} is compared (the reference's own spacing or {MAX_GAP_STEPS} of its steps)",
+                w[1].1 - w[0].1,
+                w[0].1
             ),
         );
     }

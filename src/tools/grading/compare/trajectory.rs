@@ -62,26 +62,8 @@ pub fn compare_trajectories(
     let mut errors = Vec::new();
     let mut track =
         |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(&Sample) -> f64| {
-            let mut e = QuantityError {
-                quantity,
-                unit,
-                max_error: 0.0,
-                at: span.0,
-                first_exceeded: None,
-                tolerance,
-            };
-            for sample in &samples {
-                let err = f(sample);
-                if err > e.max_error || err.is_nan() {
-                    e.max_error = if err.is_nan() { f64::INFINITY } else { err };
-                    e.at = sample.t;
-                }
-                // NaN counts as exceeding.
-                if e.first_exceeded.is_none() && (err.is_nan() || err > tolerance) {
-                    e.first_exceeded = Some(sample.t);
-                }
-            }
-            errors.push(e);
+            let each = samples.iter().map(|sample| (sample.t, f(sample)));
+            errors.push(quantity_error(quantity, unit, tolerance, span.0, each));
         };
     for i in 0..map.len() {
         let label = body_label(reference, i);

@@ -55,9 +55,9 @@ pub fn read_trace2_file(path: &std::path::Path) -> Result<Trace2, String> {
 /// records at most max(the reference's spacing, [`MAX_GAP_STEPS`] steps) apart.
 fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
     let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
-    let (Some(first), Some(last)) = (other.records.first(), other.records.last()) else {
+    if other.records.is_empty() {
         return refuse("empty", "the trace has no records".into());
-    };
+    }
     let bodies = reference.header.bodies.len();
     if other.header.bodies.len() != bodies {
         return refuse(
@@ -95,48 +95,9 @@ fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
             }
         }
     }
-    if let Some(w) = other.records.windows(2).find(|w| w[1].t <= w[0].t) {
-        if w[1].t == w[0].t {
-            return refuse("repeated times", format!("time {} repeated", w[0].t));
-        }
-        return refuse(
-            "times out of order",
-            format!(
-                "the time goes back from {} to {} at step {}",
-                w[0].t, w[1].t, w[1].step
-            ),
-        );
-    }
-    let dt = reference.header.dt;
-    let slack = dt * (1.0 + 1e-9);
-    let (start, end) = (reference.records[0].t, reference.records.last()?.t);
-    if first.t > start + slack {
-        return refuse(
-            "late start",
-            format!("starts at {}, the reference at {start}", first.t),
-        );
-    }
-    if last.t < end - slack {
-        return refuse("incomplete", format!("ends at {} of {end}", last.t));
-    }
-    let largest_gap = |t: &Trace2| {
-        t.records
-            .windows(2)
-            .map(|w| w[1].t - w[0].t)
-            .fold(0.0, f64::max)
-    };
-    let allowed = largest_gap(reference).max(MAX_GAP_STEPS * dt) * (1.0 + 1e-9);
-    if let Some(w) = other.records.windows(2).find(|w| w[1].t - w[0].t > allowed) {
-        return refuse(
-            "too sparse",
-            format!(
-                "records {} apart (from t = {}); at most {allowed:.6} is compared",
-                w[1].t - w[0].t,
-                w[0].t
-            ),
-        );
-    }
-    None
+    let times =
+        |t: &Trace2| -> Vec<(u64, f64)> { t.records.iter().map(|r| (r.step, r.t)).collect() };
+    super::refusal::time_defect(&times(reference), reference.header.dt, &times(other), "")
 }
 
 /// `map[i]`: the other trace's body that is the reference's body `i`, matched by block count,
@@ -173,26 +134,9 @@ pub fn match_bodies_2d(reference: &Trace2, other: &Trace2) -> Result<Vec<usize>,
     Ok(map)
 }
 
-/// The records bracketing `t` and the fraction of the way between them.
-fn bracket2(records: &[Record2], t: f64) -> (usize, usize, f64) {
-    let k = records.partition_point(|r| r.t <= t);
-    if k == 0 {
-        return (0, 0, 0.0);
-    }
-    if k >= records.len() {
-        let last = records.len() - 1;
-        return (last, last, 0.0);
-    }
-    let (a, b) = (&records[k - 1], &records[k]);
-    if a.t == t {
-        return (k - 1, k - 1, 0.0);
-    }
-    (k - 1, k, (t - a.t) / (b.t - a.t))
-}
-
 /// Body `i`'s (x, y, θ, vx, vy, ω) at `t`, interpolated linearly.
 fn body2_at(records: &[Record2], i: usize, t: f64) -> [f64; 6] {
-    let (a, b, s) = bracket2(records, t);
+    let (a, b, s) = bracket(records, |r: &Record2| r.t, t);
     let of = |r: &Record2| {
         let b = &r.bodies[i];
         [b.x[0], b.x[1], b.theta, b.v[0], b.v[1], b.omega]
@@ -203,7 +147,7 @@ fn body2_at(records: &[Record2], i: usize, t: f64) -> [f64; 6] {
 
 /// (kinetic, potential, total energy, px, py, angular momentum) at `t`, interpolated linearly.
 fn system2_at(records: &[Record2], t: f64) -> [f64; 6] {
-    let (a, b, s) = bracket2(records, t);
+    let (a, b, s) = bracket(records, |r: &Record2| r.t, t);
     let of = |r: &Record2| {
         let (e, m) = (&r.energy, &r.momentum);
         [
@@ -259,25 +203,8 @@ pub fn compare_trajectories_2d(
     let mut errors = Vec::new();
     let mut track =
         |quantity: String, unit: &'static str, tolerance: f64, f: &dyn Fn(f64) -> f64| {
-            let mut e = QuantityError {
-                quantity,
-                unit,
-                max_error: 0.0,
-                at: start,
-                first_exceeded: None,
-                tolerance,
-            };
-            for &t in &times {
-                let err = f(t);
-                if err > e.max_error || err.is_nan() {
-                    e.max_error = if err.is_nan() { f64::INFINITY } else { err };
-                    e.at = t;
-                }
-                if e.first_exceeded.is_none() && (err.is_nan() || err > tolerance) {
-                    e.first_exceeded = Some(t);
-                }
-            }
-            errors.push(e);
+            let each = times.iter().map(|&t| (t, f(t)));
+            errors.push(quantity_error(quantity, unit, tolerance, start, each));
         };
     for (i, &j) in map.iter().enumerate() {
         let label = format!("body {i} ({:?})", reference.header.bodies[i].name);
