@@ -6,8 +6,9 @@ use anyhow::bail;
 use clap::Args;
 use rigidref::rigid3d::trace::{Trace, read_trace_file};
 use rigidref::tools::grading::compare::{
-    Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
-    compare_trajectories_2d, outcome_scene, read_trace2_file, trace_dimension,
+    Comparison, OutcomeTolerances, OutcomeTolerances2, TrajectoryTolerances, compare_outcomes,
+    compare_outcomes_2d, compare_trajectories, compare_trajectories_2d, outcome_scene,
+    outcome_scene_2d, read_trace2_file, time_text, trace_dimension,
 };
 use std::path::{Path, PathBuf};
 
@@ -37,10 +38,13 @@ rotation; a time repeated or going back; a start later or an end earlier than RE
 one of REF's steps (\"ends at 0.5 s of 2 s\"); or records further apart than REF's own spacing
 or 10 of REF's steps, whichever is larger.
 
-2D traces (the image-block system; docs/grading.md §\"2D traces\") are compared in trajectory
-mode, in the 2D units (blocks, time units): positions, angles, velocities, angular velocities,
-energies and momenta, with the same refusals; bodies are matched by what the image gives (block
-count, mass and first centre), whatever order OTHER lists them in.
+2D traces (the image-block system; docs/grading.md §\"2D traces\") are compared in the 2D units
+(blocks, time units), with the same refusals; bodies are matched by what the image gives (block
+count, mass and first centre), whatever order OTHER lists them in. Trajectory mode: positions,
+angles, velocities, angular velocities, energies and momenta. Outcome mode: per body, at rest at
+the end or not, the rest position (0.1 block) and angle modulo the block shape's quarter-turn
+symmetry (0.1 rad; the shape from --scene, an image or 2D scene file, by default REF's source),
+standing or toppled (turned by more than 45°), and the total energy at the end.
 
 Exit status: 0 the traces agree, 1 they differ or OTHER is refused, 2 a trace is unreadable (or
 REF itself is malformed).")]
@@ -57,8 +61,9 @@ pub struct CompareArgs {
     /// largest.
     #[arg(long, default_value_t = 1e-3, conflicts_with = "outcome")]
     pub tolerance: f64,
-    /// Outcome mode: the scene, for the bodies' sizes, symmetries and axes [default: the scene
-    /// REF's header names as its source, when that file exists].
+    /// Outcome mode: the scene, for the bodies' sizes, symmetries and axes (3D: a scene file;
+    /// 2D: the image or 2D scene file) [default: the scene REF's header names as its source,
+    /// when that file exists].
     #[arg(long)]
     pub scene: Option<PathBuf>,
     /// Print the report as JSON.
@@ -100,7 +105,7 @@ fn print_comparison(c: &Comparison) {
                 e.at,
                 e.tolerance,
                 e.first_exceeded
-                    .map_or("-".to_string(), |t| format!("{t} s")),
+                    .map_or("-".to_string(), |t| format!("{} s", time_text(t))),
                 e.unit
             );
         }
@@ -131,18 +136,31 @@ fn print_comparison(c: &Comparison) {
     );
 }
 
-/// 2D traces (the image-block system): trajectory mode, bodies matched by the image.
+/// 2D traces (the image-block system): trajectory or outcome mode, bodies matched by the image.
 fn comparison_2d(args: &CompareArgs) -> anyhow::Result<Comparison> {
-    if args.outcome {
-        return Err(Unreadable(format!(
-            "{}: a 2D trace: outcome mode compares 3D traces only so far; compare 2D traces in \
-             trajectory mode (docs/grading.md §\"2D traces\")",
-            args.reference.display()
-        ))
-        .into());
-    }
     let reference = read_trace2_file(&args.reference).map_err(Unreadable)?;
     let other = read_trace2_file(&args.other).map_err(Unreadable)?;
+    if args.outcome {
+        let scene = outcome_scene_2d(&reference, &args.reference, args.scene.as_deref())
+            .map_err(|e| Unreadable(format!("--scene: {e}")))?;
+        match &scene {
+            Some((_, path)) => eprintln!(
+                "scene            {} (shapes: symmetries, reach)",
+                path.display()
+            ),
+            None => eprintln!(
+                "scene            none found (--scene, or the reference's source {:?}): angles without the shapes' symmetries, reach 1 block",
+                reference.header.source
+            ),
+        }
+        return compare_outcomes_2d(
+            &reference,
+            &other,
+            scene.as_ref().map(|(b, _)| b.as_slice()),
+            &OutcomeTolerances2::default(),
+        )
+        .map_err(|e| against(args, e).into());
+    }
     compare_trajectories_2d(
         &reference,
         &other,

@@ -3,16 +3,19 @@
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::tools::grading::grade::{
-    GradeMode, grade_all, reference, submissions, to_csv, to_markdown,
+    GradeMode, grade_all, load_references, submissions, to_csv, to_markdown,
 };
 use std::path::PathBuf;
 
 /// Arguments of `rigidref grade`.
 #[derive(Args)]
 #[command(after_long_help = "\
-SUBMISSIONS holds one folder per submission. For scene NAME.json a submission provides its trace
-as NAME.jsonl and, optionally, its first contact's problem as NAME.problem.json. The reference
-runs each scene once (for --time, recording every frame); every submission is compared with it
+SUBMISSIONS holds one folder per submission. For scene NAME.json (a 3D scene file) or a 2D scene
+(an image NAME.png, or a 2D scene file NAME.json) a submission provides its trace as NAME.jsonl
+(in the scene's system: a 3D or a 2D trace) and, optionally, its first contact's problem as
+NAME.problem.json. One batch may mix 3D and 2D scenes; their file stems must differ. The
+reference runs each scene once (for --time, recording every frame; seconds in 3D, time units in
+2D); every submission is compared with it
 (in parallel over --jobs threads). A missing or malformed file is reported in its row and never
 stops the batch. A submission's files are judged before they are opened: a symbolic link leaving
 the submission folder, a FIFO, a device or a folder, and a file larger than --max-file-mb are
@@ -26,10 +29,11 @@ folder as a job array (docs/grading.md §\"Grading a batch\").")]
 pub struct GradeArgs {
     /// The folder of submission folders.
     pub submissions: PathBuf,
-    /// The scenes (3D scene files); each names the submissions' files by its stem.
+    /// The scenes: 3D scene files, 2D images (.png) or 2D scene files; each names the
+    /// submissions' files by its stem.
     #[arg(long, required = true, num_args = 1..)]
     pub scenes: Vec<PathBuf>,
-    /// Simulated time of the reference runs, s.
+    /// Simulated time of the reference runs: seconds for 3D scenes, time units for 2D ones.
     #[arg(long, default_value_t = 5.0)]
     pub time: f64,
     /// How to compare.
@@ -45,7 +49,7 @@ pub struct GradeArgs {
     #[arg(long, default_value_t = 512)]
     pub max_file_mb: u64,
     /// Scene parameters for the reference runs (e.g. `--set solver=newton` for exact contact
-    /// solves), applied to every scene.
+    /// solves), applied to every scene (a key must be one of each scene's system).
     #[command(flatten)]
     pub sets: super::args::SceneSets,
 }
@@ -56,17 +60,9 @@ pub fn grade(args: GradeArgs) -> anyhow::Result<()> {
     if folders.is_empty() {
         bail!("{}: no submission folders", args.submissions.display());
     }
-    let mut references = Vec::new();
-    for path in &args.scenes {
-        let overrides = args.sets.overrides()?;
-        let scene = rigidref::rigid3d::scene::load_scene_with(path, &overrides)
-            .map_err(|e| anyhow::anyhow!("{}", e.0))?;
-        let name = path.file_stem().map_or_else(
-            || path.display().to_string(),
-            |s| s.to_string_lossy().to_string(),
-        );
-        references.push(reference(&name, scene, args.time).map_err(anyhow::Error::msg)?);
-    }
+    let overrides = args.sets.overrides()?;
+    let references =
+        load_references(&args.scenes, &overrides, args.time).map_err(anyhow::Error::msg)?;
     let threads = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));

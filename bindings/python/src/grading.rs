@@ -5,14 +5,14 @@ use crate::errors;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rigidref::common::scene_json::Overrides;
-use rigidref::rigid3d::scene::load_scene_with;
 use rigidref::rigid3d::trace::read_trace_file;
 use rigidref::tools::grading::compare::{
-    OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
-    compare_trajectories_2d, outcome_scene, read_trace2_file, trace_dimension,
+    OutcomeTolerances, OutcomeTolerances2, TrajectoryTolerances, compare_outcomes,
+    compare_outcomes_2d, compare_trajectories, compare_trajectories_2d, outcome_scene,
+    outcome_scene_2d, read_trace2_file, trace_dimension,
 };
 use rigidref::tools::grading::grade::{
-    GradeMode, Limits, grade_all, reference, submissions, verdict,
+    GradeMode, Limits, grade_all, load_references, submissions, verdict,
 };
 use std::path::PathBuf;
 
@@ -25,8 +25,9 @@ fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bo
 /// Compares a candidate trace with the reference trace, as `rigidref compare` does: mode
 /// "trajectory" (every quantity over time, to `tolerance`: m, rad, m/s, rad/s and relative for
 /// energies and momenta; a 2D trace in blocks and time units, bodies matched by the image) or
-/// "outcome" (3D traces) (what happened; `scene` gives the bodies' sizes and
-/// symmetries, by default the scene the reference names). Returns the report as a dict: "agree"
+/// "outcome" (what happened; `scene` gives the bodies' sizes and symmetries: a 3D scene
+/// file, or for 2D traces the image or 2D scene file; by default the scene the reference
+/// names). Returns the report as a dict: "agree"
 /// (bool), "mode", "refused" (None, or {"kind", "message"} when the candidate cannot be judged:
 /// too short, degenerate, other bodies, non-finite), "errors" (trajectory mode) and "outcomes"
 /// (outcome mode). Raises TraceError when a trace cannot be read.
@@ -52,21 +53,36 @@ pub fn compare_traces<'py>(
             reference.display()
         ))
     };
-    // 2D traces (the image-block system): trajectory mode, bodies matched by the image, as
-    // `rigidref compare` does.
+    // 2D traces (the image-block system): bodies matched by the image, as `rigidref compare`
+    // does.
     if trace_dimension(&reference) == Some(2) {
-        if mode != "trajectory" {
-            return Err(errors::trace(format!(
-                "{}: a 2D trace: outcome mode compares 3D traces only so far; compare 2D traces in trajectory mode",
-                reference.display()
-            )));
-        }
         let reference_trace = read_trace2_file(&reference).map_err(errors::trace)?;
         let other = read_trace2_file(&candidate).map_err(errors::trace)?;
-        let tol = TrajectoryTolerances::uniform(tolerance);
-        let comparison = py
-            .detach(|| compare_trajectories_2d(&reference_trace, &other, &tol))
-            .map_err(against)?;
+        let comparison = match mode {
+            "trajectory" => {
+                let tol = TrajectoryTolerances::uniform(tolerance);
+                py.detach(|| compare_trajectories_2d(&reference_trace, &other, &tol))
+                    .map_err(against)?
+            }
+            "outcome" => {
+                let shapes = outcome_scene_2d(&reference_trace, &reference, scene.as_deref())
+                    .map_err(|e| errors::trace(format!("--scene: {e}")))?;
+                py.detach(|| {
+                    compare_outcomes_2d(
+                        &reference_trace,
+                        &other,
+                        shapes.as_ref().map(|(b, _)| b.as_slice()),
+                        &OutcomeTolerances2::default(),
+                    )
+                })
+                .map_err(against)?
+            }
+            m => {
+                return Err(errors::trace(format!(
+                    "mode {m:?}: expected \"trajectory\" or \"outcome\""
+                )));
+            }
+        };
         let d = to_python(py, &comparison)?;
         d.set_item("notes", Vec::<String>::new())?;
         d.set_item("first_failure", comparison.first_failure())?;
@@ -115,9 +131,10 @@ pub fn compare_traces<'py>(
     Ok(d)
 }
 
-/// Grades a folder of submission folders against reference runs of `scenes` (3D scene files,
-/// each naming the submissions' files SCENE.jsonl by its stem), as `rigidref grade` does:
-/// `time` s of simulation per reference, mode "trajectory" or "outcome", `overrides` (the
+/// Grades a folder of submission folders against reference runs of `scenes` (3D scene files, 2D
+/// images or 2D scene files, mixed as needed, each naming the submissions' files SCENE.jsonl by
+/// its stem), as `rigidref grade` does: `time` of simulation per reference (s in 3D, time units
+/// in 2D), mode "trajectory" or "outcome", `overrides` (the
 /// `--set` pairs) applied to every scene, `max_file_mb` the largest file opened, `jobs` threads.
 /// Returns {"rows": [{"submission", "scene", "observable", "result", "figure"}, ...],
 /// "verdicts": {submission: {scene: "pass" | "fail" | "refused" | "missing" | "unreadable"}}}.
@@ -152,18 +169,9 @@ pub fn grade<'py>(
     }
     let overrides =
         Overrides::parse(&crate::world::override_texts(overrides)?).map_err(errors::scene)?;
-    let mut references = Vec::new();
-    for path in &scenes {
-        let scene = load_scene_with(path, &overrides).map_err(|e| errors::scene(e.0))?;
-        let name = path.file_stem().map_or_else(
-            || path.display().to_string(),
-            |s| s.to_string_lossy().to_string(),
-        );
-        references.push(
-            py.detach(|| reference(&name, scene, time))
-                .map_err(errors::scene)?,
-        );
-    }
+    let references = py
+        .detach(|| load_references(&scenes, &overrides, time))
+        .map_err(errors::scene)?;
     let threads =
         jobs.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let limits = Limits {

@@ -84,7 +84,7 @@ def test_the_trace_writer_is_importable_from_the_package():
 
 def test_compare_reads_2d_traces_as_the_cli_does(root, cli, tmp_path):
     # The 2D stack's trace against itself and against a copy with one body moved by 0.01 block:
-    # the same report as `rigidref compare --json`; outcome mode is refused for 2D, as there.
+    # the same report as `rigidref compare --json`, in both modes.
     ref = tmp_path / "ref.jsonl"
     run_cli(cli, "run", root / "scenes" / "blocks" / "stack.json", "--time", 2, "--out", ref, "--quiet")
     lines = ref.read_text().splitlines()
@@ -102,6 +102,41 @@ def test_compare_reads_2d_traces_as_the_cli_does(root, cli, tmp_path):
     assert not differs["agree"] and "body 1" in differs["first_failure"]
     expected = cli_json(cli, ref, moved)
     assert {k: v for k, v in differs.items() if k not in ("notes", "first_failure")} == expected
-    with pytest.raises(rigidref.TraceError, match="outcome mode compares 3D traces only so far"):
-        rigidref.compare_traces(ref, ref, mode="outcome")
+    # Outcome mode reads the shapes from the scene the reference names, as the CLI does.
+    outcome = rigidref.compare_traces(ref, moved, mode="outcome")
+    assert outcome["mode"] == "outcome" and outcome["matched_by"] == "image"
+    expected = cli_json(cli, ref, moved, "--outcome")
+    assert {k: v for k, v in outcome.items() if k not in ("notes", "first_failure")} == expected
 
+
+
+def test_grade_reads_a_mixed_batch_as_the_cli_does(root, cli, traces, tmp_path):
+    # A 3D scene (projectile) and a 2D one (the blocks stack) in one batch: the reference's own
+    # traces pass, a 2D trace with a body moved by 0.1 block fails, and the rows are the CLI's.
+    ref3, _, _ = traces
+    stack = root / "scenes" / "blocks" / "stack.json"
+    ref2 = tmp_path / "stack_ref.jsonl"
+    run_cli(cli, "run", stack, "--time", 1, "--out", ref2, "--quiet")
+    subs = tmp_path / "subs"
+    for name in ("alice", "bob"):
+        (subs / name).mkdir(parents=True)
+        shutil.copy(ref3, subs / name / "projectile.jsonl")
+    shutil.copy(ref2, subs / "alice" / "stack.jsonl")
+    lines = ref2.read_text().splitlines()
+    out = [lines[0]]
+    for line in lines[1:]:
+        record = json.loads(line)
+        record["bodies"][1]["x"][1] += 0.1
+        out.append(json.dumps(record))
+    (subs / "bob" / "stack.jsonl").write_text("\n".join(out) + "\n")
+    scenes = [root / "scenes" / "projectile.json", stack]
+    py = rigidref.grade(subs, scenes, time=1.0, mode="trajectory", jobs=1)
+    assert py["verdicts"] == {"alice": {"projectile": "pass", "stack": "pass"},
+                              "bob": {"projectile": "pass", "stack": "fail"}}
+    assert any(r["submission"] == "bob" and r["observable"] == 'body 1 ("body1") position'
+               and r["result"] == "fail" for r in py["rows"])
+    report = tmp_path / "report"
+    run_cli(cli, "grade", subs, "--scenes", *scenes, "--time", 1.0, "--out", report, "--jobs", 1)
+    import csv
+    with open(report / "grade.csv") as f:
+        assert [dict(r) for r in csv.DictReader(f)] == py["rows"]

@@ -1,12 +1,19 @@
 //! Grading a batch of submissions: each submission folder holds a trace per scene (`NAME.jsonl`
-//! for scene `NAME.json`) and optionally the first contact's problem (`NAME.problem.json`); each
-//! is compared with the reference's run of the scene. One table of submission × scene ×
+//! for scene `NAME.json`, or for a 2D scene `NAME.png` or `NAME.json`) and optionally the first
+//! contact's problem (`NAME.problem.json`); each is compared with the reference's run of the
+//! scene, in the scene's system. One table of submission × scene ×
 //! observable. docs/grading.md §"Grading a batch".
 
 use super::compare::{
-    Comparison, OutcomeTolerances, TrajectoryTolerances, compare_outcomes, compare_trajectories,
+    Comparison, OutcomeTolerances, OutcomeTolerances2, Trace2, TrajectoryTolerances,
+    compare_outcomes, compare_outcomes_2d, compare_trajectories, compare_trajectories_2d,
+    read_trace2_file, time_text,
 };
 use super::compare_problem::{ProblemTolerance, compare_problems};
+use crate::blocks2d::body::Body2;
+use crate::blocks2d::scene::Scene2;
+use crate::blocks2d::trace::{Record2, TraceHeader2};
+use crate::common::scene_json::Overrides;
 use crate::problem::json::ProblemFile;
 use crate::rigid3d::scene::Scene;
 use crate::rigid3d::trace::{Trace, TraceHeader, TraceRecord, read_trace};
@@ -17,9 +24,11 @@ use std::path::{Path, PathBuf};
 /// Which comparison grading applies (docs/grading.md says which fits which scene).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum GradeMode {
-    /// Every quantity over time ([`compare_trajectories`]).
+    /// Every quantity over time, aligned by time (compare_trajectories, or
+    /// compare_trajectories_2d for 2D scenes).
     Trajectory,
-    /// What happened ([`compare_outcomes`]).
+    /// What happened: contacts, rest, where and how bodies rest (compare_outcomes, or
+    /// compare_outcomes_2d for 2D scenes).
     Outcome,
 }
 
@@ -27,16 +36,33 @@ pub enum GradeMode {
 pub struct Reference {
     /// The scene's file stem, which names the submissions' files.
     pub name: String,
-    /// The scene.
-    pub scene: Scene,
-    /// The reference trace (every frame).
-    pub trace: Trace,
+    /// The run, of a 3D scene or of a 2D one (an image or a 2D scene file).
+    pub run: ReferenceRun,
     /// The first contact problem of the run, if it had contacts.
     pub first_problem: Option<ProblemFile>,
 }
 
-/// Runs `scene` (named `name`) for `time` seconds, recording every frame and keeping the first
-/// contact problem.
+/// A reference run of one of the two systems.
+pub enum ReferenceRun {
+    /// A 3D scene and its trace (every frame).
+    Three {
+        /// The scene.
+        scene: Box<Scene>,
+        /// The trace.
+        trace: Trace,
+    },
+    /// A 2D scene's bodies as loaded (their shapes: outcome mode's symmetries) and its trace
+    /// (every step).
+    Two {
+        /// The bodies at the start.
+        bodies: Vec<Body2>,
+        /// The trace.
+        trace: Trace2,
+    },
+}
+
+/// Runs the 3D `scene` (named `name`) for `time` seconds, recording every frame and keeping the
+/// first contact problem.
 pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, String> {
     let mut world = World::new(&scene)?;
     let steps = steps_in(time, scene.params.dt, "").map_err(|e| format!("{name}: {e}"))?;
@@ -55,14 +81,106 @@ pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, Strin
     .map_err(|e| format!("{name}: {e}"))?;
     Ok(Reference {
         name: name.to_string(),
-        scene,
-        trace: Trace {
-            header,
-            records,
-            notes: Vec::new(),
+        run: ReferenceRun::Three {
+            scene: Box::new(scene),
+            trace: Trace {
+                header,
+                records,
+                notes: Vec::new(),
+            },
         },
         first_problem,
     })
+}
+
+/// Runs the 2D `scene` (named `name`) for `time` time units, recording every step and keeping
+/// the first contact problem.
+pub fn reference_2d(name: &str, scene: Scene2, time: f64) -> Result<Reference, String> {
+    let mut world = scene.world;
+    let bodies = world.bodies.clone();
+    let steps = steps_in(time, world.params.dt, "").map_err(|e| format!("{name}: {e}"))?;
+    let mut header = TraceHeader2::for_world(&world, name, &scene.image.display().to_string());
+    header.overrides = scene.overrides;
+    let mut records = vec![Record2::of_world(&world, false)];
+    let mut first_problem = None;
+    drive(&mut world, steps, |w, k| {
+        records.push(Record2::of_world(w, false));
+        if first_problem.is_none()
+            && let Some(solve) = w.solves.iter().find(|s| !s.contacts.is_empty())
+        {
+            first_problem = Some(solve.problem_file(name, k, w.params.h()));
+        }
+        Ok::<_, String>(Flow::Continue)
+    })
+    .map_err(|e| format!("{name}: {e}"))?;
+    Ok(Reference {
+        name: name.to_string(),
+        run: ReferenceRun::Two {
+            bodies,
+            trace: Trace2 { header, records },
+        },
+        first_problem,
+    })
+}
+
+/// The reference of the scene at `path`, named by its file stem: a 2D scene (a .png image or a
+/// JSON file with an `image` key) or a 3D scene file, with `overrides` (`--set`) applied, run for
+/// `time` (seconds in 3D, time units in 2D).
+pub fn load_reference(path: &Path, overrides: &Overrides, time: f64) -> Result<Reference, String> {
+    let name = path.file_stem().map_or_else(
+        || path.display().to_string(),
+        |s| s.to_string_lossy().to_string(),
+    );
+    if crate::blocks2d::scene::is_2d_scene(path) {
+        let options = crate::blocks2d::scene::LoadOptions2 {
+            overrides: overrides.clone(),
+            ..Default::default()
+        };
+        let shown = path.display().to_string();
+        let scene = crate::blocks2d::scene::load_2d(path, &options).map_err(|e| {
+            // Name the scene: in a batch, an option's error would not say which one it met.
+            if e.0.starts_with(&shown) {
+                e.0
+            } else {
+                format!("{shown}: {}", e.0)
+            }
+        })?;
+        reference_2d(&name, scene, time)
+    } else {
+        let shown = path.display().to_string();
+        let scene = crate::rigid3d::scene::load_scene_with(path, overrides).map_err(|e| {
+            if e.0.starts_with(&shown) {
+                e.0
+            } else {
+                format!("{shown}: {}", e.0)
+            }
+        })?;
+        reference(&name, scene, time)
+    }
+}
+
+/// The references of `paths` ([`load_reference`]); two scenes with one file stem (which names
+/// the submissions' files) are an error.
+pub fn load_references(
+    paths: &[PathBuf],
+    overrides: &Overrides,
+    time: f64,
+) -> Result<Vec<Reference>, String> {
+    let mut out: Vec<Reference> = Vec::new();
+    for path in paths {
+        let r = load_reference(path, overrides, time)?;
+        if let Some(same) = out.iter().position(|o| o.name == r.name) {
+            return Err(format!(
+                "{}: its name {:?} is also scene {}'s, and a scene's file stem names the \
+                 submissions' files; rename one",
+                path.display(),
+                r.name,
+                paths[same].display()
+            ));
+        }
+        out.push(r);
+    }
+    Ok(out)
 }
 
 /// What `grade` opens of a submission (docs/grading.md §"Untrusted submissions").
@@ -178,8 +296,12 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
         };
         let figure = match e.first_exceeded {
             Some(t) => format!(
-                "max {:.3e} {} at t = {} s; exceeds {:.3e} from t = {t} s",
-                e.max_error, e.unit, e.at, e.tolerance
+                "max {:.3e} {} at t = {} s; exceeds {:.3e} from t = {} s",
+                e.max_error,
+                e.unit,
+                time_text(e.at),
+                e.tolerance,
+                time_text(t)
             ),
             None => format!(
                 "max {:.3e} {} (tolerance {:.3e})",
@@ -222,31 +344,54 @@ pub fn grade_submission(
         if let Err((result, why)) = admissible(dir, &path, limits) {
             rows.push(row(&submission, &r.name, "trace", result, why));
         } else {
-            let read = std::fs::File::open(&path)
-                .map_err(|e| format!("{}: cannot open: {e}", path.display()))
-                .and_then(|f| read_trace(std::io::BufReader::new(f), &path.display().to_string()));
-            if let Ok(trace) = &read {
-                for note in &trace.notes {
-                    rows.push(row(
-                        &submission,
-                        &r.name,
-                        "trace header",
-                        "note",
-                        note.clone(),
-                    ));
+            let compared = match &r.run {
+                ReferenceRun::Three { scene, trace } => {
+                    let read = std::fs::File::open(&path)
+                        .map_err(|e| format!("{}: cannot open: {e}", path.display()))
+                        .and_then(|f| {
+                            read_trace(std::io::BufReader::new(f), &path.display().to_string())
+                        });
+                    if let Ok(candidate) = &read {
+                        for note in &candidate.notes {
+                            rows.push(row(
+                                &submission,
+                                &r.name,
+                                "trace header",
+                                "note",
+                                note.clone(),
+                            ));
+                        }
+                    }
+                    read.and_then(|candidate| match mode {
+                        GradeMode::Trajectory => compare_trajectories(
+                            trace,
+                            &candidate,
+                            &TrajectoryTolerances::default(),
+                        ),
+                        GradeMode::Outcome => compare_outcomes(
+                            trace,
+                            &candidate,
+                            Some(scene),
+                            &OutcomeTolerances::default(),
+                        ),
+                    })
                 }
-            }
-            let compared = read.and_then(|trace| match mode {
-                GradeMode::Trajectory => {
-                    compare_trajectories(&r.trace, &trace, &TrajectoryTolerances::default())
+                ReferenceRun::Two { bodies, trace } => {
+                    read_trace2_file(&path).and_then(|candidate| match mode {
+                        GradeMode::Trajectory => compare_trajectories_2d(
+                            trace,
+                            &candidate,
+                            &TrajectoryTolerances::default(),
+                        ),
+                        GradeMode::Outcome => compare_outcomes_2d(
+                            trace,
+                            &candidate,
+                            Some(bodies),
+                            &OutcomeTolerances2::default(),
+                        ),
+                    })
                 }
-                GradeMode::Outcome => compare_outcomes(
-                    &r.trace,
-                    &trace,
-                    Some(&r.scene),
-                    &OutcomeTolerances::default(),
-                ),
-            });
+            };
             match compared {
                 Ok(c) => rows.extend(comparison_rows(&submission, &r.name, &c)),
                 Err(e) => rows.push(row(&submission, &r.name, "trace", "unreadable", e)),

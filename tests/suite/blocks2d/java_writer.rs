@@ -140,3 +140,159 @@ fn the_java_writer_traces_a_student_simulator_that_compare_grades() {
         "{stderr}"
     );
 }
+
+/// The Java writer's contact problem (`RigidrefTrace.Problem`, `RigidrefTrace.jacobianRows`):
+/// a Java program given the reference's first contact state of the toppling bar (bodies'
+/// inverse masses and velocities, the contacts' points, normals and depths, the centres of mass,
+/// the reference's λ) builds the Jacobian rows with the writer's helper and writes the problem.
+/// `compare-problem` finds it equal to the reference's own dump, λ included, and the residual
+/// the writer computed equals the reference's to 1e-12 (the same λ on the same problem); with
+/// the normal given the wrong way round, the normal row is named.
+#[test]
+fn the_java_writer_writes_a_2d_problem_that_compare_problem_reads() {
+    if std::process::Command::new("javac")
+        .arg("-version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: no javac on PATH (Debian's default-jdk-headless gives one)");
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    super::grading::write_scenes(dir);
+    let scene =
+        rigidref::blocks2d::scene::load_2d(&dir.join("topple.json"), &Default::default()).unwrap();
+    let mut world = scene.world;
+    // Step until a substep solves a contact, keeping the centres the contacts were found at.
+    let (centres, solve) = loop {
+        let centres: Vec<[f64; 2]> = world.bodies.iter().map(|b| [b.x.x, b.x.y]).collect();
+        world.step().unwrap();
+        if let Some(s) = world.solves.iter().find(|s| !s.contacts.is_empty()) {
+            break (centres, s.clone());
+        }
+        assert!(world.step < 1000, "the bar never reaches the floor");
+    };
+    let reference = solve.problem_file("topple", world.step, world.params.h());
+    std::fs::write(
+        dir.join("ref.problem.json"),
+        serde_json::to_string(&reference).unwrap(),
+    )
+    .unwrap();
+    let f = |x: f64| format!("{x:?}");
+    let mut calls = String::new();
+    for (b, pb) in world.bodies.iter().zip(&solve.problem.bodies) {
+        let u = pb.velocity;
+        calls += &format!(
+            "        p.body({}, {}, {}, {}, {});\n",
+            f(b.inv_mass),
+            f(b.inv_inertia),
+            f(u[0]),
+            f(u[1]),
+            f(u[2])
+        );
+    }
+    for c in &solve.contacts {
+        let (x1, x2) = (centres[c.body1], centres[c.body2]);
+        calls += &format!(
+            "        p.contact({}, {}, {}, {}, {}, {}, {}, {}, RigidrefTrace.jacobianRows({}, {}, s * {}, s * {}, {}, {}, {}, {}));\n",
+            c.body1,
+            c.body2,
+            f(c.point.x),
+            f(c.point.y),
+            f(c.normal.x),
+            f(c.normal.y),
+            f(c.depth),
+            f(world.params.mu),
+            f(c.point.x),
+            f(c.point.y),
+            f(c.normal.x),
+            f(c.normal.y),
+            f(x1[0]),
+            f(x1[1]),
+            f(x2[0]),
+            f(x2[1])
+        );
+    }
+    let lambda: Vec<String> = solve
+        .lambda
+        .iter()
+        .map(|l| format!("{{k * {}, k * {}}}", f(l[0]), f(l[1])))
+        .collect();
+    let program = format!(
+        "public class Dump {{\n    public static void main(String[] a) throws Exception {{\n        \
+         double s = a.length > 1 && a[1].equals(\"bug\") ? -1 : 1; // the normal the wrong way round\n        \
+         double k = a.length > 1 && a[1].equals(\"scaled\") ? 1.5 : 1; // λ off the solution\n        \
+         RigidrefTrace.Problem p = new RigidrefTrace.Problem();\n{calls}        \
+         p.solution(new double[][] {{{}}}, {});\n        p.write(a[0]);\n    }}\n}}\n",
+        lambda.join(", "),
+        solve.report.iterations
+    );
+    std::fs::write(dir.join("Dump.java"), program).unwrap();
+    std::fs::copy(
+        common::project_root().join("java/RigidrefTrace.java"),
+        dir.join("RigidrefTrace.java"),
+    )
+    .unwrap();
+    let javac = std::process::Command::new("javac")
+        .args(["RigidrefTrace.java", "Dump.java"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        javac.status.success(),
+        "{}",
+        String::from_utf8_lossy(&javac.stderr)
+    );
+    for (out, variant) in [
+        ("java.problem.json", None),
+        ("flipped.problem.json", Some("bug")),
+        ("scaled.problem.json", Some("scaled")),
+    ] {
+        let mut args = vec!["-cp", ".", "Dump", out];
+        args.extend(variant);
+        let o = std::process::Command::new("java")
+            .args(&args)
+            .current_dir(dir)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let o = common::rigidref(
+        &["compare-problem", "ref.problem.json", "java.problem.json"],
+        dir,
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", common::stderr(&o));
+    // The residual the writer computes is rigidref's (src/solve/residual.rs::residual), at the
+    // solution (≈ 0) and at λ × 1.5 (where it is far from 0).
+    let written = |name: &str| -> f64 {
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap();
+        v["solution"]["residual"].as_f64().unwrap()
+    };
+    let scaled: Vec<_> = solve.lambda.iter().map(|l| l * 1.5).collect();
+    for (name, lambda) in [
+        ("java.problem.json", solve.lambda.clone()),
+        ("scaled.problem.json", scaled),
+    ] {
+        let expected = rigidref::solve::residual(&solve.problem, &lambda);
+        let residual = written(name);
+        assert!(
+            (residual - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+            "{name}: the writer's residual {residual}, rigidref's {expected}"
+        );
+    }
+    assert!(written("scaled.problem.json") > 1e-3);
+    let o = common::rigidref(
+        &[
+            "compare-problem",
+            "ref.problem.json",
+            "flipped.problem.json",
+        ],
+        dir,
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(1), "{stdout}");
+    assert!(stdout.contains("normal row"), "{stdout}");
+}

@@ -3,8 +3,10 @@
 mod challenges;
 mod commands;
 mod demonstrations;
+mod grading;
 mod java_writer;
 mod joints;
 mod options;
 mod physics;
 mod properties;
+mod student;

@@ -1057,11 +1057,145 @@ fn compare_reads_2d_traces_whatever_order_the_bodies_are_listed_in() {
         "{}",
         common::stderr(&o)
     );
-    // Outcome mode is not there for 2D yet, and says so (exit 2).
-    let o = rigidref(&["compare", "ref.jsonl", "ref.jsonl", "--outcome"], dir);
-    assert_eq!(o.status.code(), Some(2));
+}
+
+/// 2D outcome mode on the dominoes (docs/grading.md §"2D outcome mode"): a valid run in another
+/// random contact order differs in trajectory (the falls part ways) but agrees in outcome; the
+/// last domino (a 2 × 4 bar, symmetric under a half turn) turned by π everywhere still agrees,
+/// by a quarter turn it is flagged; a domino stood back up at the end is flagged standing, one
+/// moved by half a block is flagged by its rest position.
+#[test]
+fn outcome_mode_judges_2d_bodies_by_how_they_end_up_modulo_their_symmetry() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let scene = common::project_root().join("scenes/blocks/dominoes.json");
+    let scene = scene.to_str().unwrap();
+    for (seed, out) in [("seed=0", "ref.jsonl"), ("seed=7", "seed7.jsonl")] {
+        let o = rigidref(
+            &[
+                "run", scene, "--time", "25", "-q", "--set", seed, "--out", out,
+            ],
+            dir,
+        );
+        common::assert_success(&o);
+    }
+    let o = rigidref(&["compare", "ref.jsonl", "seed7.jsonl"], dir);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "another order: trajectories part ways"
+    );
+    let o = rigidref(&["compare", "ref.jsonl", "seed7.jsonl", "--outcome"], dir);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", common::stderr(&o));
     assert!(
-        common::stderr(&o).contains("outcome mode compares 3D traces only so far"),
+        stdout.contains("body 7 (\"body7\") rest angle (after 2 symmetries)")
+            && stdout.contains("toppled"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(dir.join("ref.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let edited = |name: &str, edit: &dyn Fn(f64, &mut serde_json::Value)| {
+        let mut out = vec![lines[0].to_string()];
+        for line in &lines[1..] {
+            let mut line = line.clone();
+            let t = line["t"].as_f64().unwrap();
+            edit(t, &mut line["bodies"]);
+            out.push(line.to_string());
+        }
+        std::fs::write(dir.join(name), out.join("\n") + "\n").unwrap();
+    };
+    let turn = |by: f64| {
+        move |_: f64, bodies: &mut serde_json::Value| {
+            let th = bodies[7]["theta"].as_f64().unwrap();
+            bodies[7]["theta"] = serde_json::json!(th + by);
+        }
+    };
+    edited("half_turn.jsonl", &turn(std::f64::consts::PI));
+    edited("quarter_turn.jsonl", &turn(std::f64::consts::FRAC_PI_2));
+    edited("stood_up.jsonl", &|t, bodies| {
+        if t >= 24.0 {
+            bodies[0]["theta"] = serde_json::json!(0.0);
+        }
+    });
+    edited("moved.jsonl", &|t, bodies| {
+        if t >= 24.0 {
+            let x = bodies[3]["x"][0].as_f64().unwrap();
+            bodies[3]["x"][0] = serde_json::json!(x + 0.5);
+        }
+    });
+    let o = rigidref(
+        &["compare", "ref.jsonl", "half_turn.jsonl", "--outcome"],
+        dir,
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", common::stderr(&o));
+    for (file, named) in [
+        ("quarter_turn.jsonl", "body 7 (\"body7\") rest angle"),
+        ("stood_up.jsonl", "body 0 (\"body0\") rest angle"),
+        ("moved.jsonl", "body 3 (\"body3\") rest position"),
+    ] {
+        let o = rigidref(&["compare", "ref.jsonl", file, "--outcome"], dir);
+        assert_eq!(o.status.code(), Some(1), "{file}");
+        assert!(
+            common::stderr(&o).contains(named),
+            "{file}: {}",
+            common::stderr(&o)
+        );
+    }
+    let o = rigidref(
+        &["compare", "ref.jsonl", "stood_up.jsonl", "--outcome"],
+        dir,
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout
+            .lines()
+            .any(|l| l.starts_with("body 0 (\"body0\") standing or toppled")
+                && l.contains("DIFFERS")),
+        "{stdout}"
+    );
+}
+
+/// The assignment's tower25 (a chaotic scene: contacts shared by every block) graded by outcome
+/// (docs/grading.md §"2D outcome mode"): a valid run in another random contact order differs in
+/// trajectory from t ≈ 3 but agrees in outcome (every block at rest where the reference's is, none
+/// toppled); the starter's settings (10 sweeps, one substep) leave the tower shifted by about a
+/// block, which outcome mode flags by the rest positions.
+#[test]
+fn the_tower_is_graded_by_outcome_where_valid_runs_part_ways() {
+    let Some(assignment) = common::blocks2d_assignment() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let tower = assignment.join("tower25.png");
+    let tower = tower.to_str().unwrap();
+    for (extra, out) in [
+        (&[][..], "ref.jsonl"),
+        (&["--set", "seed=7"][..], "seed7.jsonl"),
+        (&["--preset", "starter"][..], "starter.jsonl"),
+    ] {
+        let mut args = vec!["run", tower, "--time", "20", "-q", "--out", out];
+        args.extend_from_slice(extra);
+        common::assert_success(&rigidref(&args, dir));
+    }
+    let o = rigidref(&["compare", "ref.jsonl", "seed7.jsonl"], dir);
+    assert_eq!(o.status.code(), Some(1), "another order: the path differs");
+    let o = rigidref(&["compare", "ref.jsonl", "seed7.jsonl", "--outcome"], dir);
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert_eq!(o.status.code(), Some(0), "{stdout}{}", common::stderr(&o));
+    assert!(
+        stdout.contains("body 24 (\"body24\") standing or toppled")
+            && !stdout.contains("toppled ("),
+        "{stdout}"
+    );
+    let o = rigidref(&["compare", "ref.jsonl", "starter.jsonl", "--outcome"], dir);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        common::stderr(&o).contains("rest position"),
         "{}",
         common::stderr(&o)
     );

@@ -10,11 +10,16 @@ mod outcome;
 mod refusal;
 mod trajectory;
 mod two;
+mod two_outcome;
 
 pub use outcome::{OutcomeTolerances, compare_outcomes, outcome_scene};
 pub use trajectory::compare_trajectories;
 pub use two::{
     Trace2, compare_trajectories_2d, match_bodies_2d, read_trace2_file, trace_dimension,
+};
+pub use two_outcome::{
+    OutcomeTolerances2, angle_after_symmetries, compare_outcomes_2d, outcome_scene_2d,
+    quarter_turn_symmetries,
 };
 
 use crate::rigid3d::trace::{BodyState, Trace, TraceRecord};
@@ -149,8 +154,14 @@ impl Comparison {
             .min_by(|a, b| a.0.total_cmp(&b.0));
         if let Some((t, e)) = by_time {
             return Some(format!(
-                "{} exceeds {:.3e} {} first at t = {t} s (largest {:.3e} {} at t = {} s)",
-                e.quantity, e.tolerance, e.unit, e.max_error, e.unit, e.at
+                "{} exceeds {:.3e} {} first at t = {} s (largest {:.3e} {} at t = {} s)",
+                e.quantity,
+                e.tolerance,
+                e.unit,
+                time_text(t),
+                e.max_error,
+                e.unit,
+                time_text(e.at)
             ));
         }
         self.outcomes.iter().find(|o| !o.passed).map(|o| {
@@ -160,6 +171,13 @@ impl Comparison {
             )
         })
     }
+}
+
+/// A record time as reports print it: rounded to 1e-9 (of a second or time unit), so that
+/// `0.05 × 23` reads 1.15, not 1.1500000000000001; the reports' numbers stay exact in `--json`.
+pub fn time_text(t: f64) -> String {
+    let rounded = (t * 1e9).round() / 1e9;
+    format!("{rounded}")
 }
 
 /// One observable of outcome mode.

@@ -53,7 +53,7 @@ pub fn read_trace2_file(path: &std::path::Path) -> Result<Trace2, String> {
 /// (docs/grading.md §"Refused traces"): records at all, the reference's number of bodies, finite
 /// numbers, strictly increasing times, the reference's span covered to one step at each end,
 /// records at most max(the reference's spacing, [`MAX_GAP_STEPS`] steps) apart.
-fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
+pub(super) fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
     let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
     if other.records.is_empty() {
         return refuse("empty", "the trace has no records".into());
@@ -164,7 +164,7 @@ fn system2_at(records: &[Record2], t: f64) -> [f64; 6] {
 }
 
 /// The difference of two angles, rad, wrapped into [0, π].
-fn angle_difference(a: f64, b: f64) -> f64 {
+pub(super) fn angle_difference(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(std::f64::consts::TAU);
     d.min(std::f64::consts::TAU - d)
 }
@@ -236,10 +236,8 @@ pub fn compare_trajectories_2d(
             },
         );
     }
-    // Scales as in 3D: the largest kinetic energy, the potential's range, or lifting every body
-    // by 0.01 block, whichever is largest; momenta against the whole mass at 1 block/t.
-    let g = reference.header.gravity;
-    let g = (g[0] * g[0] + g[1] * g[1]).sqrt().max(1.0);
+    // Energies against the reference's energy scale; momenta against the whole mass at
+    // 1 block/t or the largest momentum.
     let total_mass: f64 = reference
         .header
         .bodies
@@ -247,21 +245,7 @@ pub fn compare_trajectories_2d(
         .filter(|b| !b.pinned)
         .map(|b| b.mass)
         .sum();
-    let kinetic = reference
-        .records
-        .iter()
-        .map(|r| r.energy.kinetic)
-        .fold(0.0, f64::max);
-    let (low, high) = reference
-        .records
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
-            (l.min(r.energy.potential), h.max(r.energy.potential))
-        });
-    let energy_scale = kinetic
-        .max(high - low)
-        .max(total_mass * g * 0.01)
-        .max(f64::MIN_POSITIVE);
+    let energy_scale = energy_scale_2d(reference);
     let systems = |t: f64| {
         (
             system2_at(&reference.records, t),
@@ -319,4 +303,27 @@ pub fn compare_trajectories_2d(
         agree,
         refused: None,
     })
+}
+
+/// The reference's energy scale, as in 3D: the largest of its largest kinetic energy, the range
+/// of its potential energy and the energy of lifting every body that is not pinned by 0.01 block
+/// (with |g| at least 1 block/t²), mass·block²/t².
+pub(super) fn energy_scale_2d(reference: &Trace2) -> f64 {
+    let g = reference.header.gravity;
+    let g = (g[0] * g[0] + g[1] * g[1]).sqrt().max(1.0);
+    let total_mass: f64 = (reference.header.bodies.iter())
+        .filter(|b| !b.pinned)
+        .map(|b| b.mass)
+        .sum();
+    let kinetic = (reference.records.iter())
+        .map(|r| r.energy.kinetic)
+        .fold(0.0, f64::max);
+    let (low, high) = (reference.records.iter())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+            (l.min(r.energy.potential), h.max(r.energy.potential))
+        });
+    kinetic
+        .max(high - low)
+        .max(total_mass * g * 0.01)
+        .max(f64::MIN_POSITIVE)
 }

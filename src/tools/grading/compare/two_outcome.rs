@@ -1,0 +1,285 @@
+//! Outcome mode for 2D traces (the image-block system): how every body ends up, not the path
+//! it took (docs/grading.md §"2D outcome mode"). Towers, walls and piles are chaotic: two
+//! valid solvers part ways at the first impact shared by several contacts, but agree on which
+//! bodies stand, which topple and where they rest.
+//!
+//! Per body that is not pinned, at the end of the span both traces cover: at rest or not; when
+//! both are at rest, the rest position and the rest angle modulo the block shape's symmetry
+//! (the quarter turns that map the body's blocks onto themselves, read from the image); standing
+//! or toppled (turned by more than 45° from its first angle, modulo the same symmetry); and the
+//! total energy at the end.
+
+use super::two::{Trace2, angle_difference, defect, energy_scale_2d, match_bodies_2d};
+use super::*;
+use crate::blocks2d::body::Body2;
+use crate::blocks2d::trace::State2;
+use nalgebra::Vector2;
+use std::f64::consts::FRAC_PI_2;
+
+/// Tolerances and thresholds of 2D outcome mode, in the 2D system's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutcomeTolerances2 {
+    /// A body is at rest when its fastest point moves slower than this, blocks per time unit:
+    /// |v| + |ω| r_max, r_max the farthest block corner from the centre of mass (1 block
+    /// without the image).
+    pub rest_speed: f64,
+    /// Rest position, blocks.
+    pub position: f64,
+    /// Rest angle, rad, after the shape's symmetries.
+    pub angle: f64,
+    /// Total energy at the end, relative to the reference's energy scale (as for trajectories).
+    pub energy: f64,
+}
+
+impl Default for OutcomeTolerances2 {
+    /// At rest below 0.05 block per time unit (1 % of the speed a body reaches falling 1 block
+    /// for 5 time units under the default gravity of 1 block/t², far above what a settled pile
+    /// keeps of round-off); a tenth of a block (the image's resolution is one block); 0.1 rad;
+    /// 5 % in energy (as in 3D).
+    fn default() -> Self {
+        OutcomeTolerances2 {
+            rest_speed: 0.05,
+            position: 0.1,
+            angle: 0.1,
+            energy: 0.05,
+        }
+    }
+}
+
+/// The quarter turns k (0 ≤ k < 4) that map a body's blocks onto themselves about its centre of
+/// mass, each block to one of the same mass: the symmetry of the block shape (k = 0 always;
+/// {0, 2} for a bar, {0, 1, 2, 3} for a square, {0} for an L).
+pub fn quarter_turn_symmetries(body: &Body2) -> Vec<u8> {
+    let turn = |p: &Vector2<f64>, k: u8| match k {
+        0 => *p,
+        1 => Vector2::new(-p.y, p.x),
+        2 => -p,
+        _ => Vector2::new(p.y, -p.x),
+    };
+    (0..4u8)
+        .filter(|&k| {
+            body.blocks.iter().all(|b| {
+                let q = turn(&b.local, k);
+                body.blocks
+                    .iter()
+                    .any(|c| (c.local - q).norm() <= 1e-9 && (c.mass - b.mass).abs() <= 1e-12)
+            })
+        })
+        .collect()
+}
+
+/// The smallest angle between two orientations of a body, rad, over the body's symmetries
+/// (quarter turns `symmetries`): min over k of |a − b − k π/2| wrapped into [0, π].
+pub fn angle_after_symmetries(a: f64, b: f64, symmetries: &[u8]) -> f64 {
+    symmetries
+        .iter()
+        .map(|&k| angle_difference(a, b + f64::from(k) * FRAC_PI_2))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The farthest a block's corner is from a body's centre of mass, blocks.
+fn reach(body: &Body2) -> f64 {
+    body.blocks
+        .iter()
+        .map(|b| b.local.norm() + std::f64::consts::FRAC_1_SQRT_2)
+        .fold(0.0, f64::max)
+}
+
+/// Whether a body in state `s` is at rest: |v| + |ω| `reach` below `rest_speed`.
+fn at_rest(s: &State2, reach: f64, rest_speed: f64) -> bool {
+    s.v[0].hypot(s.v[1]) + s.omega.abs() * reach < rest_speed
+}
+
+/// The first time after which body `i` stays at rest to the end of `records`, if it is at rest
+/// at the end.
+fn rest_time(trace: &Trace2, i: usize, reach: f64, rest_speed: f64) -> Option<f64> {
+    let records = &trace.records;
+    if !at_rest(&records.last()?.bodies[i], reach, rest_speed) {
+        return None;
+    }
+    let k = records
+        .iter()
+        .rposition(|r| !at_rest(&r.bodies[i], reach, rest_speed));
+    Some(k.map_or(records[0].t, |k| records[(k + 1).min(records.len() - 1)].t))
+}
+
+/// The bodies of the 2D scene a reference trace came from, for their shapes: `given` (an image
+/// or a 2D scene file; an error when it does not load), else the header's `source` where that
+/// file exists as named or beside the reference trace; `None` when there is none or when its
+/// bodies are not the trace's (another number).
+pub fn outcome_scene_2d(
+    reference: &Trace2,
+    reference_path: &std::path::Path,
+    given: Option<&std::path::Path>,
+) -> Result<Option<(Vec<Body2>, std::path::PathBuf)>, String> {
+    let load = |path: &std::path::Path| {
+        crate::blocks2d::scene::load_2d(path, &Default::default())
+            .map(|s| s.world.bodies)
+            .map_err(|e| e.0)
+    };
+    if let Some(path) = given {
+        let bodies = load(path)?;
+        if bodies.len() != reference.header.bodies.len() {
+            return Err(format!(
+                "{}: {} bodies, the reference trace {}: not its scene",
+                path.display(),
+                bodies.len(),
+                reference.header.bodies.len()
+            ));
+        }
+        return Ok(Some((bodies, path.to_path_buf())));
+    }
+    let source = std::path::Path::new(&reference.header.source);
+    let beside = reference_path
+        .parent()
+        .map(|d| d.join(source))
+        .unwrap_or_default();
+    Ok([source.to_path_buf(), beside]
+        .into_iter()
+        .filter(|p| p.is_file())
+        .find_map(|p| {
+            load(&p)
+                .ok()
+                .filter(|b| b.len() == reference.header.bodies.len())
+                .map(|b| (b, p))
+        }))
+}
+
+/// Outcome mode for 2D traces (module documentation). `shapes`, the reference scene's bodies in
+/// the reference trace's order, give the symmetries and reaches; without them angles are
+/// compared modulo 2π only and a body's reach is taken as 1 block.
+pub fn compare_outcomes_2d(
+    reference: &Trace2,
+    other: &Trace2,
+    shapes: Option<&[Body2]>,
+    tol: &OutcomeTolerances2,
+) -> Result<Comparison, String> {
+    if reference.records.is_empty() {
+        return Err("the reference trace has no records".into());
+    }
+    if let Some(r) = defect(reference, reference) {
+        return Err(format!("the reference trace: {}", r.message));
+    }
+    if let Some(r) = defect(reference, other) {
+        return Ok(Comparison::refused("outcome", r));
+    }
+    let map = match_bodies_2d(reference, other)?;
+    let start = reference.records[0].t.max(other.records[0].t);
+    let end = (reference.records.last().map(|r| r.t))
+        .unwrap_or(start)
+        .min(other.records.last().map_or(start, |r| r.t));
+    // Only what both traces cover: a trace that runs longer is judged at the common end.
+    let within = |t: &Trace2| Trace2 {
+        header: t.header.clone(),
+        records: (t.records.iter())
+            .filter(|r| r.t >= start && r.t <= end)
+            .cloned()
+            .collect(),
+    };
+    let (reference, other) = (&within(reference), &within(other));
+    let (Some(end_r), Some(end_o)) = (reference.records.last(), other.records.last()) else {
+        return Err("the traces have no record in the span both cover".into());
+    };
+    let (first_r, first_o) = (&reference.records[0], &other.records[0]);
+    let mut outcomes = Vec::new();
+    let mut push =
+        |name: String, a: String, b: String, difference: f64, tolerance: String, passed: bool| {
+            outcomes.push(Outcome {
+                name,
+                reference: a,
+                other: b,
+                difference,
+                tolerance,
+                passed,
+            })
+        };
+    for (i, &j) in map.iter().enumerate() {
+        if reference.header.bodies[i].pinned {
+            continue;
+        }
+        let label = format!("body {i} ({:?})", reference.header.bodies[i].name);
+        let shape = shapes.and_then(|s| s.get(i));
+        let symmetries = shape.map_or(vec![0], quarter_turn_symmetries);
+        let reach = shape.map_or(1.0, reach);
+        let (ra, rb) = (
+            rest_time(reference, i, reach, tol.rest_speed),
+            rest_time(other, j, reach, tol.rest_speed),
+        );
+        let rest =
+            |t: Option<f64>| t.map_or("moving".to_string(), |t| format!("at rest from t = {t:.4}"));
+        push(
+            format!("{label} at rest at the end"),
+            rest(ra),
+            rest(rb),
+            if ra.is_some() == rb.is_some() {
+                0.0
+            } else {
+                1.0
+            },
+            format!("speed < {} block/t", tol.rest_speed),
+            ra.is_some() == rb.is_some(),
+        );
+        let (sa, sb) = (&end_r.bodies[i], &end_o.bodies[j]);
+        if ra.is_some() && rb.is_some() {
+            let d = (sa.x[0] - sb.x[0]).hypot(sa.x[1] - sb.x[1]);
+            push(
+                format!("{label} rest position"),
+                format!("[{:.4}, {:.4}]", sa.x[0], sa.x[1]),
+                format!("[{:.4}, {:.4}]", sb.x[0], sb.x[1]),
+                d,
+                format!("{} block", tol.position),
+                d <= tol.position,
+            );
+            let angle = angle_after_symmetries(sa.theta, sb.theta, &symmetries);
+            push(
+                format!("{label} rest angle (after {} symmetries)", symmetries.len()),
+                format!("{:.4} rad", sa.theta),
+                format!("{:.4} rad ({angle:.4} from the reference)", sb.theta),
+                angle,
+                format!("{} rad", tol.angle),
+                angle <= tol.angle,
+            );
+        }
+        // Toppled: turned by more than 45° from the first record's angle, modulo the symmetry.
+        let turned_r = angle_after_symmetries(sa.theta, first_r.bodies[i].theta, &symmetries);
+        let turned_o = angle_after_symmetries(sb.theta, first_o.bodies[j].theta, &symmetries);
+        let state = |turned: f64| {
+            if turned > std::f64::consts::FRAC_PI_4 {
+                format!("toppled ({turned:.3} rad)")
+            } else {
+                format!("standing ({turned:.3} rad)")
+            }
+        };
+        let same =
+            (turned_r > std::f64::consts::FRAC_PI_4) == (turned_o > std::f64::consts::FRAC_PI_4);
+        push(
+            format!("{label} standing or toppled"),
+            state(turned_r),
+            state(turned_o),
+            (turned_r - turned_o).abs(),
+            "toppled when turned > 0.785 rad".into(),
+            same,
+        );
+    }
+    let scale = energy_scale_2d(reference);
+    let (ea, eb) = (end_r.energy.total, end_o.energy.total);
+    let d = (ea - eb).abs();
+    push(
+        format!("total energy at t = {}", end_r.t),
+        format!("{ea:.6e}"),
+        format!("{eb:.6e}"),
+        d,
+        format!("{:.3e} mass·block²/t²", tol.energy * scale),
+        d <= tol.energy * scale,
+    );
+    let agree = outcomes.iter().all(|o| o.passed);
+    Ok(Comparison {
+        mode: "outcome",
+        span: (start, end),
+        matched_by: "image",
+        errors: Vec::new(),
+        outcomes,
+        agree,
+        refused: None,
+    })
+}
