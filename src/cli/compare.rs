@@ -92,6 +92,22 @@ fn print_comparison(c: &Comparison) {
         "mode             {} (bodies matched by {}; t = {} … {} s)",
         c.mode, c.matched_by, c.span.0, c.span.1
     );
+    if !c.matching.is_empty() {
+        let moved: Vec<String> = (c.matching.iter().enumerate())
+            .filter(|(i, j)| i != *j)
+            .map(|(i, j)| format!("{i} = {j}"))
+            .collect();
+        if moved.is_empty() {
+            println!(
+                "matching         every reference body is the other trace's body of the same index"
+            );
+        } else {
+            println!(
+                "matching         reference body = other trace's body: {} (the rest at their own index)",
+                moved.join(", ")
+            );
+        }
+    }
     if !c.errors.is_empty() {
         println!(
             "{:<44} {:>12} {:>10} {:>12} {:>14}",

@@ -288,6 +288,19 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
         )];
     }
     let mut rows = Vec::new();
+    let moved: Vec<String> = (c.matching.iter().enumerate())
+        .filter(|(i, j)| i != *j)
+        .map(|(i, j)| format!("{i} = {j}"))
+        .collect();
+    if !moved.is_empty() {
+        rows.push(row(
+            submission,
+            scene,
+            "bodies matched by the image",
+            "note",
+            format!("reference body = submission's body: {}", moved.join(", ")),
+        ));
+    }
     for e in &c.errors {
         let result = if e.first_exceeded.is_none() {
             "pass"

@@ -1028,6 +1028,15 @@ fn compare_reads_2d_traces_whatever_order_the_bodies_are_listed_in() {
         String::from_utf8_lossy(&o.stdout),
         common::stderr(&o)
     );
+    // The matching is reported: reference body 0 is the reversed trace's last.
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(&format!(
+            "reference body = other trace's body: 0 = {}",
+            bodies - 1
+        )),
+        "{stdout}"
+    );
     for line in lines.iter_mut().skip(1) {
         if line["t"].as_f64().unwrap() >= 2.0 {
             let x = line["bodies"][1]["x"][0].as_f64().unwrap();

@@ -100,8 +100,12 @@ pub struct Comparison {
     pub mode: &'static str,
     /// The times compared, s: from the later start to the earlier end of the two traces.
     pub span: (f64, f64),
-    /// How the bodies were matched: `name` or `index`.
+    /// How the bodies were matched: `name` or `index` (3D), `image` (2D).
     pub matched_by: &'static str,
+    /// 2D traces: the other trace's body matched to each reference body (entry i is the other
+    /// trace's index of reference body i); absent from the JSON report in 3D.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub matching: Vec<usize>,
     /// Trajectory mode: the errors, in body order then system quantities.
     pub errors: Vec<QuantityError>,
     /// Outcome mode: the observables.
@@ -135,6 +139,7 @@ impl Comparison {
             mode,
             span: (f64::NAN, f64::NAN),
             matched_by: "",
+            matching: Vec::new(),
             errors: Vec::new(),
             outcomes: Vec::new(),
             agree: false,

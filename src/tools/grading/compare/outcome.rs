@@ -362,6 +362,7 @@ pub fn compare_outcomes(
         mode: "outcome",
         span,
         matched_by,
+        matching: Vec::new(),
         errors: Vec::new(),
         outcomes,
         agree,

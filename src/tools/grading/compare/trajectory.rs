@@ -133,6 +133,7 @@ pub fn compare_trajectories(
         mode: "trajectory",
         span,
         matched_by,
+        matching: Vec::new(),
         errors,
         outcomes: Vec::new(),
         agree,

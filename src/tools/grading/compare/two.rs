@@ -298,6 +298,7 @@ pub fn compare_trajectories_2d(
         mode: "trajectory",
         span: (start, end),
         matched_by: "image",
+        matching: map,
         errors,
         outcomes: Vec::new(),
         agree,

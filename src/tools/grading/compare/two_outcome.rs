@@ -277,6 +277,7 @@ pub fn compare_outcomes_2d(
         mode: "outcome",
         span: (start, end),
         matched_by: "image",
+        matching: map,
         errors: Vec::new(),
         outcomes,
         agree,
