@@ -47,9 +47,14 @@ pub struct BenchArgs {
     /// PGS sweeps in 3D (and rapier's solver iterations); the 2D factory keeps its 10.
     #[arg(long, default_value_t = 20)]
     pub iterations: u32,
-    /// Only the scenes whose name contains this text (e.g. "grid 8", "pyramid"); an error when none does.
+    /// Only the scenes whose name contains one of these texts, comma-separated (e.g. "grid 8",
+    /// "stack grid 8×8,cube pyramid 12"); an error when none does.
     #[arg(long, value_name = "TEXT")]
     pub only: Option<String>,
+    /// rigidref's PGS contact order in the 3D scenes: sequential (the order found, the
+    /// scenes' own), random, or coloured (docs/contact.md §"Coloured order").
+    #[arg(long, value_enum, default_value_t = rigidref::solve::ContactOrder::Sequential)]
+    pub contact_order: rigidref::solve::ContactOrder,
     /// The project root (holding scenes/).
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
@@ -89,6 +94,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 steps: 10,
                 rounds: 3,
                 iterations: args.iterations,
+                contact_order: args.contact_order,
             },
         )
     } else {
@@ -104,6 +110,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 steps: 30,
                 rounds: 5,
                 iterations: args.iterations,
+                contact_order: args.contact_order,
             },
         )
     };
@@ -137,7 +144,12 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
     }
     if let Some(only) = &args.only {
         let names: Vec<String> = cases.iter().map(|c| c.name.clone()).collect();
-        cases.retain(|c| c.name.contains(only.as_str()));
+        let texts: Vec<&str> = only
+            .split(',')
+            .map(str::trim)
+            .filter(|t| !t.is_empty())
+            .collect();
+        cases.retain(|c| texts.iter().any(|t| c.name.contains(t)));
         if cases.is_empty() {
             anyhow::bail!(
                 "--only {only:?}: no scene's name contains it (the scenes: {})",

@@ -33,11 +33,19 @@ use rand_chacha::ChaCha8Rng;
 )]
 #[serde(rename_all = "snake_case")]
 pub enum ContactOrder {
-    /// Problem order, every sweep (the assignment's).
+    /// Problem order, every sweep: the contacts in the order detection found them (the
+    /// assignment's). Also read as `found`.
     #[default]
+    #[serde(alias = "found")]
+    #[value(alias = "found")]
     Sequential,
     /// A fresh permutation every sweep from the workspace's seeded generator (ChaCha8).
     Random,
+    /// Colour by colour: contacts grouped so that no two of a group share a moving body
+    /// ([`super::colour::colour_contacts`], deterministic), problem order within a group; the
+    /// same order every sweep. Consecutive visits are then independent and overlap in the
+    /// processor. docs/contact.md §"Coloured order".
+    Coloured,
 }
 
 /// How long PGS runs.
@@ -65,6 +73,11 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) scales: Vec<RowScales<R>>,
     /// The visiting order.
     order: Vec<usize>,
+    /// With the coloured order: where each colour starts in `order` (the end appended), and
+    /// the colouring's scratch.
+    colour_starts: Vec<usize>,
+    colour_masks: Vec<u64>,
+    colour_of: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
@@ -131,6 +144,39 @@ impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
     }
 }
 
+/// A contact of the body form with copies of its two bodies' Δu: a visit reads them once, its
+/// rows update the copies, and [`PgsWorkspace::store`] writes them back once (the same
+/// arithmetic as [`BodyRows`], so the same bits; the copies stay in registers between the rows
+/// instead of going through memory). Only for a contact between two different bodies.
+struct CachedRows<'a, const D: usize, const R: usize> {
+    entry: &'a Entry<D, R>,
+    delta_velocity: [SVector<f64, D>; 2],
+}
+
+impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
+    #[inline(always)]
+    fn velocity(&self, r: usize) -> f64 {
+        let e = self.entry;
+        let mut w = e.b[r];
+        for s in 0..2 {
+            if e.bodies[s].is_some() {
+                w += e.jacobian_t[s].column(r).dot(&self.delta_velocity[s]);
+            }
+        }
+        w
+    }
+    #[inline(always)]
+    fn apply(&mut self, r: usize, delta: f64) {
+        let e = self.entry;
+        for s in 0..2 {
+            if e.bodies[s].is_some() {
+                let column = e.inverse_mass_jacobian_t[s].column(r);
+                self.delta_velocity[s].axpy(delta, &column, 1.0);
+            }
+        }
+    }
+}
+
 impl<const D: usize, const R: usize> Entry<D, R> {
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ (without compliance).
     #[inline(always)]
@@ -164,6 +210,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             entries: Vec::new(),
             scales: Vec::new(),
             order: Vec::new(),
+            colour_starts: Vec::new(),
+            colour_masks: Vec::new(),
+            colour_of: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
             local_fallbacks: 0,
         }
@@ -205,6 +254,35 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         }
     }
 
+    /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]): a body moves when
+    /// its inverse mass is not zero.
+    fn colour(&mut self, problem: &ContactProblem<D, R>) {
+        let moving: Vec<bool> = (problem.bodies.iter())
+            .map(|b| b.inverse_mass.iter().any(|&m| m != 0.0))
+            .collect();
+        let PgsWorkspace {
+            order,
+            colour_starts,
+            colour_masks,
+            colour_of,
+            ..
+        } = self;
+        super::colour::colour_contacts(
+            problem.contacts.len(),
+            |k| problem.contacts[k].bodies,
+            &moving,
+            colour_masks,
+            colour_of,
+            order,
+            colour_starts,
+        );
+    }
+
+    /// The number of colours of the last coloured solve.
+    pub fn colours(&self) -> usize {
+        self.colour_starts.len().saturating_sub(1)
+    }
+
     /// Asks the processor to start loading the entry of contact `k` (a visit two ahead, in a
     /// random order that its own prefetcher cannot guess). Only a hint: it changes no value.
     #[inline(always)]
@@ -232,6 +310,21 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             entry: &self.entries[k],
             delta_velocity: &mut self.delta_velocity,
         }
+    }
+
+    /// Contact `k`'s rows with copies of its bodies' Δu (zeros for the static world), or `None`
+    /// when both sides are the same body (then the copies would not see each other's writes).
+    #[inline(always)]
+    fn cached_rows(&self, k: usize) -> Option<CachedRows<'_, D, R>> {
+        let entry = &self.entries[k];
+        if entry.bodies[0].is_some() && entry.bodies[0] == entry.bodies[1] {
+            return None;
+        }
+        let copy = |s: usize| entry.bodies[s].map_or(SVector::zeros(), |b| self.delta_velocity[b]);
+        Some(CachedRows {
+            entry,
+            delta_velocity: [copy(0), copy(1)],
+        })
     }
 
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
@@ -308,6 +401,9 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         lambda[k] = start;
     }
 
+    if settings.order == ContactOrder::Coloured {
+        workspace.colour(problem);
+    }
     let mut iterations = 0;
     let mut converged = false;
     while iterations < settings.max_iterations {
@@ -367,6 +463,22 @@ pub(super) fn visit<const D: usize, const R: usize>(
         );
         if !exact {
             workspace.local_fallbacks += 1;
+        }
+        return;
+    }
+    if let Some(mut rows) = workspace.cached_rows(k) {
+        match contact.bounds {
+            RowBounds::Free => solve_free_rows(&law, &mut rows, lambda),
+            RowBounds::Contact => {
+                solve_contact(problem.friction, &law, &contact.lambda0, &mut rows, lambda)
+            }
+        }
+        let copies = rows.delta_velocity;
+        let bodies = workspace.entries[k].bodies;
+        for s in 0..2 {
+            if let Some(b) = bodies[s] {
+                workspace.delta_velocity[b] = copies[s];
+            }
         }
         return;
     }

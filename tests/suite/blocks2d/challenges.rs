@@ -406,7 +406,16 @@ fn the_scaling_plot_png_loads_and_runs_as_an_image_scene() {
     let start: Vec<f64> = world.bodies.iter().map(|b| b.x.y).collect();
     common::run(&mut world, 400, |_, _| {});
     for (b, y0) in world.bodies.iter().zip(&start).filter(|(b, _)| !b.pinned) {
-        assert!(b.x.y > y0 + 5.0, "the graph fell: from {y0} to {}", b.x.y);
+        // Fell by more than 5 blocks, or landed on the x axis from nearer (the plot's first
+        // points lie just above it when the steps were fast; where depends on the timing).
+        let lowest = (b.blocks.iter())
+            .map(|block| b.to_world(&block.local).y)
+            .fold(f64::MIN, f64::max);
+        assert!(
+            b.x.y > y0 + 5.0 || (b.x.y > y0 + 0.5 && lowest >= axis_row - 1.5),
+            "the graph fell: from {y0} to {} (lowest block at {lowest}, the axis at {axis_row})",
+            b.x.y
+        );
         for block in &b.blocks {
             let p = b.to_world(&block.local);
             let through_x_axis = p.y >= axis_row && p.x <= axis_end;

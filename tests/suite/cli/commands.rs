@@ -642,6 +642,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             ("factory", "--out") | ("massprops", "--out") => &["outdir/x"],
             ("bench", "--out") => &["benchdir"],
             ("bench", "--only") => &["grid"],
+            ("bench", "--contact-order") => &["coloured"],
             (_, "--out") => &["t.jsonl"],
             (_, "--every") | (_, "--frame-every") => &["2"],
             (_, "--format") => &["jsonl"],

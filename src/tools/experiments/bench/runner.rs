@@ -14,6 +14,9 @@ pub struct BenchSettings {
     pub rounds: usize,
     /// PGS sweeps, and rapier's solver iterations (3D scenes; the 2D factory keeps its own 10).
     pub iterations: u32,
+    /// rigidref's contact order in the 3D scenes (`--contact-order`; the scenes' own is
+    /// sequential).
+    pub contact_order: crate::solve::ContactOrder,
 }
 
 impl BenchSettings {
@@ -148,6 +151,7 @@ pub(super) fn run_3d(
 ) -> Result<BenchRow, String> {
     let mut scene = scene.clone();
     scene.params.pgs_iterations = s.iterations;
+    scene.params.pgs_order = s.contact_order;
     let mut ours = World::new(&scene)?;
     let mut mirror = RapierMirror::new(&scene)?;
     mirror.set_solver_iterations(s.iterations as usize);
