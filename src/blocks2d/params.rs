@@ -75,6 +75,9 @@ pub struct Params2 {
     /// The contact solver (scene key `solver`): `pgs` (default, the assignment's) or `newton`
     /// (the exact solver, docs/contact.md §"Newton solver"); post-stabilisation uses it too.
     pub solver: crate::solve::Solver,
+    /// Threads the coloured order's sweeps run on (scene key `threads`; default 1): bit for bit
+    /// the one-thread result (docs/contact.md §"Coloured order").
+    pub threads: u32,
 }
 
 /// The most substeps one step takes with adaptive substeps: a body faster than
@@ -148,6 +151,7 @@ impl Params2 {
             max_travel: None,
             shock_propagation: false,
             solver: crate::solve::Solver::Pgs,
+            threads: 1,
         }
     }
 

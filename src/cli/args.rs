@@ -136,11 +136,20 @@ pub struct SceneSets {
     /// checked exactly as the file's value; repeatable. Shown in the summary and the trace header.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Threads of the contact solver's coloured sweeps (`pgs_order`/`order: coloured`): the
+    /// same as `--set threads=N`; the result is bit for bit the one-thread result
+    /// (docs/contact.md §"Coloured order") [default: 1].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<u32>,
 }
 
 impl SceneSets {
-    /// The overrides, parsed.
+    /// The overrides, parsed (`--threads N` as `threads=N`).
     pub fn overrides(&self) -> anyhow::Result<Overrides> {
-        Overrides::parse(&self.set).map_err(anyhow::Error::msg)
+        let mut texts = self.set.clone();
+        if let Some(n) = self.threads {
+            texts.push(format!("threads={n}"));
+        }
+        Overrides::parse(&texts).map_err(anyhow::Error::msg)
     }
 }

@@ -147,6 +147,7 @@ impl Blocks2dOptions {
             max_travel: self.max_travel,
             shock_propagation: self.shock_propagation.then_some(true),
             solver: None,
+            threads: None,
         }
     }
 }

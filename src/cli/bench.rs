@@ -55,6 +55,10 @@ pub struct BenchArgs {
     /// scenes' own), random, or coloured (docs/contact.md §"Coloured order").
     #[arg(long, value_enum, default_value_t = rigidref::solve::ContactOrder::Sequential)]
     pub contact_order: rigidref::solve::ContactOrder,
+    /// Threads of rigidref's coloured sweeps in the 3D scenes (with --contact-order coloured;
+    /// rapier runs on one thread either way).
+    #[arg(long, default_value_t = 1)]
+    pub threads: u32,
     /// The project root (holding scenes/).
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
@@ -95,6 +99,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 rounds: 3,
                 iterations: args.iterations,
                 contact_order: args.contact_order,
+                threads: args.threads,
             },
         )
     } else {
@@ -111,6 +116,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 rounds: 5,
                 iterations: args.iterations,
                 contact_order: args.contact_order,
+                threads: args.threads,
             },
         )
     };

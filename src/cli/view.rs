@@ -84,6 +84,7 @@ pub fn view(args: ViewArgs) -> anyhow::Result<()> {
     let (trace_path, ran) = match given_trace {
         Some(p) => {
             if !args.sets.set.is_empty()
+                || args.sets.threads.is_some()
                 || args.length.time.is_some()
                 || args.length.steps.is_some()
             {

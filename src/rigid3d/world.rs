@@ -125,7 +125,7 @@ impl World {
             colliders,
             detector: Detector::default(),
             warm_start: WarmStart::new(scene.params.warm_start),
-            workspace: SolverWorkspace::new(scene.params.pgs_seed),
+            workspace: SolverWorkspace::with_threads(scene.params.pgs_seed, scene.params.threads),
             contact_buffer: Vec::new(),
             phase_times: PhaseTimes::default(),
         };

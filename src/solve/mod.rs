@@ -25,6 +25,7 @@ pub mod local;
 pub mod newton;
 pub mod pgs;
 pub mod pgs_delassus;
+mod pgs_threads;
 pub mod projection;
 pub mod qp;
 pub mod residual;
@@ -95,6 +96,14 @@ pub struct SolverWorkspace<const D: usize, const R: usize> {
 }
 
 impl<const D: usize, const R: usize> SolverWorkspace<D, R> {
+    /// Empty buffers whose coloured PGS sweeps run on `threads` threads
+    /// ([`PgsWorkspace::set_threads`]).
+    pub fn with_threads(seed: u64, threads: u32) -> Self {
+        let mut workspace = SolverWorkspace::new(seed);
+        workspace.pgs.set_threads(threads as usize);
+        workspace
+    }
+
     /// Empty buffers; PGS's random orders come from `seed`.
     pub fn new(seed: u64) -> Self {
         SolverWorkspace {

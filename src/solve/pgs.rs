@@ -78,6 +78,10 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     colour_starts: Vec<usize>,
     colour_masks: Vec<u64>,
     colour_of: Vec<usize>,
+    /// Per body: whether its inverse mass is not zero (a pinned body's Δu never changes).
+    moving: Vec<bool>,
+    /// Threads a coloured sweep runs on ([`PgsWorkspace::set_threads`]; 1 by default).
+    threads: usize,
     pub(super) rng: ChaCha8Rng,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
@@ -148,9 +152,9 @@ impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
 /// rows update the copies, and [`PgsWorkspace::store`] writes them back once (the same
 /// arithmetic as [`BodyRows`], so the same bits; the copies stay in registers between the rows
 /// instead of going through memory). Only for a contact between two different bodies.
-struct CachedRows<'a, const D: usize, const R: usize> {
-    entry: &'a Entry<D, R>,
-    delta_velocity: [SVector<f64, D>; 2],
+pub(super) struct CachedRows<'a, const D: usize, const R: usize> {
+    pub entry: &'a Entry<D, R>,
+    pub delta_velocity: [SVector<f64, D>; 2],
 }
 
 impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
@@ -180,7 +184,7 @@ impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
 impl<const D: usize, const R: usize> Entry<D, R> {
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ (without compliance).
     #[inline(always)]
-    fn velocity(&self, delta_velocity: &[SVector<f64, D>], r: usize) -> f64 {
+    pub(super) fn velocity(&self, delta_velocity: &[SVector<f64, D>], r: usize) -> f64 {
         let mut w = self.b[r];
         for s in 0..2 {
             if let Some(b) = self.bodies[s] {
@@ -213,6 +217,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             colour_starts: Vec::new(),
             colour_masks: Vec::new(),
             colour_of: Vec::new(),
+            moving: Vec::new(),
+            threads: 1,
             rng: ChaCha8Rng::seed_from_u64(seed),
             local_fallbacks: 0,
         }
@@ -257,25 +263,32 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]): a body moves when
     /// its inverse mass is not zero.
     fn colour(&mut self, problem: &ContactProblem<D, R>) {
-        let moving: Vec<bool> = (problem.bodies.iter())
-            .map(|b| b.inverse_mass.iter().any(|&m| m != 0.0))
-            .collect();
         let PgsWorkspace {
             order,
             colour_starts,
             colour_masks,
             colour_of,
+            moving,
             ..
         } = self;
+        moving.clear();
+        moving.extend((problem.bodies.iter()).map(|b| b.inverse_mass.iter().any(|&m| m != 0.0)));
         super::colour::colour_contacts(
             problem.contacts.len(),
             |k| problem.contacts[k].bodies,
-            &moving,
+            moving,
             colour_masks,
             colour_of,
             order,
             colour_starts,
         );
+    }
+
+    /// Runs the sweeps of coloured solves on `threads` threads (at least 1): bit for bit the
+    /// one-thread result, for any number (docs/contact.md §"Coloured order"). Other orders, and
+    /// the exact local solve, stay on one thread.
+    pub fn set_threads(&mut self, threads: usize) {
+        self.threads = threads.max(1);
     }
 
     /// The number of colours of the last coloured solve.
@@ -362,21 +375,37 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     }
 
     fn residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
-        (0..problem.contacts.len())
-            .map(|k| {
-                let w = self.contact_velocity(problem, k, &lambda[k]);
-                constraint_residual(
-                    problem.friction,
-                    problem.contacts[k].bounds,
-                    problem.contacts[k].mu,
-                    &lambda[k],
-                    &w,
-                    &self.scales[k],
-                )
-            })
-            .fold(0.0, f64::max)
+        row_residual(
+            problem,
+            &self.entries,
+            &self.scales,
+            &self.delta_velocity,
+            lambda,
+        )
     }
 }
+
+/// The residual (docs/contact.md §"Residual") of λ with the bodies' Δu, m/s: the largest row
+/// term over all contacts.
+pub(super) fn row_residual<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    entries: &[Entry<D, R>],
+    scales: &[RowScales<R>],
+    delta_velocity: &[SVector<f64, D>],
+    lambda: &[SVector<f64, R>],
+) -> f64 {
+    (0..problem.contacts.len())
+        .map(|k| {
+            let c = &problem.contacts[k];
+            let w = SVector::<f64, R>::from_fn(|r, _| {
+                entries[k].velocity(delta_velocity, r) + c.row_compliance(r) * lambda[k][r]
+            });
+            constraint_residual(problem.friction, c.bounds, c.mu, &lambda[k], &w, &scales[k])
+        })
+        .fold(0.0, f64::max)
+}
+
+impl<const D: usize, const R: usize> PgsWorkspace<D, R> {}
 
 /// Solves `problem` by projected Gauss–Seidel, starting from each contact's `lambda0` (projected
 /// onto its feasible set). On return `lambda` holds one impulse per contact (N·s) and
@@ -406,7 +435,40 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     }
     let mut iterations = 0;
     let mut converged = false;
-    while iterations < settings.max_iterations {
+    let self_contact =
+        (workspace.entries.iter()).any(|e| e.bodies[0].is_some() && e.bodies[0] == e.bodies[1]);
+    let threaded = settings.order == ContactOrder::Coloured
+        && settings.local == LocalSolve::Rows
+        && workspace.threads > 1
+        && !self_contact;
+    if threaded {
+        let PgsWorkspace {
+            entries,
+            scales,
+            order,
+            colour_starts,
+            moving,
+            delta_velocity,
+            threads,
+            ..
+        } = &mut *workspace;
+        let residual = |dv: &[SVector<f64, D>], l: &[SVector<f64, R>]| {
+            row_residual(problem, entries, scales, dv, l)
+        };
+        (iterations, converged) = super::pgs_threads::sweep_in_threads(
+            problem,
+            settings,
+            entries,
+            order,
+            colour_starts,
+            moving,
+            delta_velocity,
+            lambda,
+            *threads,
+            &residual,
+        );
+    }
+    while !threaded && iterations < settings.max_iterations {
         if settings.order == ContactOrder::Random {
             let PgsWorkspace { order, rng, .. } = &mut *workspace;
             order.shuffle(rng);
@@ -521,6 +583,7 @@ pub(super) fn visit_exactly<const R: usize>(
 
 /// One joint's Gauss–Seidel update: each row in turn, unbounded, λ_r ← λ_r − w_r / a_r
 /// (docs/contact.md §"Row bounds").
+#[inline(always)]
 pub(super) fn solve_free_rows<const R: usize>(
     law: &RowLaw<R>,
     rows: &mut impl ContactRows<R>,
@@ -539,6 +602,7 @@ pub(super) fn solve_free_rows<const R: usize>(
 
 /// One contact's Gauss–Seidel update: normal row, then friction rows. `start` is the contact's
 /// warm start (read only by the deliberate fault `stale_friction_bound`).
+#[inline(always)]
 pub(super) fn solve_contact<const R: usize>(
     friction: FrictionModel,
     law: &RowLaw<R>,

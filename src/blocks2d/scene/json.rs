@@ -57,6 +57,7 @@ pub(super) struct ParametersFile2 {
     pub(super) max_travel: Option<Positive>,
     pub(super) shock_propagation: Option<bool>,
     pub(super) solver: Option<Solver>,
+    pub(super) threads: Option<Count>,
 }
 
 #[derive(Deserialize)]
@@ -101,6 +102,7 @@ impl ParametersFile2 {
             max_travel: p.max_travel.map(|x| x.0),
             shock_propagation: p.shock_propagation,
             solver: p.solver,
+            threads: p.threads.map(|x| x.0),
         }
     }
 }

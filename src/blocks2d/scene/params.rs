@@ -47,6 +47,8 @@ pub struct ParamOverrides2 {
     pub shock_propagation: Option<bool>,
     /// The contact solver: PGS or the exact Newton solver.
     pub solver: Option<Solver>,
+    /// Threads of the coloured order's sweeps.
+    pub threads: Option<u32>,
 }
 
 /// A parameter out of its range: the key (as in a scene file) and what is wrong.
@@ -82,6 +84,7 @@ impl ParamOverrides2 {
             ("max_travel", self.max_travel.is_some()),
             ("shock_propagation", self.shock_propagation.is_some()),
             ("solver", self.solver.is_some()),
+            ("threads", self.threads.is_some()),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -112,6 +115,7 @@ impl ParamOverrides2 {
             max_travel: self.max_travel.or(d.max_travel),
             shock_propagation: self.shock_propagation.unwrap_or(d.shock_propagation),
             solver: self.solver.unwrap_or(d.solver),
+            threads: self.threads.unwrap_or(d.threads),
             ..d
         };
         let white_threshold = self
@@ -197,6 +201,7 @@ impl ParamOverrides2 {
             post_stabilization: self.post_stabilization.or(other.post_stabilization),
             slop: self.slop.or(other.slop),
             contact_model: self.contact_model.or(other.contact_model),
+            threads: self.threads.or(other.threads),
             white_threshold: self.white_threshold.or(other.white_threshold),
             max_travel: self.max_travel.or(other.max_travel),
             shock_propagation: self.shock_propagation.or(other.shock_propagation),

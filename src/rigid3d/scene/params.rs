@@ -43,10 +43,15 @@ pub struct SimParameters {
     /// `pgs_tolerance`: stop PGS once its residual is at or below this, m/s (default none: run
     /// all `pgs_iterations`).
     pub pgs_tolerance: Option<f64>,
-    /// `pgs_order`: `sequential` (default) or `random` (a fresh seeded permutation per sweep).
+    /// `pgs_order`: `sequential` (default; also `found`: the order detection found the
+    /// contacts in), `random` (a fresh seeded permutation per sweep) or `coloured` (no two
+    /// consecutive contacts of a colour share a moving body; docs/contact.md §"Coloured order").
     pub pgs_order: ContactOrder,
     /// `pgs_seed`: seed of the random contact order (default 0).
     pub pgs_seed: u64,
+    /// `threads`: threads the coloured order's sweeps run on (default 1); the result is bit for
+    /// bit the same for any number. Other orders run on one thread.
+    pub threads: u32,
     /// `pgs_local_solve`: `rows` (default, the assignment's row-by-row update) or `exact` (each
     /// visit solves its contact's 3 × 3 problem exactly; docs/contact.md §"Exact local solve").
     pub pgs_local_solve: LocalSolve,

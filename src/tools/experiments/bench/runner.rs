@@ -17,6 +17,8 @@ pub struct BenchSettings {
     /// rigidref's contact order in the 3D scenes (`--contact-order`; the scenes' own is
     /// sequential).
     pub contact_order: crate::solve::ContactOrder,
+    /// Threads of rigidref's coloured sweeps in the 3D scenes (`--threads`; rapier runs on one).
+    pub threads: u32,
 }
 
 impl BenchSettings {
@@ -152,6 +154,7 @@ pub(super) fn run_3d(
     let mut scene = scene.clone();
     scene.params.pgs_iterations = s.iterations;
     scene.params.pgs_order = s.contact_order;
+    scene.params.threads = s.threads;
     let mut ours = World::new(&scene)?;
     let mut mirror = RapierMirror::new(&scene)?;
     mirror.set_solver_iterations(s.iterations as usize);
