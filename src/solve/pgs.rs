@@ -48,6 +48,10 @@ pub enum ContactOrder {
     Coloured,
 }
 
+/// The fewest contacts per thread and colour, on average, for which a coloured solve runs its
+/// sweeps on several threads ([`PgsWorkspace::set_threads`]); smaller solves stay on one.
+pub const MIN_CONTACTS_PER_THREAD: usize = 64;
+
 /// How long PGS runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PgsSettings {
@@ -82,6 +86,8 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     moving: Vec<bool>,
     /// Threads a coloured sweep runs on ([`PgsWorkspace::set_threads`]; 1 by default).
     threads: usize,
+    /// Threads the last solve's sweeps ran on.
+    last_threads: usize,
     pub(super) rng: ChaCha8Rng,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
@@ -219,6 +225,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             colour_of: Vec::new(),
             moving: Vec::new(),
             threads: 1,
+            last_threads: 1,
             rng: ChaCha8Rng::seed_from_u64(seed),
             local_fallbacks: 0,
         }
@@ -289,6 +296,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// the exact local solve, stay on one thread.
     pub fn set_threads(&mut self, threads: usize) {
         self.threads = threads.max(1);
+    }
+
+    /// The threads the last solve's sweeps ran on: 1 unless it was a coloured solve, row by
+    /// row, of at least [`MIN_CONTACTS_PER_THREAD`] contacts per thread and colour.
+    pub fn last_threads(&self) -> usize {
+        self.last_threads
     }
 
     /// The number of colours of the last coloured solve.
@@ -437,10 +450,16 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     let mut converged = false;
     let self_contact =
         (workspace.entries.iter()).any(|e| e.bodies[0].is_some() && e.bodies[0] == e.bodies[1]);
+    // Threads only where a colour gives each at least MIN_CONTACTS_PER_THREAD visits on
+    // average: below that, starting them and meeting at every colour's barrier costs more than
+    // the visits (the result is the same bits either way).
+    let colours = workspace.colours().max(1);
     let threaded = settings.order == ContactOrder::Coloured
         && settings.local == LocalSolve::Rows
         && workspace.threads > 1
-        && !self_contact;
+        && !self_contact
+        && problem.contacts.len() >= MIN_CONTACTS_PER_THREAD * workspace.threads * colours;
+    workspace.last_threads = if threaded { workspace.threads } else { 1 };
     if threaded {
         let PgsWorkspace {
             entries,

@@ -1,5 +1,6 @@
 //! The shared core: the contact problem and PGS.
 
+mod coloured;
 mod coulomb;
 mod criteria;
 mod derivations;
