@@ -75,6 +75,13 @@ pub struct FactoryArgs {
     /// Substeps per step.
     #[arg(long, default_value_t = 1)]
     pub substeps: u32,
+    /// PGS's contact order: random (a fresh seeded permutation per sweep), sequential, or
+    /// coloured (docs/contact.md §"Coloured order").
+    #[arg(long, value_enum, default_value_t = rigidref::solve::ContactOrder::Random)]
+    pub order: rigidref::solve::ContactOrder,
+    /// Threads of the coloured order's sweeps (the same bits on any number).
+    #[arg(long, default_value_t = 1)]
+    pub threads: u32,
     /// Output folder.
     #[arg(long, default_value = "factory")]
     pub out: PathBuf,
@@ -105,6 +112,8 @@ impl FactoryArgs {
             seed: self.seed,
             iterations: self.iterations,
             substeps: self.substeps,
+            order: self.order,
+            threads: self.threads,
             view_every: self.view_every,
         }
     }

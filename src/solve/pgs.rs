@@ -77,6 +77,9 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) scales: Vec<RowScales<R>>,
     /// The visiting order.
     order: Vec<usize>,
+    /// Where each contact's entry is in `entries` (the visiting order for the coloured order,
+    /// else the problem order).
+    slot: Vec<usize>,
     /// With the coloured order: where each colour starts in `order` (the end appended), and
     /// the colouring's scratch.
     colour_starts: Vec<usize>,
@@ -220,6 +223,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             entries: Vec::new(),
             scales: Vec::new(),
             order: Vec::new(),
+            slot: Vec::new(),
             colour_starts: Vec::new(),
             colour_masks: Vec::new(),
             colour_of: Vec::new(),
@@ -236,20 +240,37 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         &self.delta_velocity[i]
     }
 
-    fn prepare(&mut self, problem: &ContactProblem<D, R>) {
+    /// Builds the entries for `problem`. With the coloured order the contacts are coloured
+    /// first and the entries laid out in visiting order (`slot[k]` is contact k's place), so a
+    /// sweep reads them front to back; otherwise in problem order.
+    pub(super) fn prepare(&mut self, problem: &ContactProblem<D, R>, order: ContactOrder) {
         self.delta_velocity.clear();
         self.delta_velocity
             .resize(problem.bodies.len(), SVector::zeros());
         self.entries.clear();
         self.scales.clear();
         self.order.clear();
+        self.colour_starts.clear();
         self.local_fallbacks = 0;
-        for (k, c) in problem.contacts.iter().enumerate() {
+        let count = problem.contacts.len();
+        if order == ContactOrder::Coloured {
+            self.colour(problem);
+        } else {
+            self.order.extend(0..count);
+        }
+        self.scales
+            .extend((0..count).map(|k| row_scales(problem, k)));
+        self.slot.clear();
+        self.slot.resize(count, 0);
+        for i in 0..count {
+            let k = self.order[i];
+            self.slot[k] = i;
+            let c = &problem.contacts[k];
             let side = |s: usize| match c.bodies[s] {
                 Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
                 None => SMatrix::zeros(),
             };
-            let scales = row_scales(problem, k);
+            let scales = self.scales[k];
             self.entries.push(Entry {
                 bodies: c.bodies,
                 jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
@@ -262,9 +283,19 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                     compliance: c.compliance,
                 },
             });
-            self.scales.push(scales);
-            self.order.push(k);
         }
+    }
+
+    /// Contact `k`'s entry.
+    #[inline(always)]
+    pub(super) fn entry(&self, k: usize) -> &Entry<D, R> {
+        &self.entries[self.slot[k]]
+    }
+
+    /// Contact `k`'s entry, to change (shock propagation holds sides fixed).
+    pub(super) fn entry_mut(&mut self, k: usize) -> &mut Entry<D, R> {
+        let i = self.slot[k];
+        &mut self.entries[i]
     }
 
     /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]): a body moves when
@@ -315,11 +346,11 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     fn prefetch(&self, k: usize) {
         #[cfg(target_arch = "x86_64")]
         {
-            let entry = &self.entries[k] as *const Entry<D, R> as *const i8;
+            let entry = self.entry(k) as *const Entry<D, R> as *const i8;
             let bytes = std::mem::size_of::<Entry<D, R>>();
             for offset in (0..bytes).step_by(64) {
                 // SAFETY: a prefetch never faults and reads nothing into the program; the
-                // addresses are inside `self.entries[k]` anyway.
+                // addresses are inside contact k's entry anyway.
                 unsafe {
                     std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
                         entry.add(offset),
@@ -333,7 +364,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     #[inline(always)]
     fn rows(&mut self, k: usize) -> BodyRows<'_, D, R> {
         BodyRows {
-            entry: &self.entries[k],
+            entry: &self.entries[self.slot[k]],
             delta_velocity: &mut self.delta_velocity,
         }
     }
@@ -342,7 +373,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// when both sides are the same body (then the copies would not see each other's writes).
     #[inline(always)]
     fn cached_rows(&self, k: usize) -> Option<CachedRows<'_, D, R>> {
-        let entry = &self.entries[k];
+        let entry = self.entry(k);
         if entry.bodies[0].is_some() && entry.bodies[0] == entry.bodies[1] {
             return None;
         }
@@ -355,7 +386,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
     fn row_velocity(&self, k: usize, r: usize) -> f64 {
-        self.entries[k].velocity(&self.delta_velocity, r)
+        self.entry(k).velocity(&self.delta_velocity, r)
     }
 
     /// Changes λ_r of contact `k` by `delta` and updates the bodies' Δu to match.
@@ -391,6 +422,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         row_residual(
             problem,
             &self.entries,
+            &self.slot,
             &self.scales,
             &self.delta_velocity,
             lambda,
@@ -403,6 +435,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 pub(super) fn row_residual<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     entries: &[Entry<D, R>],
+    slot: &[usize],
     scales: &[RowScales<R>],
     delta_velocity: &[SVector<f64, D>],
     lambda: &[SVector<f64, R>],
@@ -411,7 +444,7 @@ pub(super) fn row_residual<const D: usize, const R: usize>(
         .map(|k| {
             let c = &problem.contacts[k];
             let w = SVector::<f64, R>::from_fn(|r, _| {
-                entries[k].velocity(delta_velocity, r) + c.row_compliance(r) * lambda[k][r]
+                entries[slot[k]].velocity(delta_velocity, r) + c.row_compliance(r) * lambda[k][r]
             });
             constraint_residual(problem.friction, c.bounds, c.mu, &lambda[k], &w, &scales[k])
         })
@@ -429,7 +462,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     workspace: &mut PgsWorkspace<D, R>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
-    workspace.prepare(problem);
+    workspace.prepare(problem, settings.order);
     lambda.clear();
     for (k, c) in problem.contacts.iter().enumerate() {
         let start = match c.bounds {
@@ -443,9 +476,6 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         lambda[k] = start;
     }
 
-    if settings.order == ContactOrder::Coloured {
-        workspace.colour(problem);
-    }
     let mut iterations = 0;
     let mut converged = false;
     let self_contact =
@@ -463,6 +493,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     if threaded {
         let PgsWorkspace {
             entries,
+            slot,
             scales,
             order,
             colour_starts,
@@ -472,7 +503,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             ..
         } = &mut *workspace;
         let residual = |dv: &[SVector<f64, D>], l: &[SVector<f64, R>]| {
-            row_residual(problem, entries, scales, dv, l)
+            row_residual(problem, entries, slot, scales, dv, l)
         };
         (iterations, converged) = super::pgs_threads::sweep_in_threads(
             problem,
@@ -527,7 +558,7 @@ pub(super) fn visit<const D: usize, const R: usize>(
     lambda: &mut SVector<f64, R>,
 ) {
     let contact = &problem.contacts[k];
-    let law = workspace.entries[k].law;
+    let law = workspace.entry(k).law;
     if local == LocalSolve::Exact {
         // q = w_now − A λ_now: the velocity the rest of the problem gives this constraint.
         let q =
@@ -555,7 +586,7 @@ pub(super) fn visit<const D: usize, const R: usize>(
             }
         }
         let copies = rows.delta_velocity;
-        let bodies = workspace.entries[k].bodies;
+        let bodies = workspace.entry(k).bodies;
         for s in 0..2 {
             if let Some(b) = bodies[s] {
                 workspace.delta_velocity[b] = copies[s];

@@ -64,7 +64,8 @@ struct Shared<const D: usize, const R: usize> {
 unsafe impl<const D: usize, const R: usize> Sync for Shared<D, R> {}
 
 /// The sweeps of a coloured solve on `threads` threads. `order` and `starts` are the colouring
-/// ([`super::colour::colour_contacts`]), `moving` which bodies may be written. Returns the
+/// ([`super::colour::colour_contacts`]), `entries` laid out in that order (entry i is contact
+/// `order[i]`), `moving` which bodies may be written. Returns the
 /// sweeps done and whether the tolerance stopped them.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn sweep_in_threads<const D: usize, const R: usize>(
@@ -93,10 +94,12 @@ pub(super) fn sweep_in_threads<const D: usize, const R: usize>(
             for colour in 0..starts.len() - 1 {
                 let (a, b) = (starts[colour], starts[colour + 1]);
                 let part = (a + (b - a) * t / threads)..(a + (b - a) * (t + 1) / threads);
-                for &k in &order[part] {
+                for i in part {
+                    // The entries are laid out in visiting order: entry i is contact order[i].
+                    let k = order[i];
                     // SAFETY: see `Shared`; k < contacts, its bodies < bodies.
                     unsafe {
-                        visit_shared(problem, &entries[k], k, moving, &shared, bodies, contacts)
+                        visit_shared(problem, &entries[i], k, moving, &shared, bodies, contacts)
                     };
                 }
                 barrier.wait();

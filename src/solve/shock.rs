@@ -138,9 +138,9 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
     for s in 0..2 {
         let Some(b) = c.bodies[s] else { continue };
         if layer[b].is_some_and(|l| l < current) {
-            workspace.entries[k].inverse_mass_jacobian_t[s] = SMatrix::zeros();
+            workspace.entry_mut(k).inverse_mass_jacobian_t[s] = SMatrix::zeros();
         } else {
-            block += c.jacobian[s] * workspace.entries[k].inverse_mass_jacobian_t[s];
+            block += c.jacobian[s] * workspace.entry(k).inverse_mass_jacobian_t[s];
         }
     }
     let mut block = (block + block.transpose()) * 0.5;
@@ -152,7 +152,7 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
         tangent_rho: super::residual::tangent_eigenvalue(&block),
         block,
     };
-    workspace.entries[k].law.diagonal = scales.diagonal;
-    workspace.entries[k].law.tangent_rho = scales.tangent_rho;
+    workspace.entry_mut(k).law.diagonal = scales.diagonal;
+    workspace.entry_mut(k).law.tangent_rho = scales.tangent_rho;
     workspace.scales[k] = scales;
 }

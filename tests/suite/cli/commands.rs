@@ -644,6 +644,7 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             ("bench", "--only") => &["grid"],
             ("bench", "--contact-order") => &["coloured"],
             (_, "--threads") => &["2"],
+            ("factory", "--order") => &["coloured"],
             (_, "--out") => &["t.jsonl"],
             (_, "--every") | (_, "--frame-every") => &["2"],
             (_, "--format") => &["jsonl"],

@@ -76,8 +76,9 @@ fn factory_world(s: &FactorySettings) -> Result<(World2, DropZone, Option<[usize
     let params = Params2 {
         iterations: s.iterations,
         substeps: s.substeps,
-        order: crate::solve::ContactOrder::Random,
+        order: s.order,
         seed: s.seed,
+        threads: s.threads,
         ..Params2::default()
     };
     let world = World2::new(&groups, params);

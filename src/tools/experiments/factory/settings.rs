@@ -40,6 +40,11 @@ pub struct FactorySettings {
     pub iterations: u32,
     /// Substeps per step.
     pub substeps: u32,
+    /// PGS's contact order (random, the factory's default; or coloured, docs/contact.md
+    /// §"Coloured order").
+    pub order: crate::solve::ContactOrder,
+    /// Threads of the coloured order's sweeps.
+    pub threads: u32,
     /// Record the state every this many steps for the viewer page DIR/view.html (0: no page).
     pub view_every: u64,
 }
