@@ -15,8 +15,8 @@ use nalgebra::SVector;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// The residual of (Δu, λ), m/s, for the tolerance's stop.
-type Residual<const D: usize, const R: usize> =
-    dyn Fn(&[SVector<f64, D>], &[SVector<f64, R>]) -> f64 + Sync;
+type Residual<'a, const D: usize, const R: usize> =
+    dyn Fn(&[SVector<f64, D>], &[SVector<f64, R>]) -> f64 + Sync + 'a;
 
 /// A barrier the threads spin at (a colour's visits take microseconds; an OS wait would cost
 /// more than the work), yielding after a while so that a descheduled partner can run.
@@ -82,7 +82,7 @@ pub(super) fn sweep_in_threads<const D: usize, const R: usize>(
     delta_velocity: &mut [SVector<f64, D>],
     lambda: &mut [SVector<f64, R>],
     threads: usize,
-    residual: &Residual<D, R>,
+    residual: &Residual<'_, D, R>,
 ) -> (u32, bool) {
     let shared = Shared {
         delta_velocity: delta_velocity.as_mut_ptr(),
