@@ -113,6 +113,11 @@ pub(super) struct Entry<const D: usize, const R: usize> {
     pub b: SVector<f64, R>,
     /// The constants a visit steps with.
     pub law: RowLaw<R>,
+    /// The rows' bounds (a contact's, or a joint's free rows).
+    pub bounds: RowBounds,
+    /// The warm start λ₀ (read by the deliberate fault `stale_friction_bound`): here so that
+    /// a visit reads nothing of the problem's contact, wherever the order jumps.
+    pub lambda0: SVector<f64, R>,
 }
 
 /// A constraint's constants as a visit reads them.
@@ -282,6 +287,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                     mu: c.mu,
                     compliance: c.compliance,
                 },
+                bounds: c.bounds,
+                lambda0: c.lambda0,
             });
         }
     }
@@ -579,10 +586,11 @@ pub(super) fn visit<const D: usize, const R: usize>(
         return;
     }
     if let Some(mut rows) = workspace.cached_rows(k) {
-        match contact.bounds {
+        let (bounds, lambda0) = (rows.entry.bounds, rows.entry.lambda0);
+        match bounds {
             RowBounds::Free => solve_free_rows(&law, &mut rows, lambda),
             RowBounds::Contact => {
-                solve_contact(problem.friction, &law, &contact.lambda0, &mut rows, lambda)
+                solve_contact(problem.friction, &law, &lambda0, &mut rows, lambda)
             }
         }
         let copies = rows.delta_velocity;

@@ -172,13 +172,12 @@ unsafe fn visit_shared<const D: usize, const R: usize>(
     };
     // SAFETY: the caller's contract.
     let lambda = unsafe { &mut *shared.lambda.add(k) };
-    let contact = &problem.contacts[k];
-    match contact.bounds {
+    match entry.bounds {
         RowBounds::Free => super::pgs::solve_free_rows(&entry.law, &mut rows, lambda),
         RowBounds::Contact => super::pgs::solve_contact(
             problem.friction,
             &entry.law,
-            &contact.lambda0,
+            &entry.lambda0,
             &mut rows,
             lambda,
         ),
