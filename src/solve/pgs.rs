@@ -166,9 +166,9 @@ impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
 /// rows update the copies, and [`PgsWorkspace::store`] writes them back once (the same
 /// arithmetic as [`BodyRows`], so the same bits; the copies stay in registers between the rows
 /// instead of going through memory). Only for a contact between two different bodies.
-pub(super) struct CachedRows<'a, const D: usize, const R: usize> {
-    pub entry: &'a Entry<D, R>,
-    pub delta_velocity: [SVector<f64, D>; 2],
+struct CachedRows<'a, const D: usize, const R: usize> {
+    entry: &'a Entry<D, R>,
+    delta_velocity: [SVector<f64, D>; 2],
 }
 
 impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
@@ -509,21 +509,57 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             threads,
             ..
         } = &mut *workspace;
-        let residual = |dv: &[SVector<f64, D>], l: &[SVector<f64, R>]| {
-            row_residual(problem, entries, slot, scales, dv, l)
+        let (bodies, contacts) = (delta_velocity.len(), lambda.len());
+        let shared = Shared {
+            delta_velocity: delta_velocity.as_mut_ptr(),
+            lambda: lambda.as_mut_ptr(),
         };
-        (iterations, converged) = super::pgs_threads::sweep_in_threads(
-            problem,
-            settings,
-            entries,
-            order,
+        let (entries, order, moving) = (&*entries, &*order, &*moving);
+        // The closures take `shared` whole (a reference), not its pointer fields, which are
+        // not Sync on their own.
+        let shared = &shared;
+        let visit = |position: usize| {
+            // The entries are laid out in visiting order: entry `position` is contact
+            // order[position].
+            let k = order[position];
+            // SAFETY: see `Shared`: within a colour no other visit touches contact k's λ or
+            // its moving bodies' Δu, and the threads meet at a barrier between colours.
+            unsafe {
+                visit_shared(
+                    problem,
+                    &entries[position],
+                    k,
+                    moving,
+                    shared,
+                    bodies,
+                    contacts,
+                )
+            };
+        };
+        let reached = std::sync::atomic::AtomicBool::new(false);
+        let after_sweep = || {
+            let Some(tolerance) = settings.tolerance else {
+                return false;
+            };
+            // SAFETY: every other thread waits at the barrier while thread 0 runs this.
+            let (dv, l) = unsafe {
+                (
+                    std::slice::from_raw_parts(shared.delta_velocity, bodies),
+                    std::slice::from_raw_parts(shared.lambda, contacts),
+                )
+            };
+            let done = row_residual(problem, entries, slot, scales, dv, l) <= tolerance;
+            reached.store(done, std::sync::atomic::Ordering::Relaxed);
+            done
+        };
+        iterations = super::pgs_threads::sweep_in_threads(
+            settings.max_iterations,
             colour_starts,
-            moving,
-            delta_velocity,
-            lambda,
             *threads,
-            &residual,
+            &visit,
+            &after_sweep,
         );
+        converged = reached.load(std::sync::atomic::Ordering::Relaxed);
     }
     while !threaded && iterations < settings.max_iterations {
         if settings.order == ContactOrder::Random {
@@ -724,6 +760,69 @@ pub(super) fn solve_contact<const R: usize>(
                 rows.apply(r, projected[r] - lambda[r]);
                 lambda[r] = projected[r];
             }
+        }
+    }
+}
+
+/// What the threads of a coloured solve share: the bodies' Δu and the contacts' λ, written
+/// through raw pointers ([`super::pgs_threads::sweep_in_threads`] schedules the visits).
+struct Shared<const D: usize, const R: usize> {
+    delta_velocity: *mut SVector<f64, D>,
+    lambda: *mut SVector<f64, R>,
+}
+
+// SAFETY: the pointers are written only at indices that one thread owns for the current colour
+// (a contact's λ; its moving bodies' Δu, which no other contact of the colour touches); the
+// barrier between colours orders every write before the next colour's reads; a pinned body's
+// Δu is only read.
+unsafe impl<const D: usize, const R: usize> Sync for Shared<D, R> {}
+
+/// One visit of contact `k` on a thread (row by row, as [`visit`] with [`CachedRows`]): copy its
+/// bodies' Δu, update, write back the moving ones. Every operation is the one-thread visit's,
+/// on the same values, so the bits are the same.
+///
+/// # Safety
+/// No other thread reads or writes contact `k`'s λ or its moving bodies' Δu meanwhile, and
+/// nothing writes a pinned body's Δu; `k` < `contacts` and its bodies < `bodies`.
+unsafe fn visit_shared<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    entry: &Entry<D, R>,
+    k: usize,
+    moving: &[bool],
+    shared: &Shared<D, R>,
+    bodies: usize,
+    contacts: usize,
+) {
+    debug_assert!(k < contacts);
+    let read = |s: usize| {
+        entry.bodies[s].map_or(SVector::zeros(), |b| {
+            debug_assert!(b < bodies);
+            // SAFETY: the caller's contract.
+            unsafe { *shared.delta_velocity.add(b) }
+        })
+    };
+    let mut rows = CachedRows {
+        entry,
+        delta_velocity: [read(0), read(1)],
+    };
+    // SAFETY: the caller's contract.
+    let lambda = unsafe { &mut *shared.lambda.add(k) };
+    match entry.bounds {
+        RowBounds::Free => solve_free_rows(&entry.law, &mut rows, lambda),
+        RowBounds::Contact => solve_contact(
+            problem.friction,
+            &entry.law,
+            &entry.lambda0,
+            &mut rows,
+            lambda,
+        ),
+    }
+    for s in 0..2 {
+        if let Some(b) = entry.bodies[s]
+            && moving[b]
+        {
+            // SAFETY: the caller's contract.
+            unsafe { *shared.delta_velocity.add(b) = rows.delta_velocity[s] };
         }
     }
 }

@@ -1,5 +1,6 @@
-//! PGS sweeps in the coloured order on several threads (`threads: N`). docs/contact.md
-//! §"Coloured order".
+//! The schedule of PGS sweeps in the coloured order on several threads (`threads: N`):
+//! which thread visits which contacts, and the barriers between colours. docs/contact.md
+//! §"Coloured order". The visit itself is [`super::pgs`]'s.
 //!
 //! The contacts of one colour share no moving body, so their visits are independent: each reads
 //! and writes only its own bodies' Δu and its own λ. The threads split each colour into
@@ -9,14 +10,7 @@
 //! contacts of one colour) is read but never written: it stays +0, as it does on one thread,
 //! where adding M⁻¹Jᵀ δ = 0 leaves it +0.
 
-use super::pgs::{CachedRows, Entry, PgsSettings};
-use crate::problem::{ContactProblem, RowBounds};
-use nalgebra::SVector;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
-/// The residual of (Δu, λ), m/s, for the tolerance's stop.
-type Residual<'a, const D: usize, const R: usize> =
-    dyn Fn(&[SVector<f64, D>], &[SVector<f64, R>]) -> f64 + Sync + 'a;
 
 /// A barrier the threads spin at (a colour's visits take microseconds; an OS wait would cost
 /// more than the work), yielding after a while so that a descheduled partner can run.
@@ -56,72 +50,34 @@ impl SpinBarrier {
     }
 }
 
-/// What the threads share: the bodies' Δu and the contacts' λ, written through raw pointers.
-struct Shared<const D: usize, const R: usize> {
-    delta_velocity: *mut SVector<f64, D>,
-    lambda: *mut SVector<f64, R>,
-}
-
-// SAFETY: the pointers are written only at indices that one thread owns for the current colour
-// (a contact's λ; its moving bodies' Δu, which no other contact of the colour touches); the
-// barrier between colours orders every write before the next colour's reads.
-unsafe impl<const D: usize, const R: usize> Sync for Shared<D, R> {}
-
-/// The sweeps of a coloured solve on `threads` threads. `order` and `starts` are the colouring
-/// ([`super::colour::colour_contacts`]), `entries` laid out in that order (entry i is contact
-/// `order[i]`), `moving` which bodies may be written. Returns the
-/// sweeps done and whether the tolerance stopped them.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn sweep_in_threads<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    settings: &PgsSettings,
-    entries: &[Entry<D, R>],
-    order: &[usize],
+/// Runs up to `sweeps` sweeps on `threads` threads: for each colour c (`starts[c]..starts[c+1]`
+/// in visiting order), thread t visits its contiguous part of the colour's positions with
+/// `visit(position)`, and all meet at a barrier before the next colour. After each sweep thread
+/// 0 calls `after_sweep` while the others wait; it returns true to stop. Returns the sweeps
+/// done.
+pub(super) fn sweep_in_threads(
+    sweeps: u32,
     starts: &[usize],
-    moving: &[bool],
-    delta_velocity: &mut [SVector<f64, D>],
-    lambda: &mut [SVector<f64, R>],
     threads: usize,
-    residual: &Residual<'_, D, R>,
-) -> (u32, bool) {
-    let shared = Shared {
-        delta_velocity: delta_velocity.as_mut_ptr(),
-        lambda: lambda.as_mut_ptr(),
-    };
-    let (bodies, contacts) = (delta_velocity.len(), lambda.len());
+    visit: &(dyn Fn(usize) + Sync),
+    after_sweep: &(dyn Fn() -> bool + Sync),
+) -> u32 {
     let barrier = SpinBarrier::new(threads);
     let stop = AtomicBool::new(false);
     let done = AtomicUsize::new(0);
-    let converged = AtomicBool::new(false);
     let work = |t: usize| {
-        for sweep in 0..settings.max_iterations {
-            for colour in 0..starts.len() - 1 {
+        for sweep in 0..sweeps {
+            for colour in 0..starts.len().saturating_sub(1) {
                 let (a, b) = (starts[colour], starts[colour + 1]);
-                let part = (a + (b - a) * t / threads)..(a + (b - a) * (t + 1) / threads);
-                for i in part {
-                    // The entries are laid out in visiting order: entry i is contact order[i].
-                    let k = order[i];
-                    // SAFETY: see `Shared`; k < contacts, its bodies < bodies.
-                    unsafe {
-                        visit_shared(problem, &entries[i], k, moving, &shared, bodies, contacts)
-                    };
+                for position in (a + (b - a) * t / threads)..(a + (b - a) * (t + 1) / threads) {
+                    visit(position);
                 }
                 barrier.wait();
             }
             if t == 0 {
                 done.store(sweep as usize + 1, Ordering::Relaxed);
-                if let Some(tolerance) = settings.tolerance {
-                    // SAFETY: every thread is at the barrier below; nothing writes meanwhile.
-                    let (dv, l) = unsafe {
-                        (
-                            std::slice::from_raw_parts(shared.delta_velocity, bodies),
-                            std::slice::from_raw_parts(shared.lambda, contacts),
-                        )
-                    };
-                    if residual(dv, l) <= tolerance {
-                        converged.store(true, Ordering::Relaxed);
-                        stop.store(true, Ordering::Relaxed);
-                    }
+                if after_sweep() {
+                    stop.store(true, Ordering::Relaxed);
                 }
             }
             barrier.wait();
@@ -137,57 +93,5 @@ pub(super) fn sweep_in_threads<const D: usize, const R: usize>(
         }
         work(0);
     });
-    (
-        done.load(Ordering::Relaxed) as u32,
-        converged.load(Ordering::Relaxed),
-    )
-}
-
-/// One visit of contact `k` (row by row, as [`super::pgs::visit`] with [`CachedRows`]): copy
-/// its bodies' Δu, update, write back the moving ones.
-///
-/// # Safety
-/// No other thread reads or writes contact `k`'s λ or its moving bodies' Δu meanwhile, and
-/// nothing writes a pinned body's Δu.
-unsafe fn visit_shared<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    entry: &Entry<D, R>,
-    k: usize,
-    moving: &[bool],
-    shared: &Shared<D, R>,
-    bodies: usize,
-    contacts: usize,
-) {
-    debug_assert!(k < contacts);
-    let read = |s: usize| {
-        entry.bodies[s].map_or(SVector::zeros(), |b| {
-            debug_assert!(b < bodies);
-            // SAFETY: the caller's contract.
-            unsafe { *shared.delta_velocity.add(b) }
-        })
-    };
-    let mut rows = CachedRows {
-        entry,
-        delta_velocity: [read(0), read(1)],
-    };
-    // SAFETY: the caller's contract.
-    let lambda = unsafe { &mut *shared.lambda.add(k) };
-    match entry.bounds {
-        RowBounds::Free => super::pgs::solve_free_rows(&entry.law, &mut rows, lambda),
-        RowBounds::Contact => super::pgs::solve_contact(
-            problem.friction,
-            &entry.law,
-            &entry.lambda0,
-            &mut rows,
-            lambda,
-        ),
-    }
-    for s in 0..2 {
-        if let Some(b) = entry.bodies[s]
-            && moving[b]
-        {
-            // SAFETY: the caller's contract.
-            unsafe { *shared.delta_velocity.add(b) = rows.delta_velocity[s] };
-        }
-    }
+    done.load(Ordering::Relaxed) as u32
 }
