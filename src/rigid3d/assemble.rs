@@ -44,7 +44,8 @@ pub fn assemble_problem(
         .collect();
     let problem_contacts = contacts
         .iter()
-        .map(|c| {
+        .enumerate()
+        .map(|(index, c)| {
             let body1 = &bodies[c.body1];
             let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
             if crate::common::faults::fault!(jacobian_sign_flip) {
@@ -65,7 +66,7 @@ pub fn assemble_problem(
                 b,
                 mu: settings.mu,
                 compliance: settings.compliance,
-                lambda0: warm.initial_impulse(c),
+                lambda0: warm.initial_impulse_at(index, c),
                 bounds: RowBounds::Contact,
             }
         })

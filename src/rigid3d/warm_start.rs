@@ -19,6 +19,13 @@ pub struct WarmStart {
     /// Whether to use them (the scene's `warm_start`); when false every λ₀ is zero.
     pub enabled: bool,
     impulses: FastMap<ContactKey, Vector3<f64>>,
+    /// The previous substep's contacts in their order, with their impulses: a contact found at
+    /// the same index as last substep (the usual case in a resting scene, whose detection order
+    /// does not change) is matched without hashing.
+    previous: Vec<(ContactKey, Vector3<f64>)>,
+    /// Whether the previous substep's keys were all different (then the entry at an index is
+    /// the one the map holds for its key; with a repeated key the map holds the last).
+    unique: bool,
 }
 
 impl WarmStart {
@@ -27,15 +34,27 @@ impl WarmStart {
         WarmStart {
             enabled,
             impulses: FastMap::default(),
+            previous: Vec::new(),
+            unique: true,
         }
     }
 
     /// λ₀ for `contact`: its previous world impulse in its current frame, or zero.
     pub fn initial_impulse(&self, contact: &Contact) -> SVector<f64, 3> {
+        self.initial_impulse_at(usize::MAX, contact)
+    }
+
+    /// λ₀ for `contact`, the `index`-th of this substep's contacts: the same impulse as
+    /// [`Self::initial_impulse`], looked up first at the same index of the previous substep.
+    pub fn initial_impulse_at(&self, index: usize, contact: &Contact) -> SVector<f64, 3> {
         if !self.enabled {
             return SVector::zeros();
         }
-        match self.impulses.get(&key(contact)) {
+        let key = key(contact);
+        let same_place = (self.previous.get(index))
+            .filter(|(k, _)| self.unique && *k == key)
+            .map(|(_, p)| p);
+        match same_place.or_else(|| self.impulses.get(&key)) {
             Some(p) => SVector::<f64, 3>::new(
                 contact.frame.n.dot(p),
                 contact.frame.t1.dot(p),
@@ -48,18 +67,24 @@ impl WarmStart {
     /// Replaces the cache with this substep's contacts and impulses.
     pub fn store(&mut self, contacts: &[Contact], lambda: &[SVector<f64, 3>]) {
         self.impulses.clear();
+        self.previous.clear();
+        self.unique = true;
         if !self.enabled {
             return;
         }
         for (c, l) in contacts.iter().zip(lambda) {
             let p = c.frame.n * l[0] + c.frame.t1 * l[1] + c.frame.t2 * l[2];
-            self.impulses.insert(key(c), p);
+            if self.impulses.insert(key(c), p).is_some() {
+                self.unique = false;
+            }
+            self.previous.push((key(c), p));
         }
     }
 
     /// Forgets everything (a substep without contacts).
     pub fn clear(&mut self) {
         self.impulses.clear();
+        self.previous.clear();
     }
 }
 

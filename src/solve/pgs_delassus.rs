@@ -88,6 +88,9 @@ fn pgs_local<const R: usize>(
         RowBounds::Free => c.lambda0,
     }));
     let mut order: Vec<usize> = (0..count).collect();
+    if settings.order == ContactOrder::Coloured {
+        order = coloured_order(problem);
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut fallbacks = 0;
     let mut iterations = 0;
@@ -140,4 +143,42 @@ fn pgs_local<const R: usize>(
         method: SolveMethod::Pgs,
         local_fallbacks: fallbacks,
     }
+}
+
+/// The coloured order of the local form (docs/contact.md §"Coloured order"): contacts coupled
+/// through W (an off-diagonal block W_kj, either way round) never share a colour; greedy in
+/// problem order, colours in turn, problem order within a colour. The local form has no bodies,
+/// so W's couplings stand for the shared bodies.
+fn coloured_order<const R: usize>(problem: &LocalProblem<R>) -> Vec<usize> {
+    let count = problem.contacts.len();
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for (k, c) in problem.contacts.iter().enumerate() {
+        for (j, _) in &c.row {
+            if *j != k {
+                neighbours[k].push(*j);
+                neighbours[*j].push(k);
+            }
+        }
+    }
+    let mut colour = vec![usize::MAX; count];
+    let mut used = Vec::new();
+    for k in 0..count {
+        used.clear();
+        used.extend(
+            neighbours[k]
+                .iter()
+                .map(|&j| colour[j])
+                .filter(|&c| c != usize::MAX),
+        );
+        used.sort_unstable();
+        used.dedup();
+        colour[k] = used
+            .iter()
+            .enumerate()
+            .find(|(i, c)| i != *c)
+            .map_or(used.len(), |(i, _)| i);
+    }
+    let mut order: Vec<usize> = (0..count).collect();
+    order.sort_by_key(|&k| (colour[k], k));
+    order
 }

@@ -319,6 +319,7 @@ impl World {
             match s.pgs.order {
                 rigidref::solve::ContactOrder::Sequential => "sequential",
                 rigidref::solve::ContactOrder::Random => "random",
+                rigidref::solve::ContactOrder::Coloured => "coloured",
             },
         )?;
         pgs.set_item("local", s.pgs.local.name())?;

@@ -33,7 +33,7 @@ fn solve(
 /// On random frictionless problems with a well-conditioned normal block (a unique λ), the
 /// coloured order converges to the residual tolerance as the problem order does, to the same λ
 /// (within 1e-6 of its scale: both stop at residual 1e-9 m/s, the normal block's condition
-/// number is at most 1e3); and with two threads every bit of λ and of the report is the one
+/// number is at most 1e3), in the body form and in the local form (coloured by W's couplings); and with two threads every bit of λ and of the report is the one
 /// thread's, converged or not (5 and 20 000 sweeps).
 #[test]
 fn coloured_sweeps_converge_to_the_problem_orders_solution_on_any_number_of_threads() {
@@ -51,6 +51,20 @@ fn coloured_sweeps_converge_to_the_problem_orders_solution_on_any_number_of_thre
         let scale = found.iter().map(|l| l.amax()).fold(1e-12, f64::max);
         for (a, b) in found.iter().zip(&coloured) {
             prop_assert!((a - b).amax() <= 1e-6 * scale, "{a} against {b}");
+        }
+        // The local form (W, q) colours by W's couplings: the same λ again.
+        let local = problem.to_local();
+        let mut local_lambda = Vec::new();
+        let settings = PgsSettings {
+            max_iterations: 20_000,
+            tolerance: Some(1e-9),
+            order: ContactOrder::Coloured,
+            local: LocalSolve::Rows,
+        };
+        let report = rigidref::solve::solve_pgs_local(&local, &settings, 0, &mut local_lambda);
+        prop_assert!(report.converged, "local form: {report:?}");
+        for (a, b) in found.iter().zip(&local_lambda) {
+            prop_assert!((a - b).amax() <= 1e-6 * scale, "local form: {a} against {b}");
         }
         for sweeps in [5, 20_000] {
             let one = solve(&problem, sweeps, Some(1e-9), ContactOrder::Coloured, 1);

@@ -92,8 +92,8 @@ fn warm<const R: usize, P: WarmStart<R>>(
 
 /// Projected Gauss–Seidel (src/solve/pgs.rs, docs/contact.md §"Projected Gauss–Seidel"): at most
 /// `iterations` sweeps, stopping at `tolerance` (m/s) when given; warm_start (contacts × R)
-/// replaces the problem's λ0 (None keeps it: the step's own warm start); order "sequential" or
-/// "random" (seeded by `seed`); local "rows" (the assignment's) or "exact". With the settings of
+/// replaces the problem's λ0 (None keeps it: the step's own warm start); order "sequential"
+/// (also "found"), "random" (seeded by `seed`) or "coloured" (docs/contact.md §"Coloured order"); local "rows" (the assignment's) or "exact". With the settings of
 /// `World.solver_settings()` it reproduces a step's λ to the bit.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
@@ -109,11 +109,12 @@ pub fn solve_pgs(
     seed: u64,
 ) -> PyResult<Solution> {
     let order = match order {
-        "sequential" => ContactOrder::Sequential,
+        "sequential" | "found" => ContactOrder::Sequential,
         "random" => ContactOrder::Random,
+        "coloured" => ContactOrder::Coloured,
         o => {
             return Err(errors::problem(format!(
-                "order {o:?}: expected \"sequential\" or \"random\""
+                "order {o:?}: expected \"sequential\", \"random\" or \"coloured\""
             )));
         }
     };
