@@ -56,9 +56,9 @@ pub struct CompareArgs {
     /// Compare outcomes instead of trajectories.
     #[arg(long)]
     pub outcome: bool,
-    /// Trajectory mode: tolerance of positions (m), orientations (rad), velocities (m/s) and
-    /// angular velocities (rad/s), and of energies and momenta relative to the reference's
-    /// largest.
+    /// Trajectory mode: tolerance of positions (m; 2D: blocks), orientations (rad), velocities
+    /// (m/s; 2D: blocks per time unit) and angular velocities (rad/s; 2D: rad per time unit),
+    /// and of energies and momenta relative to the reference's largest.
     #[arg(long, default_value_t = 1e-3, conflicts_with = "outcome")]
     pub tolerance: f64,
     /// Outcome mode: the scene, for the bodies' sizes, symmetries and axes (3D: a scene file;

@@ -76,8 +76,7 @@ enum Command {
     Render(render::RenderArgs),
     /// Drop random bodies into a container (2D stress test), with the scaling report.
     Factory(factory::FactoryArgs),
-    /// Compare a trace with the reference's, trajectory by trajectory or by outcome (2D traces:
-    /// trajectories).
+    /// Compare a trace with the reference's (3D or 2D), trajectory by trajectory or by outcome.
     Compare(compare::CompareArgs),
     /// Compare two contact-problem files (3D or 2D) for the same state, up to the tangent basis.
     CompareProblem(compare_problem::CompareProblemArgs),
