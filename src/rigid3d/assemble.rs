@@ -35,17 +35,35 @@ pub fn assemble_problem(
     settings: &ProblemSettings,
     warm: &WarmStart,
 ) -> ContactProblem3 {
-    let problem_bodies: Vec<ProblemBody<6>> = bodies
-        .iter()
-        .map(|b| ProblemBody {
-            inverse_mass: inverse_mass_matrix(b),
-            velocity: generalized_velocity(b),
-        })
-        .collect();
-    let problem_contacts = contacts
-        .iter()
-        .enumerate()
-        .map(|(index, c)| {
+    let mut problem = ContactProblem3 {
+        friction: settings.friction,
+        bodies: Vec::new(),
+        contacts: Vec::new(),
+    };
+    assemble_problem_into(bodies, contacts, settings, warm, &mut problem);
+    problem
+}
+
+/// [`assemble_problem`] into `problem`, its buffers reused (a substep allocates nothing once
+/// they have grown to the scene's size).
+pub fn assemble_problem_into(
+    bodies: &[RigidBody],
+    contacts: &[Contact],
+    settings: &ProblemSettings,
+    warm: &WarmStart,
+    problem: &mut ContactProblem3,
+) {
+    problem.friction = settings.friction;
+    problem.bodies.clear();
+    problem.bodies.extend(bodies.iter().map(|b| ProblemBody {
+        inverse_mass: inverse_mass_matrix(b),
+        velocity: generalized_velocity(b),
+    }));
+    let problem_bodies = &problem.bodies;
+    problem.contacts.clear();
+    problem
+        .contacts
+        .extend(contacts.iter().enumerate().map(|(index, c)| {
             let body1 = &bodies[c.body1];
             let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
             if crate::common::faults::fault!(jacobian_sign_flip) {
@@ -69,11 +87,5 @@ pub fn assemble_problem(
                 lambda0: warm.initial_impulse_at(index, c),
                 bounds: RowBounds::Contact,
             }
-        })
-        .collect();
-    ContactProblem3 {
-        friction: settings.friction,
-        bodies: problem_bodies,
-        contacts: problem_contacts,
-    }
+        }));
 }

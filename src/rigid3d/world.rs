@@ -15,7 +15,7 @@
 //! After the frame, the penetration measure ([`crate::rigid3d::collide::penetration`]) records
 //! how deep bodies interpenetrate, whatever contacts were found.
 
-use crate::rigid3d::assemble::{ProblemSettings, assemble_problem};
+use crate::rigid3d::assemble::{ProblemSettings, assemble_problem_into};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::collide::detect::Detector;
 use crate::rigid3d::collide::penetration::Penetration;
@@ -45,6 +45,9 @@ pub struct World {
     pub step: u64,
     /// The contact solves of the last frame, one per substep that had contacts.
     pub solves: Vec<Solve3>,
+    /// Solve records of earlier frames, kept for their buffers so that a frame does not
+    /// allocate once they have grown.
+    spare_solves: Vec<Solve3>,
     /// The interpenetrating pairs after the last frame (the penetration measure).
     pub penetrations: Vec<Penetration>,
     colliders: Vec<MeshCollider>,
@@ -121,6 +124,7 @@ impl World {
             bodies,
             step: 0,
             solves: Vec::new(),
+            spare_solves: Vec::new(),
             penetrations: Vec::new(),
             colliders,
             detector: Detector::default(),
@@ -203,17 +207,36 @@ impl World {
             return;
         }
         let clock = Instant::now();
-        let problem = assemble_problem(
+        let mut record = self.spare_solves.pop().unwrap_or_else(|| SubstepSolve {
+            substep,
+            contacts: Vec::new(),
+            problem: crate::problem::ContactProblem {
+                friction: Default::default(),
+                bodies: Vec::new(),
+                contacts: Vec::new(),
+            },
+            lambda: Vec::new(),
+            report: Default::default(),
+            solve_seconds: 0.0,
+            solve_cpu_seconds: 0.0,
+        });
+        assemble_problem_into(
             &self.bodies,
             &contacts,
             &self.problem_settings(),
             &self.warm_start,
+            &mut record.problem,
         );
         self.phase_times.assemble += clock.elapsed().as_secs_f64();
-        let mut lambda = Vec::with_capacity(contacts.len());
+        record.lambda.clear();
         let settings = self.solver_settings();
         let (report, solve_seconds, cpu) = crate::common::timing::timed(|| {
-            solve(&problem, &settings, &mut self.workspace, &mut lambda)
+            solve(
+                &record.problem,
+                &settings,
+                &mut self.workspace,
+                &mut record.lambda,
+            )
         });
         self.phase_times.solve += solve_seconds;
         let clock = Instant::now();
@@ -222,16 +245,14 @@ impl World {
             body.v += du.fixed_rows::<3>(0);
             body.omega += du.fixed_rows::<3>(3);
         }
-        self.warm_start.store(&contacts, &lambda);
-        self.solves.push(SubstepSolve {
-            substep,
-            contacts: contacts.clone(),
-            problem,
-            lambda,
-            report,
-            solve_seconds,
-            solve_cpu_seconds: cpu.unwrap_or(0.0),
-        });
+        self.warm_start.store(&contacts, &record.lambda);
+        record.substep = substep;
+        record.contacts.clear();
+        record.contacts.extend_from_slice(&contacts);
+        record.report = report;
+        record.solve_seconds = solve_seconds;
+        record.solve_cpu_seconds = cpu.unwrap_or(0.0);
+        self.solves.push(record);
         self.contact_buffer = contacts;
         self.phase_times.apply += clock.elapsed().as_secs_f64();
     }
@@ -246,7 +267,7 @@ impl World {
         let h = self.params.h();
         let gravity = self.params.gravity;
         let integrator = self.params.integrator;
-        self.solves.clear();
+        self.spare_solves.append(&mut self.solves);
         for substep in 0..self.params.substeps {
             let clock = Instant::now();
             // Applied loads at the substep's start time (explicit, like gravity).

@@ -246,7 +246,11 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
     // there is one PGS in the crate.
     let root = common::project_root();
     let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
-    assert!(read("src/rigid3d/world.rs").contains("solve(&problem, &settings"));
+    let world3 = read("src/rigid3d/world.rs");
+    assert!(
+        world3.contains("use crate::solve::{")
+            && world3.contains("solve(\n                &record.problem,")
+    );
     assert!(read("src/blocks2d/world/solve.rs").contains("crate::solve::solve("));
     assert!(read("src/solve/mod.rs").contains("Solver::Pgs => solve_pgs("));
     let mut definitions = 0;
