@@ -43,14 +43,40 @@ public class Student {
 }
 "#;
 
-#[test]
-fn the_java_writer_traces_a_student_simulator_that_compare_grades() {
-    if std::process::Command::new("javac")
+/// Whether javac is on PATH; says why a test is skipped when not.
+fn has_javac() -> bool {
+    let found = std::process::Command::new("javac")
         .arg("-version")
         .output()
-        .is_err()
-    {
+        .is_ok();
+    if !found {
         eprintln!("skipped: no javac on PATH (Debian's default-jdk-headless gives one)");
+    }
+    found
+}
+
+/// Copies java/RigidrefTrace.java into `dir` and compiles it there with `program`.
+fn compile_with_writer(dir: &std::path::Path, program: &str) {
+    std::fs::copy(
+        common::project_root().join("java/RigidrefTrace.java"),
+        dir.join("RigidrefTrace.java"),
+    )
+    .unwrap();
+    let javac = std::process::Command::new("javac")
+        .args(["RigidrefTrace.java", program])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        javac.status.success(),
+        "{}",
+        String::from_utf8_lossy(&javac.stderr)
+    );
+}
+
+#[test]
+fn the_java_writer_traces_a_student_simulator_that_compare_grades() {
+    if !has_javac() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
@@ -79,22 +105,8 @@ fn the_java_writer_traces_a_student_simulator_that_compare_grades() {
         header["substeps"].as_u64().unwrap(),
         header["gravity"][1].as_f64().unwrap(),
     );
-    std::fs::copy(
-        common::project_root().join("java/RigidrefTrace.java"),
-        dir.join("RigidrefTrace.java"),
-    )
-    .unwrap();
     std::fs::write(dir.join("Student.java"), STUDENT).unwrap();
-    let javac = std::process::Command::new("javac")
-        .args(["RigidrefTrace.java", "Student.java"])
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        javac.status.success(),
-        "{}",
-        String::from_utf8_lossy(&javac.stderr)
-    );
+    compile_with_writer(dir, "Student.java");
     let run = |out: &str, bug: bool| {
         let mut args = vec![
             "-cp".to_string(),
@@ -150,12 +162,7 @@ fn the_java_writer_traces_a_student_simulator_that_compare_grades() {
 /// the normal given the wrong way round, the normal row is named.
 #[test]
 fn the_java_writer_writes_a_2d_problem_that_compare_problem_reads() {
-    if std::process::Command::new("javac")
-        .arg("-version")
-        .output()
-        .is_err()
-    {
-        eprintln!("skipped: no javac on PATH (Debian's default-jdk-headless gives one)");
+    if !has_javac() {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
@@ -229,21 +236,7 @@ fn the_java_writer_writes_a_2d_problem_that_compare_problem_reads() {
         solve.report.iterations
     );
     std::fs::write(dir.join("Dump.java"), program).unwrap();
-    std::fs::copy(
-        common::project_root().join("java/RigidrefTrace.java"),
-        dir.join("RigidrefTrace.java"),
-    )
-    .unwrap();
-    let javac = std::process::Command::new("javac")
-        .args(["RigidrefTrace.java", "Dump.java"])
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        javac.status.success(),
-        "{}",
-        String::from_utf8_lossy(&javac.stderr)
-    );
+    compile_with_writer(dir, "Dump.java");
     for (out, variant) in [
         ("java.problem.json", None),
         ("flipped.problem.json", Some("bug")),

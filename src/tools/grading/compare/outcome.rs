@@ -122,15 +122,24 @@ pub fn outcome_scene(
         let scene = crate::rigid3d::scene::load_scene(path).map_err(|e| e.0)?;
         return Ok(Some((scene, path.to_path_buf())));
     }
-    let source = std::path::Path::new(&reference.header.source);
+    Ok(source_candidates(&reference.header.source, reference_path)
+        .find_map(|p| crate::rigid3d::scene::load_scene(&p).ok().map(|s| (s, p))))
+}
+
+/// The files a reference trace's header `source` may name: the path as written, then the same
+/// path beside the reference trace; those that exist. (Outcome mode's scene, 3D and 2D.)
+pub(super) fn source_candidates(
+    source: &str,
+    reference_path: &std::path::Path,
+) -> impl Iterator<Item = std::path::PathBuf> {
+    let source = std::path::Path::new(source);
     let beside = reference_path
         .parent()
         .map(|d| d.join(source))
         .unwrap_or_default();
-    Ok([source.to_path_buf(), beside]
+    [source.to_path_buf(), beside]
         .into_iter()
         .filter(|p| p.is_file())
-        .find_map(|p| crate::rigid3d::scene::load_scene(&p).ok().map(|s| (s, p))))
 }
 
 /// Outcome mode: what happened, compared observable by observable. `scene` (the reference's)

@@ -53,7 +53,7 @@ pub fn read_trace2_file(path: &std::path::Path) -> Result<Trace2, String> {
 /// (docs/grading.md §"Refused traces"): records at all, the reference's number of bodies, finite
 /// numbers, strictly increasing times, the reference's span covered to one step at each end,
 /// records at most max(the reference's spacing, [`MAX_GAP_STEPS`] steps) apart.
-pub(super) fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
+fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
     let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
     if other.records.is_empty() {
         return refuse("empty", "the trace has no records".into());
@@ -169,6 +169,34 @@ pub(super) fn angle_difference(a: f64, b: f64) -> f64 {
     d.min(std::f64::consts::TAU - d)
 }
 
+/// The matching (other body of each reference body) and the span both traces cover.
+pub(super) type Prepared = (Vec<usize>, f64, f64);
+
+/// What both 2D modes do first: the reference must be a trace that would pass its own checks
+/// (else an error), the other is refused for the first defect it has (`Ok(Err(refusal))`),
+/// then the bodies are matched by the image. Returns the matching and the span both traces
+/// cover, (start, end).
+pub(super) fn prepare(
+    reference: &Trace2,
+    other: &Trace2,
+) -> Result<Result<Prepared, Refusal>, String> {
+    if reference.records.is_empty() {
+        return Err("the reference trace has no records".into());
+    }
+    if let Some(r) = defect(reference, reference) {
+        return Err(format!("the reference trace: {}", r.message));
+    }
+    if let Some(r) = defect(reference, other) {
+        return Ok(Err(r));
+    }
+    let map = match_bodies_2d(reference, other)?;
+    let start = reference.records[0].t.max(other.records[0].t);
+    let end = (reference.records.last().map(|r| r.t))
+        .unwrap_or(start)
+        .min(other.records.last().map_or(start, |r| r.t));
+    Ok(Ok((map, start, end)))
+}
+
 /// Trajectory mode for 2D traces: every body's position (blocks), angle (rad), velocity and
 /// angular velocity, the energies and momenta, at the record times of the sparser trace within
 /// the common span, the other interpolated linearly. Tolerances as in 3D, in the 2D units.
@@ -177,20 +205,10 @@ pub fn compare_trajectories_2d(
     other: &Trace2,
     tol: &TrajectoryTolerances,
 ) -> Result<Comparison, String> {
-    if reference.records.is_empty() {
-        return Err("the reference trace has no records".into());
-    }
-    if let Some(r) = defect(reference, reference) {
-        return Err(format!("the reference trace: {}", r.message));
-    }
-    if let Some(r) = defect(reference, other) {
-        return Ok(Comparison::refused("trajectory", r));
-    }
-    let map = match_bodies_2d(reference, other)?;
-    let start = reference.records[0].t.max(other.records[0].t);
-    let end = (reference.records.last().map(|r| r.t))
-        .unwrap_or(start)
-        .min(other.records.last().map_or(start, |r| r.t));
+    let (map, start, end) = match prepare(reference, other)? {
+        Ok(prepared) => prepared,
+        Err(refusal) => return Ok(Comparison::refused("trajectory", refusal)),
+    };
     let in_span = |t: &Trace2| -> Vec<f64> {
         t.records
             .iter()

@@ -9,7 +9,7 @@
 //! or toppled (turned by more than 45° from its first angle, modulo the same symmetry); and the
 //! total energy at the end.
 
-use super::two::{Trace2, angle_difference, defect, energy_scale_2d, match_bodies_2d};
+use super::two::{Trace2, angle_difference, energy_scale_2d, prepare};
 use super::*;
 use crate::blocks2d::body::Body2;
 use crate::blocks2d::trace::State2;
@@ -129,20 +129,14 @@ pub fn outcome_scene_2d(
         }
         return Ok(Some((bodies, path.to_path_buf())));
     }
-    let source = std::path::Path::new(&reference.header.source);
-    let beside = reference_path
-        .parent()
-        .map(|d| d.join(source))
-        .unwrap_or_default();
-    Ok([source.to_path_buf(), beside]
-        .into_iter()
-        .filter(|p| p.is_file())
-        .find_map(|p| {
+    Ok(
+        super::outcome::source_candidates(&reference.header.source, reference_path).find_map(|p| {
             load(&p)
                 .ok()
                 .filter(|b| b.len() == reference.header.bodies.len())
                 .map(|b| (b, p))
-        }))
+        }),
+    )
 }
 
 /// Outcome mode for 2D traces (module documentation). `shapes`, the reference scene's bodies in
@@ -154,20 +148,10 @@ pub fn compare_outcomes_2d(
     shapes: Option<&[Body2]>,
     tol: &OutcomeTolerances2,
 ) -> Result<Comparison, String> {
-    if reference.records.is_empty() {
-        return Err("the reference trace has no records".into());
-    }
-    if let Some(r) = defect(reference, reference) {
-        return Err(format!("the reference trace: {}", r.message));
-    }
-    if let Some(r) = defect(reference, other) {
-        return Ok(Comparison::refused("outcome", r));
-    }
-    let map = match_bodies_2d(reference, other)?;
-    let start = reference.records[0].t.max(other.records[0].t);
-    let end = (reference.records.last().map(|r| r.t))
-        .unwrap_or(start)
-        .min(other.records.last().map_or(start, |r| r.t));
+    let (map, start, end) = match prepare(reference, other)? {
+        Ok(prepared) => prepared,
+        Err(refusal) => return Ok(Comparison::refused("outcome", refusal)),
+    };
     // Only what both traces cover: a trace that runs longer is judged at the common end.
     let within = |t: &Trace2| Trace2 {
         header: t.header.clone(),
