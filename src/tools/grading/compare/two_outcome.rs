@@ -32,10 +32,9 @@ pub struct OutcomeTolerances2 {
 }
 
 impl Default for OutcomeTolerances2 {
-    /// At rest below 0.05 block per time unit (1 % of the speed a body reaches falling 1 block
-    /// for 5 time units under the default gravity of 1 block/t², far above what a settled pile
-    /// keeps of round-off); a tenth of a block (the image's resolution is one block); 0.1 rad;
-    /// 5 % in energy (as in 3D).
+    /// At rest below 0.05 block per time unit (1 % of the speed a body reaches after 5 time
+    /// units of free fall under the default gravity of 1 block/t²); a tenth of a block (the
+    /// image's resolution is one block); 0.1 rad; 5 % in energy (as in 3D).
     fn default() -> Self {
         OutcomeTolerances2 {
             rest_speed: 0.05,
