@@ -1088,6 +1088,8 @@ fn outcome_mode_judges_2d_bodies_by_how_they_end_up_modulo_their_symmetry() {
         );
         common::assert_success(&o);
     }
+    let o = rigidref(&["compare", "ref.jsonl", "ref.jsonl", "--outcome"], dir);
+    assert_eq!(o.status.code(), Some(0), "the run against itself");
     let o = rigidref(&["compare", "ref.jsonl", "seed7.jsonl"], dir);
     assert_eq!(
         o.status.code(),
