@@ -37,23 +37,29 @@ fn root_box(body: &Body2) -> Option<Aabb> {
     })
 }
 
-/// The contact of two blocks if their discs overlap.
+/// How much farther apart than touching two nodes' discs must be for the descent to prune them,
+/// blocks: far above round-off, so that every pair of leaves whose discs overlap (as their own
+/// test computes it) is reached even where a node's disc touches its children's from inside (a
+/// minimum enclosing circle does), and the contacts are exactly the leaves' tests that pass
+/// (which [`super::coherence`] relies on).
+pub const PRUNE_SLACK: f64 = 1e-9;
+
 /// A body with its rotation matrix computed once (a pair's traversal places many points; the
 /// same arithmetic as [`Body2::to_world`], so the same bits).
-struct Placed<'a> {
+pub(super) struct Placed<'a> {
     body: &'a Body2,
     rotation: nalgebra::Matrix2<f64>,
 }
 
 impl<'a> Placed<'a> {
-    fn new(body: &'a Body2) -> Placed<'a> {
+    pub(super) fn new(body: &'a Body2) -> Placed<'a> {
         Placed {
             body,
             rotation: body.rotation(),
         }
     }
 
-    fn to_world(&self, local: &Vector2<f64>) -> Vector2<f64> {
+    pub(super) fn to_world(&self, local: &Vector2<f64>) -> Vector2<f64> {
         self.body.x + self.rotation * local
     }
 }
@@ -63,7 +69,8 @@ fn block_contact(bodies: &[Body2], i: usize, a: usize, j: usize, b: usize) -> Op
     placed_block_contact((i, &bi), a, (j, &bj), b)
 }
 
-fn placed_block_contact(
+/// The contact of block a of body i and block b of body j if their discs overlap.
+pub(super) fn placed_block_contact(
     (i, bi): (usize, &Placed),
     a: usize,
     (j, bj): (usize, &Placed),
@@ -107,7 +114,7 @@ pub fn tree_contacts(
         let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
         let ca = bi.to_world(&na.centre);
         let cb = bj.to_world(&nb.centre);
-        if (ca - cb).norm() >= na.radius + nb.radius {
+        if (ca - cb).norm() >= na.radius + nb.radius + PRUNE_SLACK {
             continue;
         }
         match (na.kind, nb.kind) {
@@ -142,22 +149,25 @@ pub fn tree_contacts(
 /// ascending, then tree order.
 pub fn detect_contacts(bodies: &[Body2], out: &mut Vec<Contact2>) {
     out.clear();
-    let boxes: Vec<Aabb> = bodies
-        .iter()
-        .map(|b| {
-            root_box(b).unwrap_or(Aabb {
-                min: Vector3::repeat(f64::INFINITY),
-                max: Vector3::repeat(f64::NEG_INFINITY),
-            })
-        })
-        .collect();
     let mut stack = Vec::new();
-    for (i, j) in overlapping_pairs(&boxes) {
-        if bodies[i].pinned && bodies[j].pinned {
-            continue;
-        }
+    for (i, j) in overlapping_body_pairs(bodies, &mut Vec::new()) {
         tree_contacts(bodies, i, j, &mut stack, out);
     }
+}
+
+/// The broad phase: the pairs i < j, ascending, whose root discs' boxes overlap and that are not
+/// two pinned bodies (`boxes` is a buffer).
+pub fn overlapping_body_pairs(bodies: &[Body2], boxes: &mut Vec<Aabb>) -> Vec<(usize, usize)> {
+    boxes.clear();
+    boxes.extend(bodies.iter().map(|b| {
+        root_box(b).unwrap_or(Aabb {
+            min: Vector3::repeat(f64::INFINITY),
+            max: Vector3::repeat(f64::NEG_INFINITY),
+        })
+    }));
+    let mut pairs = overlapping_pairs(boxes);
+    pairs.retain(|&(i, j)| !(bodies[i].pinned && bodies[j].pinned));
+    pairs
 }
 
 /// The same contacts by testing every boundary block of every body against every boundary block

@@ -6,6 +6,7 @@
 //! - [`body`]: a 2D rigid body and its integrator;
 //! - [`mec`], [`disc_tree`]: minimum enclosing circles and bounding-disc trees;
 //! - [`collide`]: block-disc contacts, tree against tree, sweep-and-prune between bodies;
+//! - [`coherence`]: the same contacts from candidate lists kept between steps;
 //! - [`assemble`]: the shared contact problem with 3 degrees of freedom per body;
 //! - [`joints`]: springs and dampers (forces) and pins (free rows of the same problem);
 //! - [`world`]: the step, [`world::World2::step`]: detect → assemble → solve → post-stabilise →
@@ -15,6 +16,7 @@
 
 pub mod assemble;
 pub mod body;
+pub mod coherence;
 pub mod collide;
 pub mod diagnostics;
 pub mod disc_tree;

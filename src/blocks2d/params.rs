@@ -78,6 +78,13 @@ pub struct Params2 {
     /// Threads the coloured order's sweeps run on (scene key `threads`; default 1): bit for bit
     /// the one-thread result (docs/contact.md §"Coloured order").
     pub threads: u32,
+    /// Keep each body pair's candidate block pairs from step to step (scene key
+    /// `detection_cache`; default true): the same contacts, found faster. docs/blocks2d.md
+    /// §"Temporal coherence".
+    pub detection_cache: bool,
+    /// Run fresh detection beside the cached one every substep and count any difference (scene
+    /// key `check_detection`; default false): the cache's debug check.
+    pub check_detection: bool,
 }
 
 /// The most substeps one step takes with adaptive substeps: a body faster than
@@ -152,6 +159,8 @@ impl Params2 {
             shock_propagation: false,
             solver: crate::solve::Solver::Pgs,
             threads: 1,
+            detection_cache: true,
+            check_detection: false,
         }
     }
 

@@ -148,6 +148,8 @@ impl Blocks2dOptions {
             shock_propagation: self.shock_propagation.then_some(true),
             solver: None,
             threads: None,
+            detection_cache: None,
+            check_detection: None,
         }
     }
 }

@@ -82,6 +82,11 @@ pub struct FactoryArgs {
     /// Threads of the coloured order's sweeps (the same bits on any number).
     #[arg(long, default_value_t = 1)]
     pub threads: u32,
+    /// Shock propagation after each velocity solve: the pile solved again layer by layer from
+    /// the floor up, each layer against supports held fixed (docs/blocks2d.md §"Shock
+    /// propagation").
+    #[arg(long)]
+    pub shock_propagation: bool,
     /// Output folder.
     #[arg(long, default_value = "factory")]
     pub out: PathBuf,
@@ -114,6 +119,7 @@ impl FactoryArgs {
             substeps: self.substeps,
             order: self.order,
             threads: self.threads,
+            shock_propagation: self.shock_propagation,
             view_every: self.view_every,
         }
     }
@@ -196,8 +202,8 @@ fn print_report(report: &FactoryReport, out: &Path) {
         }
     }
     eprintln!(
-        "wall time      {:.1} s ({:.1} s in PGS during the run)",
-        report.wall_seconds, report.pgs_seconds
+        "wall time      {:.1} s ({:.1} s in PGS during the run); {:.1} steps per second at the end (the last 200 steps, {} bodies)",
+        report.wall_seconds, report.pgs_seconds, report.steps_per_second_at_end, report.bodies
     );
     eprintln!(
         "report         {}/scaling.csv, retimed.csv, {}report.json",

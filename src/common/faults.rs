@@ -25,6 +25,9 @@ pub struct Faults {
     pub no_gyroscopic_term: bool,
     /// The world inertia is computed as Rᵀ J₀ R instead of R J₀ Rᵀ.
     pub transposed_world_inertia: bool,
+    /// Detection keeps every pair's candidate list however far the pair has moved
+    /// (docs/contact.md §"Temporal coherence").
+    pub stale_detection_cache: bool,
 }
 
 #[cfg(feature = "fault-injection")]
@@ -35,6 +38,7 @@ impl Faults {
         stale_friction_bound: false,
         no_gyroscopic_term: false,
         transposed_world_inertia: false,
+        stale_detection_cache: false,
     };
 }
 

@@ -4,6 +4,7 @@
 //! - [`faults`]: the switch of the teeth tests' deliberate bugs (always off outside them);
 //! - [`broad`]: the broad phase on axis-aligned boxes (3D bodies; 2D bodies as flat boxes);
 //! - [`hash`]: the warm-start maps' fast deterministic hasher;
+//! - [`pair_cache`]: temporal coherence in detection, per body pair (both systems);
 //! - [`input`]: the limits on what outside input may make the program allocate;
 //! - [`values`]: scene values that check themselves while they are read (positive, fraction, …);
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
@@ -15,6 +16,7 @@ pub mod broad;
 pub mod faults;
 pub mod hash;
 pub mod input;
+pub mod pair_cache;
 pub mod scene_json;
 pub mod stats;
 pub mod timing;

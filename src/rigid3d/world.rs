@@ -127,7 +127,11 @@ impl World {
             spare_solves: Vec::new(),
             penetrations: Vec::new(),
             colliders,
-            detector: Detector::default(),
+            detector: if scene.params.detection_cache {
+                Detector::cached(scene.params.check_detection)
+            } else {
+                Detector::default()
+            },
             warm_start: WarmStart::new(scene.params.warm_start),
             workspace: SolverWorkspace::with_threads(scene.params.pgs_seed, scene.params.threads),
             contact_buffer: Vec::new(),
@@ -140,6 +144,12 @@ impl World {
     /// The body colliders (mesh queries and convex pieces), in body order.
     pub fn colliders(&self) -> &[MeshCollider] {
         &self.colliders
+    }
+
+    /// How often detection kept a pair's candidates, and what its debug check found
+    /// (`check_detection`). docs/contact.md §"Temporal coherence".
+    pub fn detection_stats(&self) -> crate::common::pair_cache::CacheStats {
+        self.detector.stats()
     }
 
     /// Re-measures [`World::penetrations`] for the current state.

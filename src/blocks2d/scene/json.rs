@@ -58,6 +58,8 @@ pub(super) struct ParametersFile2 {
     pub(super) shock_propagation: Option<bool>,
     pub(super) solver: Option<Solver>,
     pub(super) threads: Option<Count>,
+    pub(super) detection_cache: Option<bool>,
+    pub(super) check_detection: Option<bool>,
 }
 
 #[derive(Deserialize)]
@@ -103,6 +105,8 @@ impl ParametersFile2 {
             shock_propagation: p.shock_propagation,
             solver: p.solver,
             threads: p.threads.map(|x| x.0),
+            detection_cache: p.detection_cache,
+            check_detection: p.check_detection,
         }
     }
 }

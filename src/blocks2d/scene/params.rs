@@ -49,6 +49,10 @@ pub struct ParamOverrides2 {
     pub solver: Option<Solver>,
     /// Threads of the coloured order's sweeps.
     pub threads: Option<u32>,
+    /// Keep candidate lists between steps (the same contacts).
+    pub detection_cache: Option<bool>,
+    /// Compare cached with fresh detection every substep.
+    pub check_detection: Option<bool>,
 }
 
 /// A parameter out of its range: the key (as in a scene file) and what is wrong.
@@ -85,6 +89,8 @@ impl ParamOverrides2 {
             ("shock_propagation", self.shock_propagation.is_some()),
             ("solver", self.solver.is_some()),
             ("threads", self.threads.is_some()),
+            ("detection_cache", self.detection_cache.is_some()),
+            ("check_detection", self.check_detection.is_some()),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -116,6 +122,8 @@ impl ParamOverrides2 {
             shock_propagation: self.shock_propagation.unwrap_or(d.shock_propagation),
             solver: self.solver.unwrap_or(d.solver),
             threads: self.threads.unwrap_or(d.threads),
+            detection_cache: self.detection_cache.unwrap_or(d.detection_cache),
+            check_detection: self.check_detection.unwrap_or(d.check_detection),
             ..d
         };
         let white_threshold = self
@@ -206,6 +214,8 @@ impl ParamOverrides2 {
             max_travel: self.max_travel.or(other.max_travel),
             shock_propagation: self.shock_propagation.or(other.shock_propagation),
             solver: self.solver.or(other.solver),
+            detection_cache: self.detection_cache.or(other.detection_cache),
+            check_detection: self.check_detection.or(other.check_detection),
         }
     }
 }

@@ -24,6 +24,7 @@ mod solve;
 
 use super::assemble::{ContactProblem2, WarmStart2, assemble_problem2, empty_problem2, tangent};
 use super::body::{Body2, cross};
+use super::coherence::CachedDetector;
 use super::collide::{Contact2, detect_contacts};
 use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
@@ -124,6 +125,7 @@ pub struct World2 {
     /// Wall time spent in each phase of the step since the world was made (`rigidref bench`;
     /// `measure` is post-stabilisation here).
     pub phase_times: PhaseTimes,
+    detector: CachedDetector,
 }
 
 impl World2 {
@@ -155,6 +157,7 @@ impl World2 {
             warm: WarmStart2::default(),
             shock_lambda: Vec::new(),
             phase_times: PhaseTimes::default(),
+            detector: CachedDetector::default(),
             params,
         }
     }
@@ -253,11 +256,22 @@ impl World2 {
         }
     }
 
+    /// How often detection kept a pair's candidates, and what its debug check found
+    /// (`check_detection`). docs/blocks2d.md §"Temporal coherence".
+    pub fn detection_stats(&self) -> crate::common::pair_cache::CacheStats {
+        self.detector.stats()
+    }
+
     /// Detect: the substep's contacts (in last substep's buffer), counted for the step.
     fn detect(&mut self) -> Vec<Contact2> {
         let mut contacts = std::mem::take(&mut self.contacts);
         let clock = Instant::now();
-        detect_contacts(&self.bodies, &mut contacts);
+        if self.params.detection_cache {
+            self.detector
+                .detect(&self.bodies, self.params.check_detection, &mut contacts);
+        } else {
+            detect_contacts(&self.bodies, &mut contacts);
+        }
         self.phase_times.detect += clock.elapsed().as_secs_f64();
         self.contacts_in_step += contacts.len();
         self.most_contacts_in_step = self.most_contacts_in_step.max(contacts.len());

@@ -1,12 +1,14 @@
 //! Detection of every contact of a world, in a fixed order: the ground, then the body pairs the
 //! broad phase finds. docs/contact.md §"Collision detection".
 
+use super::coherence::{Anchor, Candidate, cached_pair_contacts};
 use super::ground::ground_contacts;
 use super::manifold::manifold_contacts;
 use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
 use super::vertex_contact::Contact;
 use crate::common::broad::{Aabb, overlapping_pairs};
+use crate::common::pair_cache::{CacheStats, PairCache};
 use crate::rigid3d::body::RigidBody;
 use parry3d_f64::query::ContactManifold;
 
@@ -77,14 +79,37 @@ impl Culling {
 }
 
 /// Collision detection's reusable buffers: the bodies' world boxes and parry's contact
-/// manifold, kept from call to call so that detection allocates nothing once warmed up.
+/// manifold, kept from call to call so that detection allocates nothing once warmed up; and,
+/// when made with [`Detector::cached`], each body pair's candidates kept from step to step
+/// (docs/contact.md §"Temporal coherence").
 #[derive(Clone, Debug, Default)]
 pub struct Detector {
     boxes: Vec<Aabb>,
     manifold: ContactManifold<(), ()>,
+    /// Keep candidate lists (`detection_cache`).
+    use_cache: bool,
+    /// Compare with fresh detection on every call (`check_detection`).
+    check: bool,
+    cache: PairCache<Anchor, Candidate>,
+    fresh: Vec<Contact>,
 }
 
 impl Detector {
+    /// A detector that keeps each pair's candidates between calls; with `check`, every call also
+    /// runs fresh detection and counts a difference in [`CacheStats::mismatches`].
+    pub fn cached(check: bool) -> Detector {
+        Detector {
+            use_cache: true,
+            check,
+            ..Detector::default()
+        }
+    }
+
+    /// How often the kept candidates served a pair, and the debug check's counts.
+    pub fn stats(&self) -> CacheStats {
+        self.cache.stats
+    }
+
     /// Finds all contacts of `bodies` (with the ground and with each other), replacing `out`, in
     /// a fixed order: ground contacts body by body, then body pairs in the broad phase's order;
     /// per pair the vertex rule's contacts in both directions (vertices in mesh order) and, with
@@ -102,7 +127,23 @@ impl Detector {
             ground_contacts(i, body, out);
         }
         MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
+        if self.use_cache {
+            self.cache.begin();
+        }
         for (i, j) in overlapping_pairs(&self.boxes) {
+            let analytic = bodies[i].ellipsoid.is_some() || bodies[j].ellipsoid.is_some();
+            if self.use_cache && !analytic {
+                cached_pair_contacts(
+                    (i, j),
+                    bodies,
+                    colliders,
+                    method,
+                    &mut self.cache,
+                    &mut self.manifold,
+                    out,
+                );
+                continue;
+            }
             let pair_start = out.len();
             vertex_contacts(i, &bodies[i], j, &bodies[j], &colliders[j], out);
             vertex_contacts(j, &bodies[j], i, &bodies[i], &colliders[i], out);
@@ -115,6 +156,18 @@ impl Detector {
                     &mut self.manifold,
                     out,
                 );
+            }
+        }
+        if self.use_cache {
+            self.cache.end();
+            if self.check {
+                let mut fresh = std::mem::take(&mut self.fresh);
+                detect_contacts(bodies, colliders, method, &mut fresh);
+                self.cache.stats.checked += 1;
+                if fresh != *out {
+                    self.cache.stats.mismatches += 1;
+                }
+                self.fresh = fresh;
             }
         }
     }

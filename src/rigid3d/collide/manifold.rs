@@ -4,11 +4,11 @@
 //! §"Complete collision detection".
 
 use super::mesh_pair::MeshCollider;
-use super::pieces::{pose, world_point, world_vector};
+use super::pieces::{ConvexPieces, pose, world_point, world_vector};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::frame::ContactFrame;
-use parry3d_f64::math::Vector as PVector;
+use parry3d_f64::math::{Pose, Vector as PVector};
 use parry3d_f64::query::ContactManifold;
 use parry3d_f64::query::details::contact_manifold_pfm_pfm;
 
@@ -32,76 +32,142 @@ pub fn manifold_contacts(
     manifold: &mut ContactManifold<(), ()>,
     out: &mut Vec<Contact>,
 ) {
-    let (body_i, body_j) = (&bodies[i], &bodies[j]);
-    let (pieces_i, pieces_j) = (&colliders[i].pieces, &colliders[j].pieces);
-    let (pose_i, pose_j) = (pose(body_i), pose(body_j));
-    let pos12 = pose_i.inv_mul(&pose_j);
-    let tolerance = SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius());
-    for (a, piece_a) in pieces_i.pieces.iter().enumerate() {
-        let box_a = piece_a.world_aabb(&pose_i);
-        for (b, piece_b) in pieces_j.pieces.iter().enumerate() {
-            if !box_a.overlaps(&piece_b.world_aabb(&pose_j)) {
-                continue;
-            }
-            // A fresh manifold each time (its buffer reused): no points and no normal, so that
-            // parry neither updates the previous manifold nor starts GJK from its normal, which
-            // would make detection depend on history.
-            manifold.points.clear();
-            manifold.local_n1 = PVector::ZERO;
-            manifold.local_n2 = PVector::ZERO;
-            contact_manifold_pfm_pfm(
-                &pos12,
-                &piece_a.shape,
-                0.0,
-                None,
-                &piece_b.shape,
-                0.0,
-                None,
-                0.0,
-                manifold,
-            );
-            // parry's n1 points out of piece a toward piece b; ours points from j into i.
-            let n = -world_vector(&pose_i, manifold.local_n1);
-            if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
-                continue;
-            }
-            let n = n.normalize();
-            for point in &manifold.points {
-                // Touching or apart (or NaN): not a contact.
-                if point.dist.is_nan() || point.dist >= -tolerance {
-                    continue;
-                }
-                let on_i = world_point(&pose_i, point.local_p1);
-                let on_j = world_point(&pose_j, point.local_p2);
-                let depth = -point.dist;
-                // The same contact: the same point, depth and line of action (a vertex of
-                // j seen from i has the opposite normal).
-                let same = |c: &Contact, at: &nalgebra::Vector3<f64>, normal: f64| {
-                    (c.point - at).norm() <= tolerance
-                        && (c.depth - depth).abs() <= tolerance
-                        && c.frame.n.dot(&n) * normal >= 1.0 - 1e-9
-                };
-                let held = |c: &Contact| {
-                    (c.body1 == i && c.body2 == Some(j) && same(c, &on_i, 1.0))
-                        || (c.body1 == j && c.body2 == Some(i) && same(c, &on_j, -1.0))
-                };
-                if out[pair_start..].iter().any(held) {
-                    continue;
-                }
-                out.push(Contact {
-                    body1: i,
-                    body2: Some(j),
-                    feature: Feature::Manifold {
-                        piece1: a as u32,
-                        piece2: b as u32,
-                        feature1: point.fid1.0,
-                        feature2: point.fid2.0,
-                    },
-                    point: on_i,
-                    frame: ContactFrame::from_normal(&n),
-                    depth,
-                });
+    let pair = PairPoses::new((i, j), bodies, colliders);
+    for (a, piece_a) in pair.pieces_i.pieces.iter().enumerate() {
+        let box_a = piece_a.world_aabb(&pair.pose_i);
+        for (b, piece_b) in pair.pieces_j.pieces.iter().enumerate() {
+            if box_a.overlaps(&piece_b.world_aabb(&pair.pose_j)) {
+                piece_pair_contacts(&pair, (a, b), pair_start, manifold, out);
             }
         }
+    }
+}
+
+/// [`manifold_contacts`] over the piece pairs `candidates` only (in their order, ascending),
+/// each tested by its world boxes as there: the same contacts when `candidates` holds every
+/// piece pair whose boxes overlap (docs/contact.md §"Temporal coherence").
+pub fn manifold_contacts_among(
+    (i, j): (usize, usize),
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    candidates: impl Iterator<Item = (usize, usize)>,
+    pair_start: usize,
+    manifold: &mut ContactManifold<(), ()>,
+    out: &mut Vec<Contact>,
+) {
+    let pair = PairPoses::new((i, j), bodies, colliders);
+    for (a, b) in candidates {
+        let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
+        if piece_a
+            .world_aabb(&pair.pose_i)
+            .overlaps(&piece_b.world_aabb(&pair.pose_j))
+        {
+            piece_pair_contacts(&pair, (a, b), pair_start, manifold, out);
+        }
+    }
+}
+
+/// A body pair placed for the manifold queries.
+struct PairPoses<'a> {
+    i: usize,
+    j: usize,
+    pieces_i: &'a ConvexPieces,
+    pieces_j: &'a ConvexPieces,
+    pose_i: Pose,
+    pose_j: Pose,
+    pos12: Pose,
+    tolerance: f64,
+}
+
+impl<'a> PairPoses<'a> {
+    fn new(
+        (i, j): (usize, usize),
+        bodies: &[RigidBody],
+        colliders: &'a [MeshCollider],
+    ) -> PairPoses<'a> {
+        let (pose_i, pose_j) = (pose(&bodies[i]), pose(&bodies[j]));
+        PairPoses {
+            i,
+            j,
+            pieces_i: &colliders[i].pieces,
+            pieces_j: &colliders[j].pieces,
+            pose_i,
+            pose_j,
+            pos12: pose_i.inv_mul(&pose_j),
+            tolerance: SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius()),
+        }
+    }
+}
+
+/// The contacts of piece a of body i with piece b of body j that `out[pair_start..]` does not
+/// already hold.
+fn piece_pair_contacts(
+    pair: &PairPoses,
+    (a, b): (usize, usize),
+    pair_start: usize,
+    manifold: &mut ContactManifold<(), ()>,
+    out: &mut Vec<Contact>,
+) {
+    let (i, j, tolerance) = (pair.i, pair.j, pair.tolerance);
+    let (pose_i, pose_j) = (&pair.pose_i, &pair.pose_j);
+    let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
+    // A fresh manifold each time (its buffer reused): no points and no normal, so that
+    // parry neither updates the previous manifold nor starts GJK from its normal, which
+    // would make detection depend on history.
+    manifold.points.clear();
+    manifold.local_n1 = PVector::ZERO;
+    manifold.local_n2 = PVector::ZERO;
+    contact_manifold_pfm_pfm(
+        &pair.pos12,
+        &piece_a.shape,
+        0.0,
+        None,
+        &piece_b.shape,
+        0.0,
+        None,
+        0.0,
+        manifold,
+    );
+    // parry's n1 points out of piece a toward piece b; ours points from j into i.
+    let n = -world_vector(pose_i, manifold.local_n1);
+    if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
+        return;
+    }
+    let n = n.normalize();
+    for point in &manifold.points {
+        // Touching or apart (or NaN): not a contact.
+        if point.dist.is_nan() || point.dist >= -tolerance {
+            continue;
+        }
+        let on_i = world_point(pose_i, point.local_p1);
+        let on_j = world_point(pose_j, point.local_p2);
+        let depth = -point.dist;
+        // The same contact: the same point, depth and line of action (a vertex of
+        // j seen from i has the opposite normal).
+        let same = |c: &Contact, at: &nalgebra::Vector3<f64>, normal: f64| {
+            (c.point - at).norm() <= tolerance
+                && (c.depth - depth).abs() <= tolerance
+                && c.frame.n.dot(&n) * normal >= 1.0 - 1e-9
+        };
+        let held = |c: &Contact| {
+            (c.body1 == i && c.body2 == Some(j) && same(c, &on_i, 1.0))
+                || (c.body1 == j && c.body2 == Some(i) && same(c, &on_j, -1.0))
+        };
+        if out[pair_start..].iter().any(held) {
+            continue;
+        }
+        out.push(Contact {
+            body1: i,
+            body2: Some(j),
+            feature: Feature::Manifold {
+                piece1: a as u32,
+                piece2: b as u32,
+                feature1: point.fid1.0,
+                feature2: point.fid2.0,
+            },
+            point: on_i,
+            frame: ContactFrame::from_normal(&n),
+            depth,
+        });
     }
 }

@@ -146,6 +146,16 @@ impl MeshCollider {
     pub fn may_contain(&self, p: &Vector3<f64>) -> bool {
         self.local_box.contains(p) && p.norm_squared() <= self.radius * self.radius
     }
+
+    /// [`Self::may_contain`] with the box and the sphere grown by `margin` (m): a point that
+    /// fails this is farther than `margin` from passing it.
+    pub fn may_come_within(&self, p: &Vector3<f64>, margin: f64) -> bool {
+        let grown = Aabb {
+            min: self.local_box.min.add_scalar(-margin),
+            max: self.local_box.max.add_scalar(margin),
+        };
+        grown.contains(p) && p.norm() <= self.radius + margin
+    }
 }
 
 /// Appends a contact for every vertex of body `i` inside body `j` by more than
@@ -165,31 +175,46 @@ pub fn vertex_contacts(
         super::ellipsoid::vertices_in_ellipsoid(i, body_i, j, body_j, shape, out);
         return;
     }
-    for (vertex, local) in body_i.mesh.vertices.iter().enumerate() {
-        let point = body_i.x + body_i.rotation * local;
-        let in_j = body_j.rotation.transpose() * (point - body_j.x);
-        if !collider_j.may_contain(&in_j) {
-            continue;
-        }
-        // In no leaf sphere: outside j's solid, so no contact (docs/contact.md §"Sphere trees").
-        if let Some(tree) = &collider_j.sphere_tree
-            && !tree.may_contain(&in_j)
-        {
-            continue;
-        }
-        let sd = collider_j.signed_distance(&in_j);
-        if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
-            && sd.normal.iter().all(|x| x.is_finite())
-        {
-            let normal = (body_j.rotation * sd.normal).normalize();
-            out.push(Contact {
-                body1: i,
-                body2: Some(j),
-                feature: Feature::Vertex(vertex),
-                point,
-                frame: ContactFrame::from_normal(&normal),
-                depth: -sd.distance,
-            });
-        }
+    for vertex in 0..body_i.mesh.vertices.len() {
+        vertex_contact(i, body_i, vertex, j, body_j, collider_j, out);
+    }
+}
+
+/// [`vertex_contacts`] for one vertex of body i (body j without an analytic ellipsoid): appends
+/// its contact if it is inside body j.
+pub fn vertex_contact(
+    i: usize,
+    body_i: &RigidBody,
+    vertex: usize,
+    j: usize,
+    body_j: &RigidBody,
+    collider_j: &MeshCollider,
+    out: &mut Vec<Contact>,
+) {
+    let local = &body_i.mesh.vertices[vertex];
+    let point = body_i.x + body_i.rotation * local;
+    let in_j = body_j.rotation.transpose() * (point - body_j.x);
+    if !collider_j.may_contain(&in_j) {
+        return;
+    }
+    // In no leaf sphere: outside j's solid, so no contact (docs/contact.md §"Sphere trees").
+    if let Some(tree) = &collider_j.sphere_tree
+        && !tree.may_contain(&in_j)
+    {
+        return;
+    }
+    let sd = collider_j.signed_distance(&in_j);
+    if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
+        && sd.normal.iter().all(|x| x.is_finite())
+    {
+        let normal = (body_j.rotation * sd.normal).normalize();
+        out.push(Contact {
+            body1: i,
+            body2: Some(j),
+            feature: Feature::Vertex(vertex),
+            point,
+            frame: ContactFrame::from_normal(&normal),
+            depth: -sd.distance,
+        });
     }
 }

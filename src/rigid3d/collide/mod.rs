@@ -10,6 +10,7 @@
 //!   worth testing;
 //! - [`mesh_pair`]: the vertices of each body of a pair against the other body's surface (signed
 //!   distance through parry3d's bounding-volume hierarchy), both directions;
+//! - [`coherence`]: each pair's candidates kept from step to step (the same contacts);
 //! - [`sphere_tree`]: with `culling: sphere_tree`, a tree of spheres covering each mesh's solid
 //!   culls the vertices that cannot be inside it before the BVH query;
 //! - [`closest_point`]: the brute-force oracle that tests hold [`mesh_pair`] against;
@@ -23,6 +24,7 @@
 //! body 2, so the normal (out of body 2) is the direction body 1 must move to separate.
 
 pub mod closest_point;
+pub mod coherence;
 pub mod detect;
 pub mod ellipsoid;
 pub mod ground;

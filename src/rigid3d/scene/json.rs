@@ -49,6 +49,8 @@ pub(super) struct SimParametersJson {
     solver: Option<Solver>,
     collision: Option<CollisionMethod>,
     culling: Option<Culling>,
+    detection_cache: Option<bool>,
+    check_detection: Option<bool>,
 }
 
 impl SimParametersJson {
@@ -80,6 +82,8 @@ impl SimParametersJson {
             solver: self.solver.unwrap_or_default(),
             collision: self.collision.unwrap_or_default(),
             culling: self.culling.unwrap_or_default(),
+            detection_cache: self.detection_cache.unwrap_or(true),
+            check_detection: self.check_detection.unwrap_or(false),
         }
     }
 }

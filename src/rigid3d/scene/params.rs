@@ -63,6 +63,12 @@ pub struct SimParameters {
     /// `culling`: `bvh` (default) or `sphere_tree`: how a mesh's vertices are culled before the
     /// signed-distance query against another mesh (the same contacts either way).
     pub culling: Culling,
+    /// `detection_cache`: keep each body pair's candidates from step to step (default true):
+    /// the same contacts, found faster (docs/contact.md §"Temporal coherence").
+    pub detection_cache: bool,
+    /// `check_detection`: run fresh detection beside the cached one every substep and count any
+    /// difference (default false): the cache's debug check.
+    pub check_detection: bool,
 }
 
 /// Default Baumgarte factor β: removes a fifth of the excess penetration per step, fast enough

@@ -41,7 +41,7 @@ fn factory_reaches_two_thousand_bodies_and_ten_thousand_contacts_in_a_sound_pile
     assert!(report["fit"]["r_squared"].as_f64().is_some());
     assert!(report["retimed_problems"].as_u64().unwrap() >= 90);
     let csv = std::fs::read_to_string(tmp.path().join("scaling.csv")).unwrap();
-    assert!(csv.starts_with("step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds\n"));
+    assert!(csv.starts_with("step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds,step_seconds\n"));
     let steps = csv.lines().count() - 1;
     assert_eq!(steps as u64, report["steps"].as_u64().unwrap());
     let retimed = std::fs::read_to_string(tmp.path().join("retimed.csv")).unwrap();

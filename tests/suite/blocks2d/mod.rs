@@ -1,6 +1,7 @@
 //! The 2D image-block system.
 
 mod challenges;
+mod coherence;
 mod commands;
 mod demonstrations;
 mod grading;

@@ -2,6 +2,7 @@
 //! its scenes.
 
 mod assignment_scenes;
+mod coherence;
 mod collision;
 mod complete;
 mod contact_jacobian;

@@ -67,12 +67,12 @@ pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
         s.for_bodies(usize::MAX).steps,
         s.for_bodies(usize::MAX).warmup,
     );
-    out.push_str("| scene | bodies | contacts | rigidref ms/step | rapier ms/step | ratio | detect | assemble | PGS | apply | integrate | measure | PGS ns/contact/sweep | rapier collision | rapier setup | rapier iterations | detect+assemble+apply / rapier collision+setup |\n");
-    out.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    out.push_str("| scene | bodies | contacts | rigidref ms/step | rapier ms/step | ratio | detect | assemble | PGS | apply | integrate | measure | PGS ns/contact/sweep | rapier collision | rapier setup | rapier iterations | detect+assemble+apply / rapier collision+setup | pair lists kept |\n");
+    out.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         let rp = |k: usize| cell(r.rapier_phases_ms.map(|p| p[k]), 3);
         out.push_str(&format!(
-            "| {} | {} | {} | {:.3} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {:.3} | {} | {} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.3} | {:.1} | {} | {} | {} | {} | {} |\n",
             r.name,
             r.bodies,
             r.contacts,
@@ -90,6 +90,8 @@ pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
             rp(1),
             rp(2),
             cell(r.around_solve_ratio(), 2),
+            r.detection_kept
+                .map_or("–".to_string(), |k| format!("{:.1} %", 100.0 * k)),
         ));
     }
     out.push_str(&format!(

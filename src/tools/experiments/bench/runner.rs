@@ -63,6 +63,9 @@ pub struct BenchRow {
     pub rapier_phases_ms: Option<[f64; 3]>,
     /// PGS ns per contact per sweep.
     pub ns_per_contact_sweep: f64,
+    /// The share of pair visits in the timed rounds that detection served from the kept
+    /// candidate lists (docs/contact.md §"Temporal coherence"); `None` when no pair met.
+    pub detection_kept: Option<f64>,
 }
 
 impl BenchRow {
@@ -164,6 +167,7 @@ pub(super) fn run_3d(
         mirror.step();
     }
     let mut rounds = Rounds::default();
+    let kept_before = ours.detection_stats();
     let (mut rapier_ms, mut rapier_phases) = (Vec::new(), Vec::new());
     for _ in 0..s.rounds {
         rounds.round(s.steps, &mut ours, |w: &World| w.phase_times)?;
@@ -192,6 +196,7 @@ pub(super) fn run_3d(
             [0, 1, 2].map(|k| median(rapier_phases.iter().map(|p: &[f64; 3]| p[k]).collect())),
         ),
         ns_per_contact_sweep: median(rounds.per_contact),
+        detection_kept: ours.detection_stats().since(&kept_before).hit_rate(),
     })
 }
 
@@ -206,6 +211,7 @@ pub(super) fn run_pile(
         world.step().map_err(|e| e.to_string())?;
     }
     let mut rounds = Rounds::default();
+    let kept_before = world.detection_stats();
     for _ in 0..s.rounds {
         rounds.round(s.steps, &mut world, |w: &World2| w.phase_times)?;
     }
@@ -220,6 +226,7 @@ pub(super) fn run_pile(
         phases_ms: rounds.phases_ms(),
         rapier_phases_ms: None,
         ns_per_contact_sweep: median(rounds.per_contact),
+        detection_kept: world.detection_stats().since(&kept_before).hit_rate(),
     })
 }
 

@@ -79,6 +79,7 @@ fn factory_world(s: &FactorySettings) -> Result<(World2, DropZone, Option<[usize
         order: s.order,
         seed: s.seed,
         threads: s.threads,
+        shock_propagation: s.shock_propagation,
         ..Params2::default()
     };
     let world = World2::new(&groups, params);
@@ -265,6 +266,8 @@ pub fn run_factory(
         pgs_seconds: log.pgs_seconds,
         pgs_cpu_seconds: log.pgs_cpu_seconds,
         wall_seconds: started.elapsed().as_secs_f64(),
+        steps_per_second_at_end: log.recent_steps.len() as f64
+            / log.recent_steps.iter().sum::<f64>().max(1e-12),
     };
     if s.view_every > 0 {
         if view_records.last().is_none_or(|r| r.step != world.step) {

@@ -38,14 +38,24 @@ pub(super) struct SolveLog {
     pub(super) max_contacts: usize,
     pub(super) pgs_seconds: f64,
     pub(super) pgs_cpu_seconds: f64,
+    /// The world's phase clocks' total after the last step recorded, s.
+    pub(super) phase_total: f64,
+    /// The step times of the last [`STEP_TIMES_KEPT`] steps, s (oldest first).
+    pub(super) recent_steps: std::collections::VecDeque<f64>,
 }
+
+/// Steps whose times are kept for the run's steps per second at its end.
+pub const STEP_TIMES_KEPT: usize = 200;
 
 impl SolveLog {
     pub(super) fn create(out: &Path, keep_every: u64) -> Result<SolveLog, String> {
         let csv_path = out.join("scaling.csv");
         let mut csv = create(&csv_path)?;
-        writeln!(csv, "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds")
-            .map_err(|e| format!("{}: cannot write: {e}", csv_path.display()))?;
+        writeln!(
+            csv,
+            "step,t,bodies,contacts,pgs_seconds,pgs_cpu_seconds,step_seconds"
+        )
+        .map_err(|e| format!("{}: cannot write: {e}", csv_path.display()))?;
         Ok(SolveLog {
             csv,
             csv_path,
@@ -56,6 +66,8 @@ impl SolveLog {
             max_contacts: 0,
             pgs_seconds: 0.0,
             pgs_cpu_seconds: 0.0,
+            phase_total: 0.0,
+            recent_steps: std::collections::VecDeque::with_capacity(STEP_TIMES_KEPT),
         })
     }
 
@@ -71,9 +83,18 @@ impl SolveLog {
         self.max_contacts = self.max_contacts.max(totals.most_contacts);
         self.pgs_seconds += wall;
         self.pgs_cpu_seconds += cpu;
+        // The step's own work: its phase clocks (detect, assemble, solve, apply, integrate,
+        // post-stabilisation), not this log or the progress bar.
+        let total: f64 = w.phase_times.as_array().iter().sum();
+        let step_seconds = total - self.phase_total;
+        self.phase_total = total;
+        if self.recent_steps.len() == STEP_TIMES_KEPT {
+            self.recent_steps.pop_front();
+        }
+        self.recent_steps.push_back(step_seconds);
         writeln!(
             self.csv,
-            "{},{},{},{},{wall:.9},{cpu:.9}",
+            "{},{},{},{},{wall:.9},{cpu:.9},{step_seconds:.9}",
             w.step,
             w.time(),
             w.bodies.len(),

@@ -45,6 +45,8 @@ pub struct FactorySettings {
     pub order: crate::solve::ContactOrder,
     /// Threads of the coloured order's sweeps.
     pub threads: u32,
+    /// Shock propagation after each velocity solve (docs/blocks2d.md §"Shock propagation").
+    pub shock_propagation: bool,
     /// Record the state every this many steps for the viewer page DIR/view.html (0: no page).
     pub view_every: u64,
 }
@@ -149,6 +151,10 @@ pub struct FactoryReport {
     pub pgs_cpu_seconds: f64,
     /// Wall seconds of the whole run.
     pub wall_seconds: f64,
+    /// Steps per second over the run's last 200 steps (the settling, at its full size), from the
+    /// step's own phase clocks: detection, assembly, the solves, post-stabilisation and the
+    /// integration, not the log or the progress bar.
+    pub steps_per_second_at_end: f64,
 }
 
 impl FactoryReport {

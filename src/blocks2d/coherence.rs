@@ -1,0 +1,141 @@
+//! Temporal coherence in 2D detection: per body pair, the block pairs whose discs were within
+//! [`MARGIN`] of touching, kept while the two bodies have moved less than half of it.
+//! docs/blocks2d.md §"Temporal coherence".
+
+use super::body::Body2;
+use super::collide::{Contact2, Placed, detect_contacts, overlapping_body_pairs};
+use super::disc_tree::NodeKind;
+use crate::common::broad::Aabb;
+use crate::common::pair_cache::{CacheStats, PairCache};
+use nalgebra::Vector2;
+
+/// How much nearer than touching two block discs may be found as a candidate, blocks. A pair's
+/// list holds while the two bodies' motions since it was found add up to at most half of this
+/// (the other half a safety factor far above round-off). A quarter block: a body falling at the
+/// factory's drop speed (5 blocks per time unit, 0.25 per step) keeps its lists for about half a
+/// step; a body at rest keeps them for good.
+pub const MARGIN: f64 = 0.25;
+
+/// The poses a pair's list was found at: each body's position and angle.
+#[derive(Clone, Copy, Debug)]
+pub struct Anchor {
+    x: [Vector2<f64>; 2],
+    theta: [f64; 2],
+}
+
+/// How far any block centre of `body` can have moved since it was at (x, θ), blocks: the
+/// translation plus the turn times the farthest block centre's reach,
+/// |Δx| + |Δθ| · (|c| + r) of the root disc (a rotation by Δθ moves a point at distance ρ from
+/// the origin by 2ρ |sin(Δθ/2)| ≤ ρ |Δθ|). NaN when the state is.
+fn moved(body: &Body2, x: &Vector2<f64>, theta: f64) -> f64 {
+    let reach = body.tree.root().map_or(0.0, |r| r.centre.norm() + r.radius);
+    (body.x - x).norm() + (body.theta - theta).abs() * reach
+}
+
+/// 2D detection with kept candidate lists: the same contacts, in the same order, as
+/// [`detect_contacts`].
+#[derive(Clone, Debug, Default)]
+pub struct CachedDetector {
+    cache: PairCache<Anchor, (u32, u32)>,
+    boxes: Vec<Aabb>,
+    stack: Vec<(usize, usize)>,
+    check: Vec<Contact2>,
+}
+
+impl CachedDetector {
+    /// All contacts between bodies into `out` (replaced), as [`detect_contacts`] finds them:
+    /// the broad phase's pairs ascending, each pair's candidates in tree order, each tested
+    /// exactly as the trees test a pair of leaves. With `check`, fresh detection runs too and
+    /// any difference is counted in [`CacheStats::mismatches`].
+    pub fn detect(&mut self, bodies: &[Body2], check: bool, out: &mut Vec<Contact2>) {
+        out.clear();
+        self.cache.begin();
+        for (i, j) in overlapping_body_pairs(bodies, &mut self.boxes) {
+            let (bi, bj) = (&bodies[i], &bodies[j]);
+            let stack = &mut self.stack;
+            let candidates = self.cache.candidates(
+                (i, j),
+                |a| {
+                    crate::common::faults::fault!(stale_detection_cache)
+                        || moved(bi, &a.x[0], a.theta[0]) + moved(bj, &a.x[1], a.theta[1])
+                            <= MARGIN / 2.0
+                },
+                |out| {
+                    candidate_blocks(bi, bj, stack, out);
+                    Anchor {
+                        x: [bi.x, bj.x],
+                        theta: [bi.theta, bj.theta],
+                    }
+                },
+            );
+            let (pi, pj) = (Placed::new(bi), Placed::new(bj));
+            for &(a, b) in candidates {
+                if let Some(c) =
+                    super::collide::placed_block_contact((i, &pi), a as usize, (j, &pj), b as usize)
+                {
+                    out.push(c);
+                }
+            }
+        }
+        self.cache.end();
+        if check {
+            detect_contacts(bodies, &mut self.check);
+            self.cache.stats.checked += 1;
+            if self.check != *out {
+                self.cache.stats.mismatches += 1;
+            }
+        }
+    }
+
+    /// How often the lists were kept, and the debug check's counts.
+    pub fn stats(&self) -> CacheStats {
+        self.cache.stats
+    }
+}
+
+/// The block pairs of bodies i and j (block of i, block of j) whose discs are nearer than
+/// [`MARGIN`] of touching, in the order the trees' descent ([`super::collide::tree_contacts`])
+/// reaches them: the same descent with every disc grown by the margin, which prunes a subset of
+/// what the plain descent prunes and so keeps its order.
+fn candidate_blocks(
+    bi: &Body2,
+    bj: &Body2,
+    stack: &mut Vec<(usize, usize)>,
+    out: &mut Vec<(u32, u32)>,
+) {
+    let (ti, tj) = (&bi.tree, &bj.tree);
+    if ti.nodes.is_empty() || tj.nodes.is_empty() {
+        return;
+    }
+    let (pi, pj) = (Placed::new(bi), Placed::new(bj));
+    stack.clear();
+    stack.push((0, 0));
+    while let Some((a, b)) = stack.pop() {
+        let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
+        let ca = pi.to_world(&na.centre);
+        let cb = pj.to_world(&nb.centre);
+        if (ca - cb).norm() >= na.radius + nb.radius + MARGIN {
+            continue;
+        }
+        match (na.kind, nb.kind) {
+            (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => out.push((ba as u32, bb as u32)),
+            (NodeKind::Inner(l, r), NodeKind::Leaf(_)) => {
+                stack.push((r, b));
+                stack.push((l, b));
+            }
+            (NodeKind::Leaf(_), NodeKind::Inner(l, r)) => {
+                stack.push((a, r));
+                stack.push((a, l));
+            }
+            (NodeKind::Inner(al, ar), NodeKind::Inner(bl, br)) => {
+                if na.radius >= nb.radius {
+                    stack.push((ar, b));
+                    stack.push((al, b));
+                } else {
+                    stack.push((a, br));
+                    stack.push((a, bl));
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,172 @@
+//! Temporal coherence in 3D detection: per body pair, the vertices of each body that were within
+//! a margin of the other's bounding box and sphere, and (with `collision: complete`) the convex
+//! piece pairs whose world boxes were within the margin of each other, kept while the pair has
+//! moved less than half the margin. Everything kept is tested exactly as fresh detection tests
+//! it, so the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
+
+use super::detect::CollisionMethod;
+use super::manifold::manifold_contacts_among;
+use super::mesh_pair::{MeshCollider, vertex_contact};
+use super::pieces::pose;
+use super::vertex_contact::Contact;
+use crate::common::pair_cache::PairCache;
+use crate::rigid3d::body::RigidBody;
+use nalgebra::{Matrix3, Vector3};
+use parry3d_f64::query::ContactManifold;
+
+/// A pair's margin as a fraction of the smaller body's bounding radius (for 0.5 m cubes, 0.022 m):
+/// far above a resting body's motion per substep, far below a falling one's (a body falling
+/// 1 m/s moves 0.01 m per substep of 0.01 s, so it keeps its lists for about a substep).
+pub const MARGIN_FRACTION: f64 = 0.05;
+
+/// A candidate of a pair (i, j), i < j.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Candidate {
+    /// A vertex of body i, against body j.
+    VertexOfFirst(u32),
+    /// A vertex of body j, against body i.
+    VertexOfSecond(u32),
+    /// Piece a of body i with piece b of body j.
+    Pieces(u32, u32),
+}
+
+/// The poses a pair's list was found at, and its margin.
+#[derive(Clone, Copy, Debug)]
+pub struct Anchor {
+    /// j's frame from i's: in_j = r_rel p + t_rel for p in i's frame.
+    r_rel: Matrix3<f64>,
+    t_rel: Vector3<f64>,
+    /// World poses (for the pieces' world boxes).
+    x: [Vector3<f64>; 2],
+    r: [Matrix3<f64>; 2],
+    margin: f64,
+}
+
+/// The pose of body j seen from body i: (R_jᵀ R_i, R_jᵀ (x_i − x_j)).
+fn relative(bi: &RigidBody, bj: &RigidBody) -> (Matrix3<f64>, Vector3<f64>) {
+    let rt = bj.rotation.transpose();
+    (rt * bi.rotation, rt * (bi.x - bj.x))
+}
+
+impl Anchor {
+    fn of(bi: &RigidBody, bj: &RigidBody, margin: f64) -> Anchor {
+        let (r_rel, t_rel) = relative(bi, bj);
+        Anchor {
+            r_rel,
+            t_rel,
+            x: [bi.x, bj.x],
+            r: [bi.rotation, bj.rotation],
+            margin,
+        }
+    }
+
+    /// Whether every point the pair's tests place has moved by at most half the margin since the
+    /// anchor. A vertex p of i (|p| ≤ ρ_i) is tested at in_j = R p + t in j's frame, and moved
+    /// there by at most ‖ΔR‖ ρ_i + |Δt|; a vertex q of j is tested at Rᵀ (q − t) in i's frame, moved
+    /// by at most ‖ΔR‖ (ρ_j + |t₀|) + |Δt|; the pieces' world boxes (vertices within ρ of the body
+    /// origin) by at most |Δx| + ‖ΔR_world‖ ρ each (Frobenius norms bound the spectral ones).
+    /// False when any of it is NaN.
+    fn holds(&self, bi: &RigidBody, bj: &RigidBody, radii: (f64, f64), pieces: bool) -> bool {
+        let (r_rel, t_rel) = relative(bi, bj);
+        let relative_motion = (r_rel - self.r_rel).norm()
+            * (radii.0.max(radii.1) + self.t_rel.norm())
+            + (t_rel - self.t_rel).norm();
+        let world_motion = |b: &RigidBody, k: usize, radius: f64| {
+            (b.x - self.x[k]).norm() + (b.rotation - self.r[k]).norm() * radius
+        };
+        let half = self.margin / 2.0;
+        relative_motion <= half
+            && (!pieces || world_motion(bi, 0, radii.0) + world_motion(bj, 1, radii.1) <= half)
+    }
+}
+
+/// The candidates of pair (i, j) at the bodies' present poses, into `out`, in fresh detection's
+/// order (i's vertices, j's vertices, then piece pairs, each ascending), and their anchor.
+fn find_candidates(
+    (i, j): (usize, usize),
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    method: CollisionMethod,
+    out: &mut Vec<Candidate>,
+) -> Anchor {
+    let (bi, bj) = (&bodies[i], &bodies[j]);
+    let (ci, cj) = (&colliders[i], &colliders[j]);
+    let margin = MARGIN_FRACTION * ci.radius().min(cj.radius());
+    for (v, local) in bi.mesh.vertices.iter().enumerate() {
+        let in_j = bj.rotation.transpose() * (bi.x + bi.rotation * local - bj.x);
+        if cj.may_come_within(&in_j, margin) {
+            out.push(Candidate::VertexOfFirst(v as u32));
+        }
+    }
+    for (v, local) in bj.mesh.vertices.iter().enumerate() {
+        let in_i = bi.rotation.transpose() * (bj.x + bj.rotation * local - bi.x);
+        if ci.may_come_within(&in_i, margin) {
+            out.push(Candidate::VertexOfSecond(v as u32));
+        }
+    }
+    if method == CollisionMethod::Complete {
+        let (pose_i, pose_j) = (pose(bi), pose(bj));
+        for (a, piece_a) in ci.pieces.pieces.iter().enumerate() {
+            let box_a = piece_a.world_aabb(&pose_i);
+            for (b, piece_b) in cj.pieces.pieces.iter().enumerate() {
+                let box_b = piece_b.world_aabb(&pose_j);
+                let near = (0..3).all(|k| {
+                    box_a.min[k] - margin <= box_b.max[k] && box_b.min[k] - margin <= box_a.max[k]
+                });
+                if near {
+                    out.push(Candidate::Pieces(a as u32, b as u32));
+                }
+            }
+        }
+    }
+    Anchor::of(bi, bj, margin)
+}
+
+/// The contacts of pair (i, j) (neither with an analytic ellipsoid) from its kept candidates,
+/// or from fresh ones when the pair has moved too far: exactly [`super::detect::Detector`]'s
+/// fresh contacts for the pair, appended to `out`.
+pub fn cached_pair_contacts(
+    (i, j): (usize, usize),
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    method: CollisionMethod,
+    cache: &mut PairCache<Anchor, Candidate>,
+    manifold: &mut ContactManifold<(), ()>,
+    out: &mut Vec<Contact>,
+) {
+    let (bi, bj) = (&bodies[i], &bodies[j]);
+    let radii = (colliders[i].radius(), colliders[j].radius());
+    let pieces = method == CollisionMethod::Complete;
+    let candidates = cache.candidates(
+        (i, j),
+        |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
+        |list| find_candidates((i, j), bodies, colliders, method, list),
+    );
+    let pair_start = out.len();
+    for c in candidates {
+        match *c {
+            Candidate::VertexOfFirst(v) => {
+                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], out)
+            }
+            Candidate::VertexOfSecond(v) => {
+                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], out)
+            }
+            Candidate::Pieces(..) => {}
+        }
+    }
+    if pieces {
+        let piece_pairs = candidates.iter().filter_map(|c| match *c {
+            Candidate::Pieces(a, b) => Some((a as usize, b as usize)),
+            _ => None,
+        });
+        manifold_contacts_among(
+            (i, j),
+            bodies,
+            colliders,
+            piece_pairs,
+            pair_start,
+            manifold,
+            out,
+        );
+    }
+}

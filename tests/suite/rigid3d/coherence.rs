@@ -1,0 +1,154 @@
+//! Temporal coherence in 3D detection (docs/contact.md §"Temporal coherence"): the kept
+//! candidate lists find the same contacts as fresh detection, bit for bit, on every substep of
+//! the canonical scenes, and the debug check that says so can fail.
+
+use crate::common;
+
+use rigidref::rigid3d::scene::{Scene, load_scene};
+use rigidref::rigid3d::world::World;
+use rigidref::verify::faults::{Faults, with_faults};
+
+/// The project's 3D scenes, and the assignment's seven where ../shared is present.
+fn canonical_scenes() -> Vec<(String, Scene)> {
+    let mut scenes = Vec::new();
+    let dir = common::project_root().join("scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    paths.sort();
+    if let Some(assignment) = common::rigid3d_assignment() {
+        paths.extend((1..=7).map(|k| assignment.join(format!("scenes/scene{k}.json"))));
+    } else {
+        eprintln!("skipping the assignment's scenes: ../shared is absent");
+    }
+    for path in paths {
+        let scene = load_scene(&path).unwrap_or_else(|e| panic!("{e}"));
+        scenes.push((
+            path.file_name().unwrap().to_string_lossy().into_owned(),
+            scene,
+        ));
+    }
+    scenes
+}
+
+/// Runs `frames` frames (at most 2 s) of `scene` with the cache and its check on; returns the
+/// world.
+fn run_checked(scene: &mut Scene, seconds: f64) -> World {
+    scene.params.detection_cache = true;
+    scene.params.check_detection = true;
+    let mut world = World::new(scene).unwrap();
+    let frames = (seconds / scene.params.dt).round() as u64;
+    common::run(&mut world, frames, |_, _| {});
+    world
+}
+
+#[test]
+fn cached_detection_finds_the_fresh_contacts_on_every_substep_of_the_canonical_scenes() {
+    let (mut reused, mut all) = (0, 0);
+    for (name, mut scene) in canonical_scenes() {
+        let world = run_checked(&mut scene, 2.0);
+        let stats = world.detection_stats();
+        // Every substep that processed contacts compared the two (a scene without collision
+        // checks has none).
+        if scene.params.check_collisions {
+            assert_eq!(
+                stats.checked,
+                world.step * u64::from(scene.params.substeps),
+                "{name}: not every substep was checked"
+            );
+        }
+        assert_eq!(
+            stats.mismatches, 0,
+            "{name}: cached detection differed from fresh"
+        );
+        eprintln!(
+            "{name}: {} substeps checked, pair lists kept {} / found {} ({})",
+            stats.checked,
+            stats.reused,
+            stats.refreshed,
+            stats
+                .hit_rate()
+                .map_or("no pairs".into(), |r| format!("{:.1} % kept", 100.0 * r))
+        );
+        reused += stats.reused;
+        all += stats.reused + stats.refreshed;
+    }
+    // The check is not vacuous: bodies met (pairs were visited) and the lists were used.
+    assert!(all > 1000, "only {all} pair visits in all the scenes");
+    assert!(
+        reused * 2 > all,
+        "the lists served only {reused} of {all} pair visits"
+    );
+}
+
+#[test]
+fn a_complete_collision_scene_with_the_cache_finds_the_fresh_contacts_too() {
+    // `collision: complete` adds the piece pairs to the lists: the tapered stack and the tee on
+    // a box (a non-convex body in pieces) with it.
+    for name in [
+        "box_stack.json",
+        "tee_on_box.json",
+        "edge_landing.json",
+        "collision.json",
+    ] {
+        let path = common::project_root().join("scenes").join(name);
+        let mut scene = load_scene(&path).unwrap();
+        scene.params.collision = rigidref::rigid3d::collide::CollisionMethod::Complete;
+        let world = run_checked(&mut scene, 2.0);
+        let stats = world.detection_stats();
+        assert!(stats.checked > 0, "{name}: nothing checked");
+        assert_eq!(
+            stats.mismatches, 0,
+            "{name}: cached detection differed from fresh"
+        );
+    }
+}
+
+#[test]
+fn the_check_catches_lists_kept_after_the_bodies_have_moved() {
+    // Teeth: with the lists never refreshed, a scene whose bodies fly into each other must show
+    // differences (otherwise the check above proves nothing).
+    let path = common::project_root().join("scenes").join("collision.json");
+    let mut scene = load_scene(&path).unwrap();
+    let faults = Faults {
+        stale_detection_cache: true,
+        ..Faults::NONE
+    };
+    let world = with_faults(faults, || run_checked(&mut scene, 2.0));
+    let stats = world.detection_stats();
+    assert!(
+        stats.mismatches > 0,
+        "stale lists went unnoticed over {} checked substeps",
+        stats.checked
+    );
+}
+
+#[test]
+fn the_detection_cache_on_and_off_give_the_same_trace_bit_for_bit() {
+    for scene in ["box_stack.json", "cube_stack.json", "collision.json"] {
+        let path = common::project_root().join("scenes").join(scene);
+        let run = |set: &[&str]| {
+            let tmp = tempfile::tempdir().unwrap();
+            let mut args = vec![
+                "run",
+                path.to_str().unwrap(),
+                "--time",
+                "1",
+                "--out",
+                "t.jsonl",
+            ];
+            args.extend(set);
+            let out = common::rigidref(&args, tmp.path());
+            common::assert_success(&out);
+            let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
+            // The records, without the header (which names the overrides).
+            text.lines().skip(1).map(str::to_string).collect::<Vec<_>>()
+        };
+        let cached = run(&[]);
+        let fresh = run(&["--set", "detection_cache=false"]);
+        assert!(cached.len() > 50);
+        assert!(cached == fresh, "{scene}: the traces differ");
+    }
+}
