@@ -3,9 +3,9 @@
 //! docs/blocks2d.md §"Temporal coherence".
 
 use super::body::Body2;
-use super::collide::{Contact2, Placed, detect_contacts, overlapping_body_pairs};
+use super::collide::{Contact2, Placed, detect_contacts, root_boxes};
 use super::disc_tree::NodeKind;
-use crate::common::broad::Aabb;
+use crate::common::broad::{Aabb, KeptPairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use nalgebra::Vector2;
 
@@ -16,11 +16,16 @@ use nalgebra::Vector2;
 /// step; a body at rest keeps them for good.
 pub const MARGIN: f64 = 0.25;
 
-/// The poses a pair's list was found at: each body's position and angle.
+/// The poses a pair's list was found at: each body's position and angle; and whether there is
+/// a list (a pair that moved more than half the margin in one step, or has just begun to overlap
+/// in the broad phase, has its contacts found by the plain descent, which costs less than
+/// finding a list it would not keep; its poses are remembered, and a list is found once it moves
+/// less).
 #[derive(Clone, Copy, Debug)]
 pub struct Anchor {
     x: [Vector2<f64>; 2],
     theta: [f64; 2],
+    listed: bool,
 }
 
 /// How far any block centre of `body` can have moved since it was at (x, θ), blocks: the
@@ -40,6 +45,11 @@ pub struct CachedDetector {
     boxes: Vec<Aabb>,
     stack: Vec<(usize, usize)>,
     check: Vec<Contact2>,
+    /// The broad phase's pairs of the root boxes grown by the margin, and each body's pose then.
+    kept_pairs: KeptPairs<(Vector2<f64>, f64)>,
+    pairs: Vec<(usize, usize)>,
+    /// Each body's rotation matrix this call (one sine and cosine per body, not per pair).
+    rotations: Vec<nalgebra::Matrix2<f64>>,
 }
 
 impl CachedDetector {
@@ -49,26 +59,50 @@ impl CachedDetector {
     /// any difference is counted in [`CacheStats::mismatches`].
     pub fn detect(&mut self, bodies: &[Body2], check: bool, out: &mut Vec<Contact2>) {
         out.clear();
+        root_boxes(bodies, &mut self.boxes);
+        self.kept_pairs.overlapping(
+            &self.boxes,
+            |_| MARGIN,
+            |k| (bodies[k].x, bodies[k].theta),
+            |k, (x, theta)| moved(&bodies[k], x, *theta),
+            &mut self.pairs,
+        );
+        self.rotations.clear();
+        self.rotations.extend(bodies.iter().map(Body2::rotation));
         self.cache.begin();
-        for (i, j) in overlapping_body_pairs(bodies, &mut self.boxes) {
+        for &(i, j) in &self.pairs {
+            if bodies[i].pinned && bodies[j].pinned {
+                continue;
+            }
             let (bi, bj) = (&bodies[i], &bodies[j]);
             let stack = &mut self.stack;
+            let slow = |a: &Anchor| {
+                moved(bi, &a.x[0], a.theta[0]) + moved(bj, &a.x[1], a.theta[1]) <= MARGIN / 2.0
+            };
+            let mut listed = true;
             let candidates = self.cache.candidates(
                 (i, j),
-                |a| {
-                    crate::common::faults::fault!(stale_detection_cache)
-                        || moved(bi, &a.x[0], a.theta[0]) + moved(bj, &a.x[1], a.theta[1])
-                            <= MARGIN / 2.0
-                },
-                |out| {
-                    candidate_blocks(bi, bj, stack, out);
+                |a| a.listed && (crate::common::faults::fault!(stale_detection_cache) || slow(a)),
+                |last, out| {
+                    listed = last.is_some_and(slow);
+                    if listed {
+                        candidate_blocks(bi, bj, stack, out);
+                    }
                     Anchor {
                         x: [bi.x, bj.x],
                         theta: [bi.theta, bj.theta],
+                        listed,
                     }
                 },
             );
-            let (pi, pj) = (Placed::new(bi), Placed::new(bj));
+            if !listed {
+                super::collide::tree_contacts(bodies, i, j, &mut self.stack, out);
+                continue;
+            }
+            let (pi, pj) = (
+                Placed::with_rotation(bi, self.rotations[i]),
+                Placed::with_rotation(bj, self.rotations[j]),
+            );
             for &(a, b) in candidates {
                 if let Some(c) =
                     super::collide::placed_block_contact((i, &pi), a as usize, (j, &pj), b as usize)

@@ -59,6 +59,11 @@ impl<'a> Placed<'a> {
         }
     }
 
+    /// With its rotation matrix already computed (`body.rotation()`, the same bits).
+    pub(super) fn with_rotation(body: &'a Body2, rotation: nalgebra::Matrix2<f64>) -> Placed<'a> {
+        Placed { body, rotation }
+    }
+
     pub(super) fn to_world(&self, local: &Vector2<f64>) -> Vector2<f64> {
         self.body.x + self.rotation * local
     }
@@ -158,6 +163,15 @@ pub fn detect_contacts(bodies: &[Body2], out: &mut Vec<Contact2>) {
 /// The broad phase: the pairs i < j, ascending, whose root discs' boxes overlap and that are not
 /// two pinned bodies (`boxes` is a buffer).
 pub fn overlapping_body_pairs(bodies: &[Body2], boxes: &mut Vec<Aabb>) -> Vec<(usize, usize)> {
+    root_boxes(bodies, boxes);
+    let mut pairs = overlapping_pairs(boxes);
+    pairs.retain(|&(i, j)| !(bodies[i].pinned && bodies[j].pinned));
+    pairs
+}
+
+/// The world boxes of the bodies' root discs into `boxes` (replaced; an empty box for a body
+/// without blocks).
+pub fn root_boxes(bodies: &[Body2], boxes: &mut Vec<Aabb>) {
     boxes.clear();
     boxes.extend(bodies.iter().map(|b| {
         root_box(b).unwrap_or(Aabb {
@@ -165,9 +179,6 @@ pub fn overlapping_body_pairs(bodies: &[Body2], boxes: &mut Vec<Aabb>) -> Vec<(u
             max: Vector3::repeat(f64::NEG_INFINITY),
         })
     }));
-    let mut pairs = overlapping_pairs(boxes);
-    pairs.retain(|&(i, j)| !(bodies[i].pinned && bodies[j].pinned));
-    pairs
 }
 
 /// The same contacts by testing every boundary block of every body against every boundary block

@@ -44,7 +44,7 @@ pub struct BenchArgs {
     /// Write the table to DIR/bench.md and the plot to DIR/bench.svg as well.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// PGS sweeps in 3D (and rapier's solver iterations); the 2D factory keeps its 10.
+    /// PGS sweeps in 3D (and rapier's solver iterations); the 2D factory keeps its own 20.
     #[arg(long, default_value_t = 20)]
     pub iterations: u32,
     /// Only the scenes whose name contains one of these texts, comma-separated (e.g. "grid 8",

@@ -46,10 +46,10 @@ pub(crate) fn check_readable(path: Option<&std::path::Path>) -> anyhow::Result<(
 /// now, so that an unwritable path fails before the run starts.
 pub(crate) fn create_trace_output(
     path: &std::path::Path,
-) -> anyhow::Result<Box<dyn std::io::Write>> {
+) -> anyhow::Result<Box<dyn std::io::Write + Send>> {
     use anyhow::Context;
     Ok(if path.as_os_str() == "-" {
-        Box::new(std::io::stdout().lock())
+        Box::new(std::io::stdout())
     } else {
         Box::new(
             std::fs::File::create(path)

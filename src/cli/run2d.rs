@@ -53,6 +53,12 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     header.overrides = scene.overrides.clone();
     write_json_line(&mut out, &header).map_err(write_err)?;
     write_json_line(&mut out, &Record2::of_world(&world, all_contacts)).map_err(write_err)?;
+    // The records from here on are formatted on a thread of their own, in order.
+    let mut out = rigidref::common::writer::BackgroundWriter::new(
+        out,
+        |out, record: &Record2| write_json_line(out, record),
+        |out| out.flush(),
+    );
     let mut reports = Reports2::open(&args.reports)?;
     reports.nuts(&world)?;
     let mut progress = Progress::steps(steps, args.quiet);
@@ -80,7 +86,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         }
         reports.scaling(w, k, &totals)?;
         if is_recorded(k, steps, args.output.every) {
-            write_json_line(&mut out, &Record2::of_world(w, all_contacts))?;
+            out.write(Record2::of_world(w, all_contacts))?;
             reports.nuts(w)?;
         }
         progress.tick(k);

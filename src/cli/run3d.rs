@@ -34,7 +34,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let write_err =
         |e: std::io::Error| anyhow::anyhow!("{}: cannot write trace: {e}", out_path.display());
     writer
-        .write(&TraceRecord::of_world(&world))
+        .write(TraceRecord::of_world(&world))
         .map_err(write_err)?;
     let (mut records, mut last_recorded) = (1u64, 0u64);
     let start = (world.energy(), world.momentum());
@@ -58,7 +58,7 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         }
         let stop_here = w.params.stop_on_contact && !w.solves.is_empty();
         if is_recorded(k, steps, args.output.every) || stop_here {
-            writer.write(&TraceRecord::of_world(w)).map_err(write_err)?;
+            writer.write(TraceRecord::of_world(w)).map_err(write_err)?;
             records += 1;
             last_recorded = k;
         }

@@ -155,3 +155,155 @@ pub fn sweep_and_prune_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     pairs.sort_unstable();
     pairs
 }
+
+/// The broad phase with temporal coherence: the pairs of the boxes grown by each body's margin,
+/// kept while a body has moved by at most half its margin since its box was grown, and filtered
+/// each call by the present boxes. The result is exactly [`overlapping_pairs`] of the present
+/// boxes (a pair overlapping now overlapped, grown, then), in the same order.
+///
+/// A body that has moved further (or is new) is a **mover**: its box is grown afresh at its
+/// present pose and its grown pairs found again against every other grown box, the other bodies'
+/// pairs kept; when movers are more than [`MOVERS_FOR_REBUILD`] of the bodies, the grown pairs
+/// are all found afresh on the grid instead. docs/contact.md §"Temporal coherence".
+#[derive(Clone, Debug)]
+pub struct KeptPairs<A> {
+    /// Each body's pose when its grown box was made.
+    anchors: Vec<A>,
+    grown_pairs: Vec<(usize, usize)>,
+    grown: Vec<Aabb>,
+    is_mover: Vec<bool>,
+    movers: Vec<usize>,
+    mover_pairs: Vec<(usize, usize)>,
+    merged: Vec<(usize, usize)>,
+    /// Calls with no mover.
+    pub kept: u64,
+    /// Calls that updated the movers' pairs.
+    pub updated: u64,
+    /// Calls that found all grown pairs afresh.
+    pub found: u64,
+}
+
+/// The share of bodies (1 in this many) above which movers make the grown pairs be found afresh
+/// rather than updated: each mover is tested against every body, so the update costs
+/// movers × bodies box tests against the grid's O(bodies log bodies).
+pub const MOVERS_FOR_REBUILD: usize = 128;
+
+impl<A> Default for KeptPairs<A> {
+    fn default() -> Self {
+        KeptPairs {
+            anchors: Vec::new(),
+            grown_pairs: Vec::new(),
+            grown: Vec::new(),
+            is_mover: Vec::new(),
+            movers: Vec::new(),
+            mover_pairs: Vec::new(),
+            merged: Vec::new(),
+            kept: 0,
+            updated: 0,
+            found: 0,
+        }
+    }
+}
+
+impl<A> KeptPairs<A> {
+    /// The overlapping pairs of `boxes` into `out` (replaced). `margin(k)` is body k's margin,
+    /// `anchor(k)` its present pose, `moved(k, a)` a bound on how far any point of body k has
+    /// moved since pose `a` (NaN fails).
+    pub fn overlapping(
+        &mut self,
+        boxes: &[Aabb],
+        margin: impl Fn(usize) -> f64,
+        anchor: impl Fn(usize) -> A,
+        moved: impl Fn(usize, &A) -> f64,
+        out: &mut Vec<(usize, usize)>,
+    ) {
+        let n = boxes.len();
+        let grow = |k: usize| Aabb {
+            min: boxes[k].min.add_scalar(-margin(k)),
+            max: boxes[k].max.add_scalar(margin(k)),
+        };
+        // Within half its margin (false for NaN: a body whose state is not a number moves).
+        let stayed = |k: usize, a: &A| moved(k, a) <= margin(k) / 2.0;
+        self.movers.clear();
+        if self.anchors.len() <= n {
+            self.movers
+                .extend((0..self.anchors.len()).filter(|&k| !stayed(k, &self.anchors[k])));
+            self.movers.extend(self.anchors.len()..n);
+        }
+        if self.anchors.len() > n
+            || self.movers.len() * MOVERS_FOR_REBUILD > n.max(MOVERS_FOR_REBUILD)
+        {
+            self.found += 1;
+            self.grown.clear();
+            self.grown.extend((0..n).map(grow));
+            self.grown_pairs = overlapping_pairs(&self.grown);
+            self.anchors.clear();
+            self.anchors.extend((0..n).map(&anchor));
+        } else if !self.movers.is_empty() {
+            self.updated += 1;
+            self.is_mover.clear();
+            self.is_mover.resize(n, false);
+            for &k in &self.movers {
+                self.is_mover[k] = true;
+                if k < self.anchors.len() {
+                    self.anchors[k] = anchor(k);
+                    self.grown[k] = grow(k);
+                } else {
+                    self.anchors.push(anchor(k));
+                    self.grown.push(grow(k));
+                }
+            }
+            // A mover's pairs against every grown box (a pair of two movers once, from the
+            // first); empty boxes overlap nothing, as on the grid.
+            self.mover_pairs.clear();
+            for &k in &self.movers {
+                if is_empty(&self.grown[k]) {
+                    continue;
+                }
+                for j in 0..n {
+                    if j == k || (self.is_mover[j] && j < k) || is_empty(&self.grown[j]) {
+                        continue;
+                    }
+                    if self.grown[k].overlaps(&self.grown[j]) {
+                        self.mover_pairs.push((k.min(j), k.max(j)));
+                    }
+                }
+            }
+            self.mover_pairs.sort_unstable();
+            // The kept pairs of bodies that did not move, merged with the movers' (both sorted).
+            let is_mover = &self.is_mover;
+            self.merged.clear();
+            let mut kept = self
+                .grown_pairs
+                .iter()
+                .copied()
+                .filter(|&(i, j)| !is_mover[i] && !is_mover[j])
+                .peekable();
+            let mut new = self.mover_pairs.iter().copied().peekable();
+            loop {
+                let next = match (kept.peek(), new.peek()) {
+                    (Some(a), Some(b)) => {
+                        if a < b {
+                            kept.next()
+                        } else {
+                            new.next()
+                        }
+                    }
+                    (Some(_), None) => kept.next(),
+                    (None, _) => new.next(),
+                };
+                match next {
+                    Some(p) => self.merged.push(p),
+                    None => break,
+                }
+            }
+            std::mem::swap(&mut self.grown_pairs, &mut self.merged);
+        } else {
+            self.kept += 1;
+        }
+        out.clear();
+        out.extend(self.grown_pairs.iter().copied().filter(|&(i, j)| {
+            !is_empty(&boxes[i]) && !is_empty(&boxes[j]) && boxes[i].overlaps(&boxes[j])
+        }));
+    }
+}

@@ -10,6 +10,7 @@
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
 //! - [`stats`]: the median;
 //! - [`timing`]: wall and thread CPU time of a piece of work;
+//! - [`writer`]: a writer thread, so that formatting a trace is not in the simulation loop;
 //! - [`trace`]: the trace format's name and version, for both systems' traces.
 
 pub mod broad;
@@ -22,3 +23,4 @@ pub mod stats;
 pub mod timing;
 pub mod trace;
 pub mod values;
+pub mod writer;

@@ -88,32 +88,30 @@ impl<A: Clone, T: Copy> PairCache<A, T> {
 
     /// The candidates of pair `(i, j)`, visited in ascending order within a pass: the kept list
     /// when there is one and `holds(anchor)` says its anchor still holds, else a fresh list from
-    /// `fresh`, which appends the candidates and returns their anchor.
+    /// `fresh`, which is given the pair's last anchor (if the pair was visited in the last pass),
+    /// appends the candidates and returns their anchor.
     pub fn candidates(
         &mut self,
         (i, j): (usize, usize),
         holds: impl FnOnce(&A) -> bool,
-        fresh: impl FnOnce(&mut Vec<T>) -> A,
+        fresh: impl FnOnce(Option<&A>, &mut Vec<T>) -> A,
     ) -> &[T] {
         let pair = (i as u32, j as u32);
         while self.cursor < self.entries.len() && self.entries[self.cursor].pair < pair {
             self.cursor += 1;
         }
         let start = self.next_items.len();
-        let kept = self
-            .entries
-            .get(self.cursor)
-            .filter(|e| e.pair == pair && holds(&e.anchor));
-        let anchor = match kept {
-            Some(e) => {
+        let last = self.entries.get(self.cursor).filter(|e| e.pair == pair);
+        let anchor = match last {
+            Some(e) if holds(&e.anchor) => {
                 self.next_items
                     .extend_from_slice(&self.items[e.items.clone()]);
                 self.stats.reused += 1;
                 e.anchor.clone()
             }
-            None => {
+            _ => {
                 self.stats.refreshed += 1;
-                fresh(&mut self.next_items)
+                fresh(last.map(|e| &e.anchor), &mut self.next_items)
             }
         };
         let items = start..self.next_items.len();
@@ -156,7 +154,7 @@ mod tests {
                     .candidates(
                         pair,
                         |_| anchor_ok,
-                        |out| {
+                        |_, out| {
                             calls += 1;
                             out.extend([pair.0 as u32, pair.1 as u32]);
                             0.0

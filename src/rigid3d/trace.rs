@@ -218,20 +218,41 @@ pub enum TraceFormat {
 
 #[allow(clippy::large_enum_variant)] // one per trace; the size is irrelevant
 enum Sink {
-    Jsonl(BufWriter<Box<dyn Write>>),
-    Csv(csv::Writer<Box<dyn Write>>),
+    Jsonl(BufWriter<Box<dyn Write + Send>>),
+    Csv(csv::Writer<Box<dyn Write + Send>>),
 }
 
-/// Writes a trace record by record. Each record is complete when [`TraceWriter::write`] returns;
-/// [`TraceWriter::flush`] makes everything written so far durable (also on an error path).
+impl Sink {
+    fn write(&mut self, record: &TraceRecord) -> std::io::Result<()> {
+        match self {
+            Sink::Jsonl(w) => {
+                serde_json::to_writer(&mut *w, record)?;
+                w.write_all(b"\n")
+            }
+            Sink::Csv(w) => Ok(w.write_record(csv_row(record))?),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::Jsonl(w) => w.flush(),
+            Sink::Csv(w) => w.flush(),
+        }
+    }
+}
+
+/// Writes a trace record by record, formatting them on a thread of its own
+/// ([`crate::common::writer::BackgroundWriter`]: the bytes are those of writing in place, in
+/// order). [`TraceWriter::flush`] waits until everything given so far is written and durable
+/// (also on an error path); an output error is returned by the next `write` or `flush`.
 pub struct TraceWriter {
-    sink: Sink,
+    thread: crate::common::writer::BackgroundWriter<TraceRecord>,
 }
 
 impl TraceWriter {
     /// Starts a trace on `out`, writing the header (JSON Lines) or the column names (CSV).
     pub fn new(
-        out: Box<dyn Write>,
+        out: Box<dyn Write + Send>,
         format: TraceFormat,
         header: &TraceHeader,
     ) -> std::io::Result<TraceWriter> {
@@ -248,26 +269,23 @@ impl TraceWriter {
                 Sink::Csv(w)
             }
         };
-        Ok(TraceWriter { sink })
+        Ok(TraceWriter {
+            thread: crate::common::writer::BackgroundWriter::new(
+                sink,
+                |sink: &mut Sink, r: &TraceRecord| sink.write(r),
+                Sink::flush,
+            ),
+        })
     }
 
-    /// Appends one record.
-    pub fn write(&mut self, record: &TraceRecord) -> std::io::Result<()> {
-        match &mut self.sink {
-            Sink::Jsonl(w) => {
-                serde_json::to_writer(&mut *w, record)?;
-                w.write_all(b"\n")
-            }
-            Sink::Csv(w) => Ok(w.write_record(csv_row(record))?),
-        }
+    /// Appends one record (queued for the writer thread).
+    pub fn write(&mut self, record: TraceRecord) -> std::io::Result<()> {
+        self.thread.write(record)
     }
 
-    /// Flushes everything written so far to the underlying file or stream.
+    /// Waits until every record given so far is written, and flushes the file or stream.
     pub fn flush(&mut self) -> std::io::Result<()> {
-        match &mut self.sink {
-            Sink::Jsonl(w) => w.flush(),
-            Sink::Csv(w) => w.flush(),
-        }
+        self.thread.flush()
     }
 }
 

@@ -68,7 +68,7 @@ pub fn write_golden(scene_path: &Path, source: &str, out: &Path) -> Result<(), S
     .map_err(|e| format!("{}: {e}", out.display()))?;
     for r in &trace.records {
         writer
-            .write(r)
+            .write(r.clone())
             .map_err(|e| format!("{}: {e}", out.display()))?;
     }
     writer

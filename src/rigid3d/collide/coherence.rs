@@ -4,7 +4,6 @@
 //! moved less than half the margin. Everything kept is tested exactly as fresh detection tests
 //! it, so the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
-use super::detect::CollisionMethod;
 use super::manifold::manifold_contacts_among;
 use super::mesh_pair::{MeshCollider, vertex_contact};
 use super::pieces::pose;
@@ -86,7 +85,7 @@ fn find_candidates(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
-    method: CollisionMethod,
+    pieces: bool,
     out: &mut Vec<Candidate>,
 ) -> Anchor {
     let (bi, bj) = (&bodies[i], &bodies[j]);
@@ -104,7 +103,7 @@ fn find_candidates(
             out.push(Candidate::VertexOfSecond(v as u32));
         }
     }
-    if method == CollisionMethod::Complete {
+    if pieces {
         let (pose_i, pose_j) = (pose(bi), pose(bj));
         for (a, piece_a) in ci.pieces.pieces.iter().enumerate() {
             let box_a = piece_a.world_aabb(&pose_i);
@@ -123,24 +122,23 @@ fn find_candidates(
 }
 
 /// The contacts of pair (i, j) (neither with an analytic ellipsoid) from its kept candidates,
-/// or from fresh ones when the pair has moved too far: exactly [`super::detect::Detector`]'s
-/// fresh contacts for the pair, appended to `out`.
+/// or from fresh ones when the pair has moved too far: exactly fresh detection's contacts for the
+/// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`).
 pub fn cached_pair_contacts(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
-    method: CollisionMethod,
+    pieces: bool,
     cache: &mut PairCache<Anchor, Candidate>,
     manifold: &mut ContactManifold<(), ()>,
     out: &mut Vec<Contact>,
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let radii = (colliders[i].radius(), colliders[j].radius());
-    let pieces = method == CollisionMethod::Complete;
     let candidates = cache.candidates(
         (i, j),
         |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
-        |list| find_candidates((i, j), bodies, colliders, method, list),
+        |_, list| find_candidates((i, j), bodies, colliders, pieces, list),
     );
     let pair_start = out.len();
     for c in candidates {

@@ -7,9 +7,10 @@ use super::manifold::manifold_contacts;
 use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
 use super::vertex_contact::Contact;
-use crate::common::broad::{Aabb, overlapping_pairs};
+use crate::common::broad::{Aabb, KeptPairs, overlapping_pairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use crate::rigid3d::body::RigidBody;
+use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::query::ContactManifold;
 
 /// How body pairs are tested (the scene's `collision`). docs/contact.md §"Complete collision
@@ -92,6 +93,9 @@ pub struct Detector {
     check: bool,
     cache: PairCache<Anchor, Candidate>,
     fresh: Vec<Contact>,
+    /// The broad phase's grown pairs and each body's pose then (with the cache).
+    kept_pairs: KeptPairs<(Vector3<f64>, Matrix3<f64>)>,
+    pairs: Vec<(usize, usize)>,
 }
 
 impl Detector {
@@ -127,17 +131,18 @@ impl Detector {
             ground_contacts(i, body, out);
         }
         MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
+        self.find_pairs(bodies, colliders);
         if self.use_cache {
             self.cache.begin();
         }
-        for (i, j) in overlapping_pairs(&self.boxes) {
+        for &(i, j) in &self.pairs {
             let analytic = bodies[i].ellipsoid.is_some() || bodies[j].ellipsoid.is_some();
             if self.use_cache && !analytic {
                 cached_pair_contacts(
                     (i, j),
                     bodies,
                     colliders,
-                    method,
+                    method == CollisionMethod::Complete,
                     &mut self.cache,
                     &mut self.manifold,
                     out,
@@ -181,7 +186,28 @@ impl Detector {
         out: &mut Vec<Penetration>,
     ) {
         MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
-        super::penetration::penetrations_in(bodies, colliders, &self.boxes, out);
+        self.find_pairs(bodies, colliders);
+        super::penetration::penetrations_in(bodies, colliders, &self.boxes, &self.pairs, out);
+    }
+
+    /// The broad phase on `self.boxes` into `self.pairs`: with the cache, from the kept grown
+    /// pairs (margin [`super::coherence::MARGIN_FRACTION`] of each body's bounding radius; a
+    /// body's points have moved by at most |Δx| + ‖ΔR‖ ρ); the same pairs either way.
+    fn find_pairs(&mut self, bodies: &[RigidBody], colliders: &[MeshCollider]) {
+        if !self.use_cache {
+            self.pairs = overlapping_pairs(&self.boxes);
+            return;
+        }
+        let margin = |k: usize| super::coherence::MARGIN_FRACTION * colliders[k].radius();
+        self.kept_pairs.overlapping(
+            &self.boxes,
+            margin,
+            |k| (bodies[k].x, bodies[k].rotation),
+            |k, (x, r)| {
+                (bodies[k].x - x).norm() + (bodies[k].rotation - r).norm() * colliders[k].radius()
+            },
+            &mut self.pairs,
+        );
     }
 }
 

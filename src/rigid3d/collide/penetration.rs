@@ -129,14 +129,16 @@ pub fn brute_force_pair_depth(
 pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut Vec<Penetration>) {
     let mut boxes = Vec::new();
     MeshCollider::world_boxes(bodies, colliders, &mut boxes);
-    penetrations_in(bodies, colliders, &boxes, out);
+    penetrations_in(bodies, colliders, &boxes, &overlapping_pairs(&boxes), out);
 }
 
-/// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i).
+/// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i) and the pairs whose
+/// boxes overlap ([`overlapping_pairs`]).
 pub fn penetrations_in(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     boxes: &[Aabb],
+    pairs: &[(usize, usize)],
     out: &mut Vec<Penetration>,
 ) {
     out.clear();
@@ -152,11 +154,10 @@ pub fn penetrations_in(
             });
         }
     }
-    let pairs = overlapping_pairs(boxes);
     // Each body's pose and pieces' world boxes, once (a body is in several pairs).
     let mut placed: Vec<Option<(Pose, std::ops::Range<usize>)>> = vec![None; bodies.len()];
     let mut piece_boxes = Vec::new();
-    for &(i, j) in &pairs {
+    for &(i, j) in pairs {
         for k in [i, j] {
             if placed[k].is_none() {
                 let pose = pose(&bodies[k]);
@@ -172,7 +173,7 @@ pub fn penetrations_in(
             }
         }
     }
-    for (i, j) in pairs {
+    for &(i, j) in pairs {
         let side = |k: usize| {
             let (pose, range) = placed[k].as_ref().expect("placed above");
             (&colliders[k], pose, &piece_boxes[range.clone()])

@@ -928,8 +928,14 @@ fn bench_quick_prints_the_side_by_side_table() {
     assert_eq!(rows.len(), 4, "{stdout}");
     for row in &rows {
         let cells = cells_of(row);
-        assert_eq!(cells.len(), 17, "{row}");
-        for cell in &cells[1..] {
+        assert_eq!(cells.len(), 18, "{row}");
+        // The last cell is the share of pair visits detection's kept lists served.
+        let kept = cells[17]
+            .strip_suffix(" %")
+            .unwrap_or_else(|| panic!("{row}: kept share"));
+        let kept: f64 = kept.parse().unwrap_or_else(|_| panic!("{row}: {kept:?}"));
+        assert!((0.0..=100.0).contains(&kept), "{row}");
+        for cell in &cells[1..17] {
             let x: f64 = cell.parse().unwrap_or_else(|_| panic!("{row}: {cell:?}"));
             assert!(x.is_finite() && x >= 0.0, "{row}");
         }
@@ -942,7 +948,8 @@ fn bench_quick_prints_the_side_by_side_table() {
         .find(|l| l.starts_with("| 2D factory 100 |"))
         .unwrap_or_else(|| panic!("{stdout}"));
     let cells = cells_of(pile);
-    assert_eq!(cells.len(), 17, "{pile}");
+    assert_eq!(cells.len(), 18, "{pile}");
+    assert!(cells[17].ends_with(" %"), "{pile}");
     assert!(cells[2].parse::<f64>().unwrap() > 50.0, "{pile}");
     assert!(cells[3].parse::<f64>().unwrap() > 0.0, "{pile}");
     assert_eq!(&cells[4], "–", "{pile}");

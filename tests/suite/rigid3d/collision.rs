@@ -137,6 +137,48 @@ fn broad_phase_finds_exactly_the_overlapping_pairs() {
     });
 }
 
+/// The broad phase with temporal coherence (docs/contact.md §"Temporal coherence"): boxes that
+/// drift a little, jump, and are added, step after step; every step the kept grown pairs,
+/// filtered, are exactly the pairs the grid finds afresh (and all three ways of keeping them are
+/// used: nothing moved, a few movers updated, everything found again).
+#[test]
+fn kept_pairs_are_exactly_the_overlapping_pairs_while_boxes_move_and_are_added() {
+    use rigidref::common::broad::KeptPairs;
+    let ways = std::cell::Cell::new([0u64; 3]);
+    proptest!(common::seeded(60), |(
+        start in proptest::collection::vec(((-6.0..6.0f64, -6.0..6.0f64, -6.0..6.0f64), 0.2..1.5f64), 1..150),
+        moves in proptest::collection::vec((0..200usize, (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64), 0..4u8), 0..400),
+    )| {
+        let mut centres: Vec<Vector3<f64>> = start.iter().map(|(c, _)| Vector3::new(c.0, c.1, c.2)).collect();
+        let mut sizes: Vec<f64> = start.iter().map(|(_, s)| *s).collect();
+        let mut kept: KeptPairs<Vector3<f64>> = KeptPairs::default();
+        let mut pairs = Vec::new();
+        for (step, chunk) in moves.chunks(8).enumerate() {
+            for &(k, d, kind) in chunk {
+                let d = Vector3::new(d.0, d.1, d.2);
+                match kind {
+                    // Drift (within the margin over a few steps), a jump, or a new box.
+                    0 | 1 => { let k = k % centres.len(); centres[k] += d * 0.01; }
+                    2 => { let k = k % centres.len(); centres[k] += d * 2.0; }
+                    _ => { centres.push(d * 5.0); sizes.push(0.7); }
+                }
+            }
+            let boxes: Vec<Aabb> = centres.iter().zip(&sizes).map(|(c, s)| Aabb {
+                min: c.add_scalar(-s), max: c.add_scalar(*s),
+            }).collect();
+            kept.overlapping(&boxes, |k| 0.1 * sizes[k], |k| centres[k], |k, a| (centres[k] - a).norm(), &mut pairs);
+            prop_assert_eq!(&pairs, &overlapping_pairs(&boxes), "step {}", step);
+        }
+        let w = ways.get();
+        ways.set([w[0] + kept.kept, w[1] + kept.updated, w[2] + kept.found]);
+    });
+    let [unmoved, updated, found] = ways.get();
+    assert!(
+        unmoved > 0 && updated > 0 && found > 0,
+        "kept {unmoved}, updated {updated}, found {found}"
+    );
+}
+
 /// A grid of 30 × 30 equal boxes just touching their neighbours (and a floor box under them
 /// all): every touching pair is found once, by the grid as by the sweep.
 #[test]

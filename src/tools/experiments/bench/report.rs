@@ -58,7 +58,7 @@ pub(super) fn families(rows: &[BenchRow]) -> Vec<&'static str> {
 /// issue's targets read off the rows.
 pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
     let mut out = format!(
-        "{} PGS sweeps in 3D (rapier: {} solver iterations; the 2D factory keeps its 10 sweeps), medians of {} rounds of {} steps after {} warm-up steps ({} and {} above 2 000 bodies). Times in ms per step; \"measure\" is the 3D penetration measure and 2D post-stabilisation; rapier's columns are its own timers.\n\n",
+        "{} PGS sweeps in 3D (rapier: {} solver iterations; the 2D factory keeps its own 20 sweeps), medians of {} rounds of {} steps after {} warm-up steps ({} and {} above 2 000 bodies). Times in ms per step; \"measure\" is the 3D penetration measure and 2D post-stabilisation; rapier's columns are its own timers.\n\n",
         s.iterations,
         s.iterations,
         s.rounds,

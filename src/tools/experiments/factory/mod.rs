@@ -35,6 +35,10 @@ use std::path::Path;
 /// A tetromino: its four cells and its colour.
 type Tetromino = ([(i64, i64); 4], [f64; 3]);
 
+/// The factory's PGS sweeps per solve by default: twice the starter's 10, which let a pile of
+/// 10 000 bricks give way at about 9 000 (docs/blocks2d.md §"Challenges").
+pub const FACTORY_ITERATIONS: u32 = 20;
+
 /// Drops in a row that place nothing before the container counts as full.
 pub const FULL_AFTER: u32 = 20;
 
@@ -268,6 +272,7 @@ pub fn run_factory(
         wall_seconds: started.elapsed().as_secs_f64(),
         steps_per_second_at_end: log.recent_steps.len() as f64
             / log.recent_steps.iter().sum::<f64>().max(1e-12),
+        phases_ms_at_end: log.phases_ms_at_end(),
     };
     if s.view_every > 0 {
         if view_records.last().is_none_or(|r| r.step != world.step) {
@@ -289,7 +294,7 @@ pub fn run_factory(
 /// skyline, left to right and then again from the left: a block straight above another √2 −
 /// 0.001 blocks higher, one in the next column at least 0.999 higher (their discs, of diameter
 /// √2, overlap by at most a thousandth of a block, less than the slop), so that the pile is in
-/// contact from its first step. At rest, with the factory's default settings (10 sweeps in
+/// contact from its first step. At rest, with the factory's default settings ([`FACTORY_ITERATIONS`] sweeps in
 /// seeded random order, 1 substep, the rest [`Params2::default`]).
 pub fn packed_pile(bodies: usize, pieces: Pieces, seed: u64) -> World2 {
     let above = std::f64::consts::SQRT_2 - 1e-3;
@@ -348,7 +353,7 @@ pub fn packed_pile(bodies: usize, pieces: Pieces, seed: u64) -> World2 {
     let top = skyline.iter().copied().fold(0.0, f64::min);
     let depth = depth.max((-top + above).ceil() as usize + 2);
     let params = Params2 {
-        iterations: 10,
+        iterations: FACTORY_ITERATIONS,
         substeps: 1,
         order: crate::solve::ContactOrder::Random,
         seed,

@@ -42,6 +42,8 @@ pub(super) struct SolveLog {
     pub(super) phase_total: f64,
     /// The step times of the last [`STEP_TIMES_KEPT`] steps, s (oldest first).
     pub(super) recent_steps: std::collections::VecDeque<f64>,
+    /// The world's phase clocks after each of the last [`STEP_TIMES_KEPT`] + 1 steps.
+    pub(super) recent_phases: std::collections::VecDeque<[f64; 6]>,
 }
 
 /// Steps whose times are kept for the run's steps per second at its end.
@@ -68,6 +70,7 @@ impl SolveLog {
             pgs_cpu_seconds: 0.0,
             phase_total: 0.0,
             recent_steps: std::collections::VecDeque::with_capacity(STEP_TIMES_KEPT),
+            recent_phases: std::collections::VecDeque::with_capacity(STEP_TIMES_KEPT + 1),
         })
     }
 
@@ -92,6 +95,10 @@ impl SolveLog {
             self.recent_steps.pop_front();
         }
         self.recent_steps.push_back(step_seconds);
+        if self.recent_phases.len() == STEP_TIMES_KEPT + 1 {
+            self.recent_phases.pop_front();
+        }
+        self.recent_phases.push_back(w.phase_times.as_array());
         writeln!(
             self.csv,
             "{},{},{},{},{wall:.9},{cpu:.9},{step_seconds:.9}",
@@ -111,6 +118,18 @@ impl SolveLog {
             }
         }
         Ok(contacts)
+    }
+
+    /// The mean time per step of each phase (detect, assemble, solve, apply, integrate,
+    /// post-stabilisation) over the last [`STEP_TIMES_KEPT`] steps, ms.
+    pub(super) fn phases_ms_at_end(&self) -> [f64; 6] {
+        match (self.recent_phases.front(), self.recent_phases.back()) {
+            (Some(first), Some(last)) if self.recent_phases.len() > 1 => {
+                let steps = (self.recent_phases.len() - 1) as f64;
+                [0, 1, 2, 3, 4, 5].map(|k| (last[k] - first[k]) * 1e3 / steps)
+            }
+            _ => [0.0; 6],
+        }
     }
 
     /// Re-times the kept problems side by side, writes retimed.csv, scaling.svg and scaling.png

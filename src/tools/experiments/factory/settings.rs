@@ -155,6 +155,9 @@ pub struct FactoryReport {
     /// step's own phase clocks: detection, assembly, the solves, post-stabilisation and the
     /// integration, not the log or the progress bar.
     pub steps_per_second_at_end: f64,
+    /// Over the same steps, ms per step of each phase: detect, assemble, solve (PGS), apply,
+    /// integrate, post-stabilisation ([`crate::sim::PhaseTimes`]).
+    pub phases_ms_at_end: [f64; 6],
 }
 
 impl FactoryReport {
