@@ -347,3 +347,31 @@ where
     })
     .unwrap_or_else(|e| panic!("{e}"))
 }
+
+thread_local! {
+    static ALLOCATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// The system allocator, counting the allocations (and reallocations) each thread makes.
+pub struct CountingAllocator;
+
+// SAFETY: every call is passed on to the system allocator unchanged; the count is a
+// thread-local cell with a constant initialiser, which does not allocate.
+unsafe impl std::alloc::GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: std::alloc::Layout, size: usize) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        unsafe { std::alloc::System.realloc(ptr, layout, size) }
+    }
+}
+
+/// Heap allocations this thread has made so far.
+pub fn allocations() -> u64 {
+    ALLOCATIONS.with(|c| c.get())
+}

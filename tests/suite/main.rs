@@ -8,3 +8,8 @@ mod common;
 mod rigid3d;
 mod solve;
 mod verify;
+
+/// Counts the heap allocations made on each thread, for the steady-state allocation test
+/// (`rigid3d::allocations`); otherwise the system allocator, unchanged.
+#[global_allocator]
+static ALLOCATOR: common::CountingAllocator = common::CountingAllocator;

@@ -96,6 +96,7 @@ pub struct Detector {
     /// The broad phase's grown pairs and each body's pose then (with the cache).
     kept_pairs: KeptPairs<(Vector3<f64>, Matrix3<f64>)>,
     pairs: Vec<(usize, usize)>,
+    placed: super::penetration::PlacedBuffers,
 }
 
 impl Detector {
@@ -187,7 +188,13 @@ impl Detector {
     ) {
         MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
         self.find_pairs(bodies, colliders);
-        super::penetration::penetrations_in(bodies, colliders, &self.boxes, &self.pairs, out);
+        super::penetration::penetrations_in(
+            bodies,
+            colliders,
+            (&self.boxes, &self.pairs),
+            &mut self.placed,
+            out,
+        );
     }
 
     /// The broad phase on `self.boxes` into `self.pairs`: with the cache, from the kept grown

@@ -129,7 +129,22 @@ pub fn brute_force_pair_depth(
 pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut Vec<Penetration>) {
     let mut boxes = Vec::new();
     MeshCollider::world_boxes(bodies, colliders, &mut boxes);
-    penetrations_in(bodies, colliders, &boxes, &overlapping_pairs(&boxes), out);
+    let pairs = overlapping_pairs(&boxes);
+    penetrations_in(
+        bodies,
+        colliders,
+        (&boxes, &pairs),
+        &mut PlacedBuffers::default(),
+        out,
+    );
+}
+
+/// The penetration measure's buffers (each body's pose and its pieces' world boxes), kept from
+/// call to call so that the measure allocates nothing once they have grown.
+#[derive(Clone, Debug, Default)]
+pub struct PlacedBuffers {
+    placed: Vec<Option<(Pose, std::ops::Range<usize>)>>,
+    piece_boxes: Vec<Aabb>,
 }
 
 /// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i) and the pairs whose
@@ -137,8 +152,8 @@ pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut 
 pub fn penetrations_in(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
-    boxes: &[Aabb],
-    pairs: &[(usize, usize)],
+    (boxes, pairs): (&[Aabb], &[(usize, usize)]),
+    buffers: &mut PlacedBuffers,
     out: &mut Vec<Penetration>,
 ) {
     out.clear();
@@ -155,8 +170,13 @@ pub fn penetrations_in(
         }
     }
     // Each body's pose and pieces' world boxes, once (a body is in several pairs).
-    let mut placed: Vec<Option<(Pose, std::ops::Range<usize>)>> = vec![None; bodies.len()];
-    let mut piece_boxes = Vec::new();
+    let PlacedBuffers {
+        placed,
+        piece_boxes,
+    } = buffers;
+    placed.clear();
+    placed.resize(bodies.len(), None);
+    piece_boxes.clear();
     for &(i, j) in pairs {
         for k in [i, j] {
             if placed[k].is_none() {

@@ -1,6 +1,7 @@
 //! The 3D system: integrators, mass properties, collision, the contact Jacobian and problem, and
 //! its scenes.
 
+mod allocations;
 mod assignment_scenes;
 mod coherence;
 mod collision;
