@@ -11,7 +11,6 @@ use super::local::{LocalSolve, solve_local};
 use super::projection::{project_disk, project_feasible};
 use super::residual::{
     RowScales, constraint_residual, contact_coulomb_residual, coulomb_scale, free_residual,
-    row_scales,
 };
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::{SMatrix, SVector};
@@ -264,7 +263,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             self.order.extend(0..count);
         }
         self.scales
-            .extend((0..count).map(|k| row_scales(problem, k)));
+            .resize(count, RowScales::of_block(SMatrix::zeros()));
         self.slot.clear();
         self.slot.resize(count, 0);
         for i in 0..count {
@@ -275,11 +274,27 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
                 None => SMatrix::zeros(),
             };
+            let sides = [side(0), side(1)];
+            // The contact's Delassus block from the same per-body M⁻¹Jᵀ the updates use, once:
+            // A_kk = Σ_s J_s (M_s⁻¹ J_sᵀ), symmetrised, plus compliance on its rows
+            // (docs/contact.md §"Delassus operator"; `ContactProblem::delassus_block` forms
+            // J M⁻¹ first, the same to round-off).
+            let mut a = SMatrix::<f64, R, R>::zeros();
+            for ((body, jacobian), side) in c.bodies.iter().zip(&c.jacobian).zip(&sides) {
+                if body.is_some() {
+                    a += jacobian * side;
+                }
+            }
+            let mut block = (a + a.transpose()) * 0.5;
+            for r in 0..R {
+                block[(r, r)] += c.row_compliance(r);
+            }
+            self.scales[k] = RowScales::of_block(block);
             let scales = self.scales[k];
             self.entries.push(Entry {
                 bodies: c.bodies,
                 jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
-                inverse_mass_jacobian_t: [side(0), side(1)],
+                inverse_mass_jacobian_t: sides,
                 b: c.b,
                 law: RowLaw {
                     diagonal: scales.diagonal,
