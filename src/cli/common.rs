@@ -210,3 +210,27 @@ pub(crate) fn load_scene_2d(
     }
     Ok(scene)
 }
+
+/// What `check_detection` found over a run (docs/contact.md §"Temporal coherence"): a summary
+/// line when it was on, or an error naming the scene when cached detection differed from fresh
+/// detection on any substep (a bug; `detection_cache=false` runs without the cache).
+pub(crate) fn detection_check(
+    on: bool,
+    stats: rigidref::common::pair_cache::CacheStats,
+    source: &str,
+) -> anyhow::Result<Option<String>> {
+    if !on {
+        return Ok(None);
+    }
+    if stats.mismatches > 0 {
+        anyhow::bail!(
+            "{source}: check_detection: cached detection differed from fresh detection on {} of {} substeps (a bug in the detection cache; --set detection_cache=false runs without it)",
+            stats.mismatches,
+            stats.checked
+        );
+    }
+    Ok(Some(format!(
+        "detection      checked on {} substeps: the cached contacts are fresh detection's, bit for bit",
+        stats.checked
+    )))
+}

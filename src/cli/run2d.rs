@@ -105,6 +105,11 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
     if let Some(warning) = run_totals.unresolved_warning("blocks per time unit") {
         eprintln!("{}: {warning}", image.display());
     }
+    let check = super::common::detection_check(
+        world.params.check_detection,
+        world.detection_stats(),
+        &image.display().to_string(),
+    )?;
     if let Some(first) = world.impulses.iter().map(|i| i.time).reduce(f64::min) {
         eprintln!(
             "warning: {}: {} scripted impulse(s) from t = {first} were never applied: the run ended at t = {}",
@@ -125,6 +130,9 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
             start_energy,
         };
         summary.print(&world);
+        if let Some(line) = check {
+            eprintln!("{line}");
+        }
         if let Some(finding) = nut_finding {
             eprintln!("nuts           {finding}");
         }

@@ -79,6 +79,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
         )
     })?;
     stats.measured = Some(watch.deepest);
+    let check = super::common::detection_check(
+        world.params.check_detection,
+        world.detection_stats(),
+        &scene.source,
+    )?;
     if let Some(warning) = stats.unresolved_warning("m/s") {
         eprintln!("{}: {warning}", scene.source);
     }
@@ -89,6 +94,9 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             eprintln!("overrides      {}", scene.overrides.join(", "));
         }
         print_summary(&world, ran, wall, start, &stats);
+        if let Some(line) = check {
+            eprintln!("{line}");
+        }
         eprintln!(
             "trace          {} ({records} records, {format:?})",
             out_path.display()

@@ -152,3 +152,32 @@ fn the_detection_cache_on_and_off_give_the_same_trace_bit_for_bit() {
         assert!(cached == fresh, "{scene}: the traces differ");
     }
 }
+
+#[test]
+fn run_reports_the_detection_check_when_it_is_switched_on() {
+    // A user's switch: `--set check_detection=true` on a 3D and a 2D scene; the summary says how
+    // many substeps were compared (a difference would be an error naming the scene).
+    let tmp = tempfile::tempdir().unwrap();
+    for scene in ["scenes/box_stack.json", "scenes/blocks/stack.json"] {
+        let path = common::project_root().join(scene);
+        let out = common::rigidref(
+            &[
+                "run",
+                path.to_str().unwrap(),
+                "--time",
+                "1",
+                "--set",
+                "check_detection=true",
+                "--out",
+                "t.jsonl",
+            ],
+            tmp.path(),
+        );
+        common::assert_success(&out);
+        let stderr = common::stderr(&out);
+        assert!(
+            stderr.contains("detection      checked on") && stderr.contains("bit for bit"),
+            "{scene}: {stderr}"
+        );
+    }
+}
