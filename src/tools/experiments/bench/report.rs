@@ -180,15 +180,12 @@ pub fn targets(rows: &[BenchRow]) -> String {
         .filter(|r| r.family == "2D factory")
         .min_by_key(|r| r.bodies.abs_diff(10_001))
     {
+        // The packed pile is made at once and is not at rest (docs/performance.md): its rate is
+        // the step's cost at the size, not the target's verdict, which a factory run gives.
         let rate = 1e3 / r.ours_ms;
         out.push_str(&format!(
-            "| 2D factory at 10 000 bodies ≥ 30 steps/s (the step's cost on the packed pile; whether a factory run's pile holds is judged by a factory run, docs/performance.md) | {rate:.1} steps/s at {} bodies | {} |\n",
+            "| 2D factory at 10 000 bodies ≥ 30 steps/s | the packed pile (made at once, not at rest): {rate:.1} steps/s at {} bodies | judged by a factory run, not here: `rigidref factory --pieces bricks --bodies 10000` reports its steps per second at the end (docs/performance.md) |\n",
             r.bodies,
-            if r.bodies >= 10_000 {
-                yes(rate >= 30.0)
-            } else {
-                "not measured at 10 000"
-            }
         ));
     }
     // Linear cost: the families measured across the range, 100 to 10 000 bodies (the
