@@ -3,8 +3,7 @@
 //! docs/blocks2d.md §"Temporal coherence".
 
 use super::body::Body2;
-use super::collide::{Contact2, Placed, detect_contacts, root_boxes};
-use super::disc_tree::NodeKind;
+use super::collide::{Contact2, Placed, descend, detect_contacts, root_boxes};
 use crate::common::broad::{Aabb, KeptPairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use nalgebra::Vector2;
@@ -137,39 +136,8 @@ fn candidate_blocks(
     stack: &mut Vec<(usize, usize)>,
     out: &mut Vec<(u32, u32)>,
 ) {
-    let (ti, tj) = (&bi.tree, &bj.tree);
-    if ti.nodes.is_empty() || tj.nodes.is_empty() {
-        return;
-    }
     let (pi, pj) = (Placed::new(bi), Placed::new(bj));
-    stack.clear();
-    stack.push((0, 0));
-    while let Some((a, b)) = stack.pop() {
-        let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
-        let ca = pi.to_world(&na.centre);
-        let cb = pj.to_world(&nb.centre);
-        if (ca - cb).norm() >= na.radius + nb.radius + MARGIN {
-            continue;
-        }
-        match (na.kind, nb.kind) {
-            (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => out.push((ba as u32, bb as u32)),
-            (NodeKind::Inner(l, r), NodeKind::Leaf(_)) => {
-                stack.push((r, b));
-                stack.push((l, b));
-            }
-            (NodeKind::Leaf(_), NodeKind::Inner(l, r)) => {
-                stack.push((a, r));
-                stack.push((a, l));
-            }
-            (NodeKind::Inner(al, ar), NodeKind::Inner(bl, br)) => {
-                if na.radius >= nb.radius {
-                    stack.push((ar, b));
-                    stack.push((al, b));
-                } else {
-                    stack.push((a, br));
-                    stack.push((a, bl));
-                }
-            }
-        }
-    }
+    descend(&pi, &pj, MARGIN, stack, |a, b| {
+        out.push((a as u32, b as u32))
+    });
 }

@@ -108,26 +108,41 @@ pub fn tree_contacts(
     stack: &mut Vec<(usize, usize)>,
     out: &mut Vec<Contact2>,
 ) {
-    let (ti, tj) = (&bodies[i].tree, &bodies[j].tree);
+    let (bi, bj) = (Placed::new(&bodies[i]), Placed::new(&bodies[j]));
+    descend(&bi, &bj, PRUNE_SLACK, stack, |ba, bb| {
+        if let Some(c) = placed_block_contact((i, &bi), ba, (j, &bj), bb) {
+            out.push(c);
+        }
+    });
+}
+
+/// The descent of two bodies' trees together: from the roots, a pair of nodes whose discs,
+/// grown by `grow` (blocks), overlap is split (the larger disc first) until both are leaves, and
+/// `leaf(block of i, block of j)` is called for each pair of leaves reached. Which node is split
+/// depends only on the radii, so growing the discs prunes less and keeps the order of the leaves
+/// reached ([`super::coherence`] relies on it).
+pub(super) fn descend(
+    bi: &Placed,
+    bj: &Placed,
+    grow: f64,
+    stack: &mut Vec<(usize, usize)>,
+    mut leaf: impl FnMut(usize, usize),
+) {
+    let (ti, tj) = (&bi.body.tree, &bj.body.tree);
     if ti.nodes.is_empty() || tj.nodes.is_empty() {
         return;
     }
-    let (bi, bj) = (Placed::new(&bodies[i]), Placed::new(&bodies[j]));
     stack.clear();
     stack.push((0, 0));
     while let Some((a, b)) = stack.pop() {
         let (na, nb) = (&ti.nodes[a], &tj.nodes[b]);
         let ca = bi.to_world(&na.centre);
         let cb = bj.to_world(&nb.centre);
-        if (ca - cb).norm() >= na.radius + nb.radius + PRUNE_SLACK {
+        if (ca - cb).norm() >= na.radius + nb.radius + grow {
             continue;
         }
         match (na.kind, nb.kind) {
-            (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => {
-                if let Some(c) = placed_block_contact((i, &bi), ba, (j, &bj), bb) {
-                    out.push(c);
-                }
-            }
+            (NodeKind::Leaf(ba), NodeKind::Leaf(bb)) => leaf(ba, bb),
             (NodeKind::Inner(l, r), NodeKind::Leaf(_)) => {
                 stack.push((r, b));
                 stack.push((l, b));

@@ -375,3 +375,23 @@ unsafe impl std::alloc::GlobalAlloc for CountingAllocator {
 pub fn allocations() -> u64 {
     ALLOCATIONS.with(|c| c.get())
 }
+
+/// `rigidref run SCENE --time T --out t.jsonl` with `set` added, in a fresh folder: the trace's
+/// records, one line each, without the header (which names the overrides). Panics if the run
+/// fails.
+pub fn trace_records(scene: &std::path::Path, time: &str, set: &[&str]) -> Vec<String> {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--time",
+        time,
+        "--out",
+        "t.jsonl",
+    ];
+    args.extend(set);
+    let out = rigidref(&args, tmp.path());
+    assert_success(&out);
+    let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
+    text.lines().skip(1).map(str::to_string).collect()
+}

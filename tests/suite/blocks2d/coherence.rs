@@ -140,23 +140,7 @@ fn the_detection_cache_on_and_off_give_the_same_trace_bit_for_bit() {
     let dir = common::project_root().join("scenes/blocks");
     for name in ["dominoes.json", "pyramid.json"] {
         let path = dir.join(name);
-        let run = |set: &[&str]| {
-            let tmp = tempfile::tempdir().unwrap();
-            let mut args = vec![
-                "run",
-                path.to_str().unwrap(),
-                "--time",
-                "5",
-                "--out",
-                "t.jsonl",
-            ];
-            args.extend(set);
-            let out = common::rigidref(&args, tmp.path());
-            common::assert_success(&out);
-            let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
-            // The records, without the header (which names the overrides).
-            text.lines().skip(1).map(str::to_string).collect::<Vec<_>>()
-        };
+        let run = |set: &[&str]| common::trace_records(&path, "5", set);
         let cached = run(&[]);
         let fresh = run(&["--set", "detection_cache=false"]);
         assert!(cached.len() > 50);

@@ -129,23 +129,7 @@ fn the_check_catches_lists_kept_after_the_bodies_have_moved() {
 fn the_detection_cache_on_and_off_give_the_same_trace_bit_for_bit() {
     for scene in ["box_stack.json", "cube_stack.json", "collision.json"] {
         let path = common::project_root().join("scenes").join(scene);
-        let run = |set: &[&str]| {
-            let tmp = tempfile::tempdir().unwrap();
-            let mut args = vec![
-                "run",
-                path.to_str().unwrap(),
-                "--time",
-                "1",
-                "--out",
-                "t.jsonl",
-            ];
-            args.extend(set);
-            let out = common::rigidref(&args, tmp.path());
-            common::assert_success(&out);
-            let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
-            // The records, without the header (which names the overrides).
-            text.lines().skip(1).map(str::to_string).collect::<Vec<_>>()
-        };
+        let run = |set: &[&str]| common::trace_records(&path, "1", set);
         let cached = run(&[]);
         let fresh = run(&["--set", "detection_cache=false"]);
         assert!(cached.len() > 50);

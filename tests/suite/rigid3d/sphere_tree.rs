@@ -165,23 +165,7 @@ fn a_scene_with_sphere_tree_culling_runs_like_the_default() {
     // sphere_tree`, give the default's trace bit for bit (same contacts, same solves).
     for scene in ["box_stack.json", "tee_on_box.json"] {
         let path = common::project_root().join("scenes").join(scene);
-        let run = |set: &[&str]| {
-            let tmp = tempfile::tempdir().unwrap();
-            let mut args = vec![
-                "run",
-                path.to_str().unwrap(),
-                "--time",
-                "1",
-                "--out",
-                "t.jsonl",
-            ];
-            args.extend(set);
-            let out = common::rigidref(&args, tmp.path());
-            common::assert_success(&out);
-            let text = std::fs::read_to_string(tmp.path().join("t.jsonl")).unwrap();
-            // The records, without the header (which names the overrides).
-            text.lines().skip(1).map(str::to_string).collect::<Vec<_>>()
-        };
+        let run = |set: &[&str]| common::trace_records(&path, "1", set);
         let default = run(&[]);
         let culled = run(&["--set", "culling=sphere_tree"]);
         assert!(default.len() > 50);

@@ -270,8 +270,7 @@ pub fn run_factory(
         pgs_seconds: log.pgs_seconds,
         pgs_cpu_seconds: log.pgs_cpu_seconds,
         wall_seconds: started.elapsed().as_secs_f64(),
-        steps_per_second_at_end: log.recent_steps.len() as f64
-            / log.recent_steps.iter().sum::<f64>().max(1e-12),
+        steps_per_second_at_end: log.steps_per_second_at_end(),
         phases_ms_at_end: log.phases_ms_at_end(),
     };
     if s.view_every > 0 {

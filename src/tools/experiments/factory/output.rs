@@ -38,11 +38,8 @@ pub(super) struct SolveLog {
     pub(super) max_contacts: usize,
     pub(super) pgs_seconds: f64,
     pub(super) pgs_cpu_seconds: f64,
-    /// The world's phase clocks' total after the last step recorded, s.
-    pub(super) phase_total: f64,
-    /// The step times of the last [`STEP_TIMES_KEPT`] steps, s (oldest first).
-    pub(super) recent_steps: std::collections::VecDeque<f64>,
-    /// The world's phase clocks after each of the last [`STEP_TIMES_KEPT`] + 1 steps.
+    /// The world's phase clocks after each of the last [`STEP_TIMES_KEPT`] steps, and before
+    /// them (oldest first; the clocks start at zero with the world).
     pub(super) recent_phases: std::collections::VecDeque<[f64; 6]>,
 }
 
@@ -68,9 +65,7 @@ impl SolveLog {
             max_contacts: 0,
             pgs_seconds: 0.0,
             pgs_cpu_seconds: 0.0,
-            phase_total: 0.0,
-            recent_steps: std::collections::VecDeque::with_capacity(STEP_TIMES_KEPT),
-            recent_phases: std::collections::VecDeque::with_capacity(STEP_TIMES_KEPT + 1),
+            recent_phases: std::collections::VecDeque::from([[0.0; 6]]),
         })
     }
 
@@ -89,12 +84,8 @@ impl SolveLog {
         // The step's own work: its phase clocks (detect, assemble, solve, apply, integrate,
         // post-stabilisation), not this log or the progress bar.
         let total: f64 = w.phase_times.as_array().iter().sum();
-        let step_seconds = total - self.phase_total;
-        self.phase_total = total;
-        if self.recent_steps.len() == STEP_TIMES_KEPT {
-            self.recent_steps.pop_front();
-        }
-        self.recent_steps.push_back(step_seconds);
+        let before: f64 = self.recent_phases.back().map_or(0.0, |p| p.iter().sum());
+        let step_seconds = total - before;
         if self.recent_phases.len() == STEP_TIMES_KEPT + 1 {
             self.recent_phases.pop_front();
         }
@@ -118,6 +109,14 @@ impl SolveLog {
             }
         }
         Ok(contacts)
+    }
+
+    /// Steps per second over the last [`STEP_TIMES_KEPT`] steps (their phase clocks' total).
+    pub(super) fn steps_per_second_at_end(&self) -> f64 {
+        if self.recent_phases.len() < 2 {
+            return 0.0;
+        }
+        1e3 / self.phases_ms_at_end().iter().sum::<f64>().max(1e-9)
     }
 
     /// The mean time per step of each phase (detect, assemble, solve, apply, integrate,
