@@ -4,14 +4,13 @@
 //! moved less than half the margin. Everything kept is tested exactly as fresh detection tests
 //! it, so the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
-use super::manifold::manifold_contacts_among;
+use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, vertex_contact};
 use super::pieces::pose;
 use super::vertex_contact::Contact;
 use crate::common::pair_cache::PairCache;
 use crate::rigid3d::body::RigidBody;
 use nalgebra::{Matrix3, Vector3};
-use parry3d_f64::query::ContactManifold;
 
 /// A pair's margin as a fraction of the smaller body's bounding radius (for 0.5 m cubes, 0.022 m):
 /// far above a resting body's motion per substep, far below a falling one's (a body falling
@@ -130,7 +129,7 @@ pub fn cached_pair_contacts(
     colliders: &[MeshCollider],
     pieces: bool,
     cache: &mut PairCache<Anchor, Candidate>,
-    manifold: &mut ContactManifold<(), ()>,
+    manifold: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);

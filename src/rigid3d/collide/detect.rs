@@ -3,7 +3,7 @@
 
 use super::coherence::{Anchor, Candidate, cached_pair_contacts};
 use super::ground::ground_contacts;
-use super::manifold::manifold_contacts;
+use super::manifold::{ManifoldBuffers, manifold_contacts};
 use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
 use super::vertex_contact::Contact;
@@ -11,7 +11,6 @@ use crate::common::broad::{Aabb, KeptPairs, overlapping_pairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use crate::rigid3d::body::RigidBody;
 use nalgebra::{Matrix3, Vector3};
-use parry3d_f64::query::ContactManifold;
 
 /// How body pairs are tested (the scene's `collision`). docs/contact.md §"Complete collision
 /// detection".
@@ -80,13 +79,13 @@ impl Culling {
 }
 
 /// Collision detection's reusable buffers: the bodies' world boxes and parry's contact
-/// manifold, kept from call to call so that detection allocates nothing once warmed up; and,
+/// manifold buffers, kept from call to call so that detection allocates nothing once warmed up; and,
 /// when made with [`Detector::cached`], each body pair's candidates kept from step to step
 /// (docs/contact.md §"Temporal coherence").
 #[derive(Clone, Debug, Default)]
 pub struct Detector {
     boxes: Vec<Aabb>,
-    manifold: ContactManifold<(), ()>,
+    manifold: ManifoldBuffers,
     /// Keep candidate lists (`detection_cache`).
     use_cache: bool,
     /// Compare with fresh detection on every call (`check_detection`).

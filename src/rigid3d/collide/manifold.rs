@@ -1,20 +1,28 @@
 //! `collision: complete`: the contacts the vertex rule misses, from contact manifolds between the
-//! two bodies' convex pieces (parry3d: the penetration direction by GJK/EPA, then the two
-//! pieces' supporting faces, edges or vertices clipped against each other). docs/contact.md
-//! §"Complete collision detection".
+//! two bodies' convex pieces (the penetration direction by GJK/EPA, then the two pieces'
+//! supporting faces, edges or vertices clipped against each other: parry3d's steps, driven by
+//! [`super::convex`]). docs/contact.md §"Complete collision detection".
 
+use super::convex::ConvexQuery;
 use super::mesh_pair::MeshCollider;
 use super::pieces::{ConvexPieces, pose, world_point, world_vector};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::frame::ContactFrame;
-use parry3d_f64::math::{Pose, Vector as PVector};
+use parry3d_f64::math::Pose;
 use parry3d_f64::query::ContactManifold;
-use parry3d_f64::query::details::contact_manifold_pfm_pfm;
 
 /// A manifold point whose witness lies within this fraction of the smaller body's bounding radius
 /// of a contact already found (a vertex contact, or an earlier manifold point) is that contact.
 pub const SAME_POINT_TOLERANCE: f64 = 1e-9;
+
+/// The manifold queries' working memory (GJK/EPA's buffers and the manifold's points), kept from
+/// call to call so that they allocate nothing once grown.
+#[derive(Clone, Debug, Default)]
+pub struct ManifoldBuffers {
+    query: ConvexQuery,
+    manifold: ContactManifold<(), ()>,
+}
 
 /// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
 /// contacts, and then these) does not already hold. Each is
@@ -29,7 +37,7 @@ pub fn manifold_contacts(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pair_start: usize,
-    manifold: &mut ContactManifold<(), ()>,
+    buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let pair = PairPoses::new((i, j), bodies, colliders);
@@ -37,7 +45,7 @@ pub fn manifold_contacts(
         let box_a = piece_a.world_aabb(&pair.pose_i);
         for (b, piece_b) in pair.pieces_j.pieces.iter().enumerate() {
             if box_a.overlaps(&piece_b.world_aabb(&pair.pose_j)) {
-                piece_pair_contacts(&pair, (a, b), pair_start, manifold, out);
+                piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
             }
         }
     }
@@ -52,7 +60,7 @@ pub fn manifold_contacts_among(
     colliders: &[MeshCollider],
     candidates: impl Iterator<Item = (usize, usize)>,
     pair_start: usize,
-    manifold: &mut ContactManifold<(), ()>,
+    buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let pair = PairPoses::new((i, j), bodies, colliders);
@@ -62,7 +70,7 @@ pub fn manifold_contacts_among(
             .world_aabb(&pair.pose_i)
             .overlaps(&piece_b.world_aabb(&pair.pose_j))
         {
-            piece_pair_contacts(&pair, (a, b), pair_start, manifold, out);
+            piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
         }
     }
 }
@@ -105,29 +113,18 @@ fn piece_pair_contacts(
     pair: &PairPoses,
     (a, b): (usize, usize),
     pair_start: usize,
-    manifold: &mut ContactManifold<(), ()>,
+    buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let (i, j, tolerance) = (pair.i, pair.j, pair.tolerance);
     let (pose_i, pose_j) = (&pair.pose_i, &pair.pose_j);
     let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
-    // A fresh manifold each time (its buffer reused): no points and no normal, so that
-    // parry neither updates the previous manifold nor starts GJK from its normal, which
-    // would make detection depend on history.
-    manifold.points.clear();
-    manifold.local_n1 = PVector::ZERO;
-    manifold.local_n2 = PVector::ZERO;
-    contact_manifold_pfm_pfm(
-        &pair.pos12,
-        &piece_a.shape,
-        0.0,
-        None,
-        &piece_b.shape,
-        0.0,
-        None,
-        0.0,
-        manifold,
-    );
+    // A fresh manifold each time (its buffers reused): GJK does not start from the previous
+    // normal, which would make detection depend on history.
+    let manifold = &mut buffers.manifold;
+    buffers
+        .query
+        .manifold(&pair.pos12, &piece_a.shape, &piece_b.shape, manifold);
     // parry's n1 points out of piece a toward piece b; ours points from j into i.
     let n = -world_vector(pose_i, manifold.local_n1);
     if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {

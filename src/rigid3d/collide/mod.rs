@@ -15,6 +15,8 @@
 //!   culls the vertices that cannot be inside it before the BVH query;
 //! - [`closest_point`]: the brute-force oracle that tests hold [`mesh_pair`] against;
 //! - [`pieces`]: each mesh as convex pieces (itself when convex, else a convex decomposition);
+//! - [`convex`]: two convex pieces' contact by GJK/EPA and their manifold, with the working
+//!   memory kept between calls;
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
 //!   vertex rule misses (edge–edge crossings, faces on faces);
 //! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, and
@@ -25,6 +27,7 @@
 
 pub mod closest_point;
 pub mod coherence;
+pub mod convex;
 pub mod detect;
 pub mod ellipsoid;
 pub mod ground;

@@ -4,16 +4,17 @@
 //! For a body and the ground: the depth of its lowest vertex below y = 0 (exact: the deepest
 //! point of a solid below a plane is a vertex). For two bodies whose bounding boxes overlap: the
 //! largest penetration depth (minimum translation distance) of a convex piece of one with a
-//! convex piece of the other, from parry3d's GJK/EPA; [`super::sat`] is its brute-force oracle.
+//! convex piece of the other, from GJK/EPA ([`super::convex`]); [`super::sat`] is its brute-force oracle.
 //! For convex bodies this is exactly the distance one body must move to separate them.
 
+use super::convex::ConvexQuery;
 use super::mesh_pair::MeshCollider;
 use super::pieces::{ClimbingSupport, Cuboid, pose};
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
 use parry3d_f64::math::Pose;
-use parry3d_f64::query::details::contact_support_map_support_map;
+use parry3d_f64::query::gjk::GJKResult;
 
 /// Interpenetration deeper than this fraction of the smaller body's size (the smallest side of
 /// its bounding box in its own frame) means contacts were missed: a quarter.
@@ -72,6 +73,7 @@ pub fn pair_depth(
     placed_pair_depth(
         (collider_i, &pose_i, &boxes_i),
         (collider_j, &pose_j, &boxes_j),
+        &mut ConvexQuery::default(),
     )
 }
 
@@ -80,6 +82,7 @@ pub fn pair_depth(
 fn placed_pair_depth(
     (collider_i, pose_i, boxes_i): (&MeshCollider, &Pose, &[Aabb]),
     (collider_j, pose_j, boxes_j): (&MeshCollider, &Pose, &[Aabb]),
+    query: &mut ConvexQuery,
 ) -> f64 {
     let mut deepest = 0.0_f64;
     for (a, box_a) in collider_i.pieces.pieces.iter().zip(boxes_i) {
@@ -92,16 +95,13 @@ fn placed_pair_depth(
                 deepest = deepest.max(Cuboid::depth(ca, pose_i, cb, pose_j));
                 continue;
             }
-            // Otherwise parry's GJK/EPA (what `parry3d_f64::query::contact` runs for two
-            // convex polyhedra) with supports found by climbing the hulls' vertex graphs.
+            // Otherwise GJK/EPA (what `parry3d_f64::query::contact` runs for two convex
+            // polyhedra) with supports found by climbing the hulls' vertex graphs.
             let pos12 = pose_i.inv_mul(pose_j);
-            if let Some(contact) = contact_support_map_support_map(
-                &pos12,
-                &ClimbingSupport::new(a),
-                &ClimbingSupport::new(b),
-                0.0,
-            ) {
-                deepest = deepest.max(-contact.dist);
+            if let GJKResult::ClosestPoints(p1, p2_1, n1) =
+                query.contact(&pos12, &ClimbingSupport::new(a), &ClimbingSupport::new(b))
+            {
+                deepest = deepest.max(-(p2_1 - p1).dot(n1));
             }
         }
     }
@@ -139,12 +139,14 @@ pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut 
     );
 }
 
-/// The penetration measure's buffers (each body's pose and its pieces' world boxes), kept from
+/// The penetration measure's buffers (each body's pose and its pieces' world boxes, GJK/EPA's
+/// working memory), kept from
 /// call to call so that the measure allocates nothing once they have grown.
 #[derive(Clone, Debug, Default)]
 pub struct PlacedBuffers {
     placed: Vec<Option<(Pose, std::ops::Range<usize>)>>,
     piece_boxes: Vec<Aabb>,
+    query: ConvexQuery,
 }
 
 /// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i) and the pairs whose
@@ -173,6 +175,7 @@ pub fn penetrations_in(
     let PlacedBuffers {
         placed,
         piece_boxes,
+        query,
     } = buffers;
     placed.clear();
     placed.resize(bodies.len(), None);
@@ -198,7 +201,7 @@ pub fn penetrations_in(
             let (pose, range) = placed[k].as_ref().expect("placed above");
             (&colliders[k], pose, &piece_boxes[range.clone()])
         };
-        let depth = placed_pair_depth(side(i), side(j));
+        let depth = placed_pair_depth(side(i), side(j), query);
         if depth > 0.0 {
             out.push(Penetration {
                 body1: i,
