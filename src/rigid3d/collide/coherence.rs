@@ -1,9 +1,11 @@
 //! Temporal coherence in 3D detection: per body pair, the vertices of each body that were within
 //! a margin of the other's bounding box and sphere, and (with `collision: complete`) the convex
-//! piece pairs whose world boxes were within the margin of each other, kept while the pair has
+//! piece pairs whose world boxes were within the margin of each other and which were not apart
+//! by more than the margin along a separating axis, kept while the pair has
 //! moved less than half the margin. Everything kept is tested exactly as fresh detection tests
 //! it, so the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
+use super::convex::apart_by_more_than;
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, vertex_contact};
 use super::pieces::pose;
@@ -111,7 +113,18 @@ fn find_candidates(
                 let near = (0..3).all(|k| {
                     box_a.min[k] - margin <= box_b.max[k] && box_b.min[k] - margin <= box_a.max[k]
                 });
-                if near {
+                // Pieces further apart than the margin stay apart while the list holds (each
+                // point moves by at most half the margin relative to the other body): no
+                // manifold of theirs can have a point, so they are not candidates. The
+                // separating axis GJK finds decides it once per list.
+                if near
+                    && !apart_by_more_than(
+                        &pose_i.inv_mul(&pose_j),
+                        &piece_a.shape,
+                        &piece_b.shape,
+                        margin,
+                    )
+                {
                     out.push(Candidate::Pieces(a as u32, b as u32));
                 }
             }

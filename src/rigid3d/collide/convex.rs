@@ -106,6 +106,23 @@ impl ConvexQuery {
     }
 }
 
+/// Whether two convex shapes (g2 at `pos12` in g1's frame) are certainly further apart than
+/// `distance`: GJK stops as soon as a direction's support points are more than `distance` apart
+/// along it (a separating axis with that gap), and says nothing otherwise (false).
+pub fn apart_by_more_than<G1, G2>(pos12: &Pose, g1: &G1, g2: &G2, distance: f64) -> bool
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
+    let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
+    let mut simplex = VoronoiSimplex::new();
+    simplex.reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
+    matches!(
+        gjk::closest_points(pos12, g1, g2, distance, false, &mut simplex),
+        GJKResult::NoIntersection(_)
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -178,5 +195,35 @@ mod tests {
             (5..35).contains(&overlapping),
             "{overlapping} of 40 overlap"
         );
+    }
+
+    #[test]
+    fn apart_by_more_than_certifies_a_gap_and_nothing_less() {
+        // Two unit cubes side by side along x, their faces 0.1 apart (then turned a little, which
+        // only narrows the gap between corners).
+        let cube = Cuboid::new(Vector::new(0.5, 0.5, 0.5));
+        let at = |gap: f64, angle: f64| {
+            Pose::from_parts(
+                Vector::new(1.0 + gap, 0.0, 0.0),
+                parry3d_f64::math::Rotation::from_axis_angle(Vector::Y, angle),
+            )
+        };
+        assert!(apart_by_more_than(&at(0.1, 0.0), &cube, &cube, 0.09));
+        assert!(!apart_by_more_than(&at(0.1, 0.0), &cube, &cube, 0.11));
+        assert!(!apart_by_more_than(&at(-0.01, 0.0), &cube, &cube, 0.0));
+        // Turned by 0.2 rad the nearest corner is 0.5 (cos 0.2 + sin 0.2) − 0.5 ≈ 0.089 closer.
+        let narrowed = 0.1 - 0.5 * (0.2_f64.cos() + 0.2_f64.sin() - 1.0);
+        assert!(apart_by_more_than(
+            &at(0.1, 0.2),
+            &cube,
+            &cube,
+            narrowed - 1e-6
+        ));
+        assert!(!apart_by_more_than(
+            &at(0.1, 0.2),
+            &cube,
+            &cube,
+            narrowed + 1e-6
+        ));
     }
 }
