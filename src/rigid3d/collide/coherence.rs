@@ -1,9 +1,10 @@
 //! Temporal coherence in 3D detection: per body pair, the vertices of each body that were within
-//! a margin of the other's bounding box and sphere, and (with `collision: complete`) the convex
-//! piece pairs whose world boxes were within the margin of each other and which were not apart
-//! by more than the margin along a separating axis, kept while the pair has
-//! moved less than half the margin. Everything kept is tested exactly as fresh detection tests
-//! it, so the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
+//! a margin of the other's bounding box and sphere (with each one's nearest triangle of the other
+//! body where it was nearer than every other by more than the margin), and (with `collision:
+//! complete`) the convex piece pairs whose world boxes were within the margin of each other and
+//! which were not apart by more than the margin along a separating axis, kept while the pair has
+//! moved less than half the margin. Everything kept gives exactly what fresh detection finds, so
+//! the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
 use super::convex::apart_by_more_than;
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
@@ -22,10 +23,11 @@ pub const MARGIN_FRACTION: f64 = 0.05;
 /// A candidate of a pair (i, j), i < j.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Candidate {
-    /// A vertex of body i, against body j.
-    VertexOfFirst(u32),
-    /// A vertex of body j, against body i.
-    VertexOfSecond(u32),
+    /// A vertex of body i, against body j, and its unique nearest triangle of j if it had one
+    /// by more than the margin when the list was found.
+    VertexOfFirst(u32, Option<u32>),
+    /// A vertex of body j, against body i, and its unique nearest triangle of i likewise.
+    VertexOfSecond(u32, Option<u32>),
     /// Piece a of body i with piece b of body j.
     Pieces(u32, u32),
 }
@@ -80,6 +82,18 @@ impl Anchor {
     }
 }
 
+/// The unique nearest triangle of a candidate vertex at `p` (the other body's frame) that is
+/// inside the other body's box and sphere now, if it is nearer than every other triangle by more
+/// than the margin: while the list holds the vertex moves by at most half the margin in that
+/// frame, so the triangle stays its nearest (a round-off allowance of 1e-9 of the body's radius
+/// on top). Vertices outside the box (not queried now) get none.
+fn nearest(collider: &MeshCollider, p: &Vector3<f64>, margin: f64) -> Option<u32> {
+    if !collider.may_contain(p) {
+        return None;
+    }
+    collider.unique_nearest_triangle(p, margin + 1e-9 * collider.radius())
+}
+
 /// The candidates of pair (i, j) at the bodies' present poses, into `out`, in fresh detection's
 /// order (i's vertices, j's vertices, then piece pairs, each ascending), and their anchor.
 fn find_candidates(
@@ -95,13 +109,19 @@ fn find_candidates(
     for (v, local) in bi.mesh.vertices.iter().enumerate() {
         let in_j = bj.rotation.transpose() * (bi.x + bi.rotation * local - bj.x);
         if cj.may_come_within(&in_j, margin) {
-            out.push(Candidate::VertexOfFirst(v as u32));
+            out.push(Candidate::VertexOfFirst(
+                v as u32,
+                nearest(cj, &in_j, margin),
+            ));
         }
     }
     for (v, local) in bj.mesh.vertices.iter().enumerate() {
         let in_i = bi.rotation.transpose() * (bj.x + bj.rotation * local - bi.x);
         if ci.may_come_within(&in_i, margin) {
-            out.push(Candidate::VertexOfSecond(v as u32));
+            out.push(Candidate::VertexOfSecond(
+                v as u32,
+                nearest(ci, &in_i, margin),
+            ));
         }
     }
     if pieces {
@@ -155,11 +175,11 @@ pub fn cached_pair_contacts(
     let pair_start = out.len();
     for c in candidates {
         match *c {
-            Candidate::VertexOfFirst(v) => {
-                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], out)
+            Candidate::VertexOfFirst(v, nearest) => {
+                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], nearest, out)
             }
-            Candidate::VertexOfSecond(v) => {
-                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], out)
+            Candidate::VertexOfSecond(v, nearest) => {
+                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], nearest, out)
             }
             Candidate::Pieces(..) => {}
         }

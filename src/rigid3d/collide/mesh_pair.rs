@@ -12,7 +12,7 @@ use crate::rigid3d::mesh::TriMesh;
 use nalgebra::Vector3;
 use parry3d_f64::math::Vector as PVector;
 use parry3d_f64::query::PointQueryWithLocation;
-use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags};
+use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags, TrianglePointLocation};
 
 /// A vertex closer to the surface than this fraction of the mesh's bounding radius is on the
 /// surface, not inside: its closest feature (and so its normal) is decided by round-off, e.g. a
@@ -124,6 +124,74 @@ impl MeshCollider {
         )
     }
 
+    /// The triangle nearest `p` (body frame) when every other triangle is farther from `p` by
+    /// more than `gap` (m), else `None`. It then stays the nearest, and [`Self::signed_distance`]'s
+    /// answer, while `p` moves by less than `gap / 2` (distances to a fixed triangle change by at
+    /// most the motion). Every triangle within `nearest + 2 gap` of `p` is compared (the BVH's
+    /// boxes meeting a cube of that half-side around `p`); the others are farther anyway.
+    /// docs/contact.md §"Temporal coherence".
+    pub fn unique_nearest_triangle(&self, p: &Vector3<f64>, gap: f64) -> Option<u32> {
+        let q = to_parry(p);
+        let (projection, (nearest, _)) = self.shape.project_local_point_and_get_location(q, false);
+        let distance = (projection.point - q).length();
+        let reach = distance + 2.0 * gap;
+        if !reach.is_finite() {
+            return None;
+        }
+        let around = parry3d_f64::bounding_volume::Aabb::new(
+            q - PVector::splat(reach),
+            q + PVector::splat(reach),
+        );
+        for other in self.shape.bvh().intersect_aabb(&around) {
+            if other == nearest {
+                continue;
+            }
+            let (projection, _) =
+                (self.shape.triangle(other)).project_local_point_and_get_location(q, false);
+            if (projection.point - q).length() - distance <= gap {
+                return None;
+            }
+        }
+        Some(nearest)
+    }
+
+    /// [`Self::signed_distance`] when `triangle` is known to be `p`'s unique nearest triangle
+    /// ([`Self::unique_nearest_triangle`]): the same steps as parry's query after its search
+    /// (the triangle's projection, then the inside test by the pseudo-normal of the feature the
+    /// projection lies on, as `TriMesh::project_local_point_and_get_location_with_max_dist`
+    /// does), so the same bits, without the search.
+    pub fn signed_distance_on(&self, p: &Vector3<f64>, triangle: u32) -> SignedDistance {
+        let q = to_parry(p);
+        let (mut projection, location) =
+            (self.shape.triangle(triangle)).project_local_point_and_get_location(q, false);
+        if let Some(pseudo_normals) = self.shape.pseudo_normals_if_oriented() {
+            let pseudo_normal = match location {
+                TrianglePointLocation::OnFace(..) | TrianglePointLocation::OnSolid => {
+                    Some(self.shape.triangle(triangle).scaled_normal())
+                }
+                TrianglePointLocation::OnEdge(e, _) => (pseudo_normals.edges_pseudo_normal)
+                    .get(triangle as usize)
+                    .map(|normals| normals[e as usize]),
+                TrianglePointLocation::OnVertex(v) => {
+                    let index = self.shape.indices()[triangle as usize][v as usize];
+                    (pseudo_normals.vertices_pseudo_normal)
+                        .get(index as usize)
+                        .copied()
+                }
+            };
+            if let Some(pseudo_normal) = pseudo_normal {
+                projection.is_inside = (q - projection.point).dot(pseudo_normal) <= 0.0;
+            }
+        }
+        SignedDistance::new(
+            &self.mesh,
+            p,
+            from_parry(projection.point),
+            projection.is_inside,
+            triangle as usize,
+        )
+    }
+
     /// Bytes parry's bounding-volume hierarchy takes (its nodes; for the culling comparison).
     pub fn bvh_memory_bytes(&self) -> usize {
         self.shape.bvh().total_memory_size()
@@ -176,12 +244,15 @@ pub fn vertex_contacts(
         return;
     }
     for vertex in 0..body_i.mesh.vertices.len() {
-        vertex_contact(i, body_i, vertex, j, body_j, collider_j, out);
+        vertex_contact(i, body_i, vertex, j, body_j, collider_j, None, out);
     }
 }
 
 /// [`vertex_contacts`] for one vertex of body i (body j without an analytic ellipsoid): appends
-/// its contact if it is inside body j.
+/// its contact if it is inside body j. `nearest`: the vertex's unique nearest triangle of j when
+/// it is known (kept from an earlier step, [`MeshCollider::unique_nearest_triangle`]), which
+/// spares the BVH search and gives the same contact.
+#[allow(clippy::too_many_arguments)]
 pub fn vertex_contact(
     i: usize,
     body_i: &RigidBody,
@@ -189,6 +260,7 @@ pub fn vertex_contact(
     j: usize,
     body_j: &RigidBody,
     collider_j: &MeshCollider,
+    nearest: Option<u32>,
     out: &mut Vec<Contact>,
 ) {
     let local = &body_i.mesh.vertices[vertex];
@@ -203,7 +275,10 @@ pub fn vertex_contact(
     {
         return;
     }
-    let sd = collider_j.signed_distance(&in_j);
+    let sd = match nearest {
+        Some(triangle) => collider_j.signed_distance_on(&in_j, triangle),
+        None => collider_j.signed_distance(&in_j),
+    };
     if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
         && sd.normal.iter().all(|x| x.is_finite())
     {

@@ -69,6 +69,42 @@ fn parry_signed_distance_matches_the_brute_force_oracle() {
     assert!(compared >= 6);
 }
 
+#[test]
+fn a_unique_nearest_triangle_gives_the_bvh_answer_while_the_point_moves_less_than_half_the_gap() {
+    // The kept nearest features of temporal coherence (docs/contact.md §"Temporal coherence"):
+    // where `unique_nearest_triangle` names a triangle with gap g, the signed distance on that
+    // triangle is the BVH's, bit for bit, at the point and at points up to 0.49 g away in any
+    // direction. g is the detection margin of a body this size (MARGIN_FRACTION of the radius).
+    let (kept, declined) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
+    for (name, mesh) in meshes() {
+        let collider = MeshCollider::new(mesh.clone()).unwrap();
+        let radius = mesh.bounding_radius();
+        let gap = rigidref::rigid3d::collide::coherence::MARGIN_FRACTION * radius;
+        let lo = Aabb::around(mesh.vertices.iter().copied());
+        let span = lo.max - lo.min;
+        let config = common::seeded(300);
+        proptest!(config, |(f in (-0.1..1.1f64, -0.1..1.1f64, -0.1..1.1f64),
+                            d in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64))| {
+            let p = lo.min + Vector3::new(f.0 * span.x, f.1 * span.y, f.2 * span.z);
+            let Some(triangle) = collider.unique_nearest_triangle(&p, gap) else {
+                declined.set(declined.get() + 1);
+                return Ok(());
+            };
+            kept.set(kept.get() + 1);
+            let direction = Vector3::new(d.0, d.1, d.2);
+            let moved = p + direction.normalize() * 0.49 * gap;
+            for q in [p, moved] {
+                prop_assert_eq!(collider.signed_distance_on(&q, triangle), collider.signed_distance(&q),
+                    "{} at {:?}, triangle {}", name, q, triangle);
+            }
+        });
+    }
+    // Both answers occur: most points have a clear nearest triangle, and points near edges,
+    // corners and medial planes do not.
+    let (kept, declined) = (kept.get(), declined.get());
+    assert!(kept > 500 && declined > 100, "kept {kept}, declined {declined}");
+}
+
 fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> RigidBody {
     let mut b = RigidBody::new("b", 1.0, Matrix3::identity(), mesh);
     b.x = x;
