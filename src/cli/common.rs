@@ -229,8 +229,20 @@ pub(crate) fn detection_check(
             stats.checked
         );
     }
+    let kept = match (stats.hit_rate(), stats.nearest_rate()) {
+        (Some(lists), Some(nearest)) => format!(
+            " (pair lists kept on {:.1} % of pair visits, nearest triangles on {:.1} % of vertex queries)",
+            100.0 * lists,
+            100.0 * nearest
+        ),
+        (Some(lists), None) => format!(
+            " (pair lists kept on {:.1} % of pair visits)",
+            100.0 * lists
+        ),
+        _ => String::new(),
+    };
     Ok(Some(format!(
-        "detection      checked on {} substeps: the cached contacts are fresh detection's, bit for bit",
+        "detection      checked on {} substeps: the cached contacts are fresh detection's, bit for bit{kept}",
         stats.checked
     )))
 }

@@ -22,6 +22,11 @@ pub struct CacheStats {
     pub checked: u64,
     /// Of those, the ones whose contacts differed (must stay 0).
     pub mismatches: u64,
+    /// 3D: signed-distance queries of kept candidate vertices (those inside the other body's
+    /// box and sphere).
+    pub queries: u64,
+    /// Of those, the ones answered on a kept nearest triangle, without the BVH search.
+    pub nearest_kept: u64,
 }
 
 impl CacheStats {
@@ -31,6 +36,12 @@ impl CacheStats {
         (all > 0).then(|| self.reused as f64 / all as f64)
     }
 
+    /// The share of kept candidates' signed-distance queries answered on a kept nearest
+    /// triangle, or `None` before any (and in 2D).
+    pub fn nearest_rate(&self) -> Option<f64> {
+        (self.queries > 0).then(|| self.nearest_kept as f64 / self.queries as f64)
+    }
+
     /// The counts since `before` (for a timed stretch of a run).
     pub fn since(&self, before: &CacheStats) -> CacheStats {
         CacheStats {
@@ -38,6 +49,8 @@ impl CacheStats {
             refreshed: self.refreshed - before.refreshed,
             checked: self.checked - before.checked,
             mismatches: self.mismatches - before.mismatches,
+            queries: self.queries - before.queries,
+            nearest_kept: self.nearest_kept - before.nearest_kept,
         }
     }
 }

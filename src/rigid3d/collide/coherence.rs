@@ -173,16 +173,21 @@ pub fn cached_pair_contacts(
         |_, list| find_candidates((i, j), bodies, colliders, pieces, list),
     );
     let pair_start = out.len();
+    let (mut queries, mut nearest_kept) = (0, 0);
     for c in candidates {
-        match *c {
-            Candidate::VertexOfFirst(v, nearest) => {
-                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], nearest, out)
-            }
-            Candidate::VertexOfSecond(v, nearest) => {
-                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], nearest, out)
-            }
-            Candidate::Pieces(..) => {}
-        }
+        let (queried, nearest) = match *c {
+            Candidate::VertexOfFirst(v, nearest) => (
+                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], nearest, out),
+                nearest,
+            ),
+            Candidate::VertexOfSecond(v, nearest) => (
+                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], nearest, out),
+                nearest,
+            ),
+            Candidate::Pieces(..) => continue,
+        };
+        queries += queried as u64;
+        nearest_kept += (queried && nearest.is_some()) as u64;
     }
     if pieces {
         let piece_pairs = candidates.iter().filter_map(|c| match *c {
@@ -199,4 +204,6 @@ pub fn cached_pair_contacts(
             out,
         );
     }
+    cache.stats.queries += queries;
+    cache.stats.nearest_kept += nearest_kept;
 }

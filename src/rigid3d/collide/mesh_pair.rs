@@ -251,7 +251,8 @@ pub fn vertex_contacts(
 /// [`vertex_contacts`] for one vertex of body i (body j without an analytic ellipsoid): appends
 /// its contact if it is inside body j. `nearest`: the vertex's unique nearest triangle of j when
 /// it is known (kept from an earlier step, [`MeshCollider::unique_nearest_triangle`]), which
-/// spares the BVH search and gives the same contact.
+/// spares the BVH search and gives the same contact. Returns whether it computed a signed
+/// distance (the vertex passed the cheap tests).
 #[allow(clippy::too_many_arguments)]
 pub fn vertex_contact(
     i: usize,
@@ -262,18 +263,18 @@ pub fn vertex_contact(
     collider_j: &MeshCollider,
     nearest: Option<u32>,
     out: &mut Vec<Contact>,
-) {
+) -> bool {
     let local = &body_i.mesh.vertices[vertex];
     let point = body_i.x + body_i.rotation * local;
     let in_j = body_j.rotation.transpose() * (point - body_j.x);
     if !collider_j.may_contain(&in_j) {
-        return;
+        return false;
     }
     // In no leaf sphere: outside j's solid, so no contact (docs/contact.md §"Sphere trees").
     if let Some(tree) = &collider_j.sphere_tree
         && !tree.may_contain(&in_j)
     {
-        return;
+        return false;
     }
     let sd = match nearest {
         Some(triangle) => collider_j.signed_distance_on(&in_j, triangle),
@@ -292,4 +293,5 @@ pub fn vertex_contact(
             depth: -sd.distance,
         });
     }
+    true
 }

@@ -929,12 +929,27 @@ fn bench_quick_prints_the_side_by_side_table() {
     for row in &rows {
         let cells = cells_of(row);
         assert_eq!(cells.len(), 18, "{row}");
-        // The last cell is the share of pair visits detection's kept lists served.
-        let kept = cells[17]
-            .strip_suffix(" %")
-            .unwrap_or_else(|| panic!("{row}: kept share"));
-        let kept: f64 = kept.parse().unwrap_or_else(|_| panic!("{row}: {kept:?}"));
-        assert!((0.0..=100.0).contains(&kept), "{row}");
+        // The last cell is the share of pair visits detection's kept lists served, then in
+        // brackets (where vertices were queried) the share of queries on kept nearest triangles.
+        let (kept, nearest) = match cells[17].split_once(" % (") {
+            Some((kept, nearest)) => {
+                let nearest = nearest.strip_suffix(" %)");
+                (
+                    kept,
+                    Some(nearest.unwrap_or_else(|| panic!("{row}: nearest share"))),
+                )
+            }
+            None => (
+                cells[17]
+                    .strip_suffix(" %")
+                    .unwrap_or_else(|| panic!("{row}")),
+                None,
+            ),
+        };
+        for share in std::iter::once(kept).chain(nearest) {
+            let share: f64 = share.parse().unwrap_or_else(|_| panic!("{row}: {share:?}"));
+            assert!((0.0..=100.0).contains(&share), "{row}");
+        }
         for cell in &cells[1..17] {
             let x: f64 = cell.parse().unwrap_or_else(|_| panic!("{row}: {cell:?}"));
             assert!(x.is_finite() && x >= 0.0, "{row}");

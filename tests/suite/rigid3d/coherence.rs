@@ -47,6 +47,7 @@ fn run_checked(scene: &mut Scene, seconds: f64) -> World {
 #[test]
 fn cached_detection_finds_the_fresh_contacts_on_every_substep_of_the_canonical_scenes() {
     let (mut reused, mut all) = (0, 0);
+    let (mut nearest_kept, mut queries) = (0, 0);
     for (name, mut scene) in canonical_scenes() {
         let world = run_checked(&mut scene, 2.0);
         let stats = world.detection_stats();
@@ -64,17 +65,25 @@ fn cached_detection_finds_the_fresh_contacts_on_every_substep_of_the_canonical_s
             "{name}: cached detection differed from fresh"
         );
         eprintln!(
-            "{name}: {} substeps checked, pair lists kept {} / found {} ({})",
+            "{name}: {} substeps checked, pair lists kept {} / found {} ({}), nearest triangles kept on {} of {} vertex queries",
             stats.checked,
             stats.reused,
             stats.refreshed,
             stats
                 .hit_rate()
-                .map_or("no pairs".into(), |r| format!("{:.1} % kept", 100.0 * r))
+                .map_or("no pairs".into(), |r| format!("{:.1} % kept", 100.0 * r)),
+            stats.nearest_kept,
+            stats.queries,
         );
         reused += stats.reused;
         all += stats.reused + stats.refreshed;
+        (nearest_kept, queries) = (nearest_kept + stats.nearest_kept, queries + stats.queries);
     }
+    // The kept nearest triangles answered a share of the vertex queries, with the same contacts.
+    assert!(
+        nearest_kept * 5 > queries && queries > 1000,
+        "nearest triangles kept on {nearest_kept} of {queries} queries"
+    );
     // The check is not vacuous: bodies met (pairs were visited) and the lists were used.
     assert!(all > 1000, "only {all} pair visits in all the scenes");
     assert!(

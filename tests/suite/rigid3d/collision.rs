@@ -102,7 +102,10 @@ fn a_unique_nearest_triangle_gives_the_bvh_answer_while_the_point_moves_less_tha
     // Both answers occur: most points have a clear nearest triangle, and points near edges,
     // corners and medial planes do not.
     let (kept, declined) = (kept.get(), declined.get());
-    assert!(kept > 500 && declined > 100, "kept {kept}, declined {declined}");
+    assert!(
+        kept > 500 && declined > 100,
+        "kept {kept}, declined {declined}"
+    );
 }
 
 fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> RigidBody {

@@ -67,7 +67,7 @@ pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
         s.for_bodies(usize::MAX).steps,
         s.for_bodies(usize::MAX).warmup,
     );
-    out.push_str("| scene | bodies | contacts | rigidref ms/step | rapier ms/step | ratio | detect | assemble | PGS | apply | integrate | measure | PGS ns/contact/sweep | rapier collision | rapier setup | rapier iterations | detect+assemble+apply / rapier collision+setup | pair lists kept |\n");
+    out.push_str("| scene | bodies | contacts | rigidref ms/step | rapier ms/step | ratio | detect | assemble | PGS | apply | integrate | measure | PGS ns/contact/sweep | rapier collision | rapier setup | rapier iterations | detect+assemble+apply / rapier collision+setup | pair lists kept (nearest features kept) |\n");
     out.push_str("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in rows {
         let rp = |k: usize| cell(r.rapier_phases_ms.map(|p| p[k]), 3);
@@ -90,8 +90,11 @@ pub fn markdown(rows: &[BenchRow], s: &BenchSettings) -> String {
             rp(1),
             rp(2),
             cell(r.around_solve_ratio(), 2),
-            r.detection_kept
-                .map_or("–".to_string(), |k| format!("{:.1} %", 100.0 * k)),
+            match (r.detection_kept, r.nearest_kept) {
+                (None, _) => "–".to_string(),
+                (Some(k), None) => format!("{:.1} %", 100.0 * k),
+                (Some(k), Some(n)) => format!("{:.1} % ({:.0} %)", 100.0 * k, 100.0 * n),
+            },
         ));
     }
     out.push_str(&format!(

@@ -66,6 +66,9 @@ pub struct BenchRow {
     /// The share of pair visits in the timed rounds that detection served from the kept
     /// candidate lists (docs/contact.md §"Temporal coherence"); `None` when no pair met.
     pub detection_kept: Option<f64>,
+    /// 3D: the share of kept candidate vertices' signed-distance queries answered on a kept
+    /// nearest triangle, over the timed steps (`None` in 2D).
+    pub nearest_kept: Option<f64>,
 }
 
 impl BenchRow {
@@ -197,6 +200,7 @@ pub(super) fn run_3d(
         ),
         ns_per_contact_sweep: median(rounds.per_contact),
         detection_kept: ours.detection_stats().since(&kept_before).hit_rate(),
+        nearest_kept: ours.detection_stats().since(&kept_before).nearest_rate(),
     })
 }
 
@@ -227,6 +231,7 @@ pub(super) fn run_pile(
         rapier_phases_ms: None,
         ns_per_contact_sweep: median(rounds.per_contact),
         detection_kept: world.detection_stats().since(&kept_before).hit_rate(),
+        nearest_kept: None,
     })
 }
 
