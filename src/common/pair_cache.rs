@@ -25,7 +25,8 @@ pub struct CacheStats {
     /// 3D: signed-distance queries of kept candidate vertices (those inside the other body's
     /// box and sphere).
     pub queries: u64,
-    /// Of those, the ones answered on a kept nearest triangle, without the BVH search.
+    /// Of those, the ones answered on a nearest triangle kept from an earlier step, without
+    /// the BVH search.
     pub nearest_kept: u64,
 }
 

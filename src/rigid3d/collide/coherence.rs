@@ -167,9 +167,14 @@ pub fn cached_pair_contacts(
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let radii = (colliders[i].radius(), colliders[j].radius());
+    let mut reused = false;
     let candidates = cache.candidates(
         (i, j),
-        |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
+        |a| {
+            reused = crate::common::faults::fault!(stale_detection_cache)
+                || a.holds(bi, bj, radii, pieces);
+            reused
+        },
         |_, list| find_candidates((i, j), bodies, colliders, pieces, list),
     );
     let pair_start = out.len();
@@ -186,8 +191,10 @@ pub fn cached_pair_contacts(
             ),
             Candidate::Pieces(..) => continue,
         };
+        // Kept: answered on a triangle found at an earlier step (a list found now ran the
+        // search for it).
         queries += queried as u64;
-        nearest_kept += (queried && nearest.is_some()) as u64;
+        nearest_kept += (queried && reused && nearest.is_some()) as u64;
     }
     if pieces {
         let piece_pairs = candidates.iter().filter_map(|c| match *c {

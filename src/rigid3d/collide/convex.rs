@@ -156,45 +156,92 @@ mod tests {
         ConvexPolyhedron::from_convex_hull(&points).unwrap()
     }
 
-    #[test]
-    fn kept_epa_gives_parrys_contacts_and_manifolds_bit_for_bit() {
-        let (a, b) = (hull(), Cuboid::new(Vector::new(0.4, 0.25, 0.3)));
+    /// The bits of a vector (so that 0.0 and −0.0 differ).
+    fn bits(v: Vector) -> [u64; 3] {
+        [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+    }
+
+    /// Our contact and manifold against parry's for `a` and `b` over [`poses`]; returns how many
+    /// poses overlap.
+    fn compare_with_parry<S: PolygonalFeatureMap + SupportMap>(
+        a: &ConvexPolyhedron,
+        b: &S,
+    ) -> usize {
         let mut query = ConvexQuery::default();
         let mut ours = ContactManifold::<(), ()>::new();
         let mut theirs = ContactManifold::<(), ()>::new();
         let mut overlapping = 0;
         for pos12 in poses() {
-            let parry = contact_support_map_support_map(&pos12, &a, &b, 0.0);
-            match (query.contact(&pos12, &a, &b), parry) {
+            let parry = contact_support_map_support_map(&pos12, a, b, 0.0);
+            match (query.contact(&pos12, a, b), parry) {
                 (GJKResult::ClosestPoints(p1, p2_1, n1), Some(c)) => {
                     overlapping += 1;
+                    let p2 = pos12.inverse_transform_point(p2_1);
                     assert_eq!(
-                        (p1, pos12.inverse_transform_point(p2_1), n1),
-                        (c.point1, c.point2, c.normal1)
+                        (bits(p1), bits(p2), bits(n1), (p2_1 - p1).dot(n1).to_bits()),
+                        (
+                            bits(c.point1),
+                            bits(c.point2),
+                            bits(c.normal1),
+                            c.dist.to_bits()
+                        )
                     );
                 }
                 (GJKResult::NoIntersection(_), None) => {}
                 (ours, theirs) => panic!("{pos12:?}: ours {ours:?}, parry {theirs:?}"),
             }
-            query.manifold(&pos12, &a, &b, &mut ours);
+            query.manifold(&pos12, a, b, &mut ours);
             theirs.points.clear();
             theirs.local_n1 = Vector::ZERO;
             theirs.local_n2 = Vector::ZERO;
-            contact_manifold_pfm_pfm(&pos12, &a, 0.0, None, &b, 0.0, None, 0.0, &mut theirs);
-            assert_eq!(ours.local_n1, theirs.local_n1, "{pos12:?}");
+            contact_manifold_pfm_pfm(&pos12, a, 0.0, None, b, 0.0, None, 0.0, &mut theirs);
+            assert_eq!(bits(ours.local_n1), bits(theirs.local_n1), "{pos12:?}");
+            assert_eq!(bits(ours.local_n2), bits(theirs.local_n2), "{pos12:?}");
             assert_eq!(ours.points.len(), theirs.points.len(), "{pos12:?}");
             for (p, q) in ours.points.iter().zip(&theirs.points) {
                 assert_eq!(
-                    (p.local_p1, p.local_p2, p.dist, p.fid1, p.fid2),
-                    (q.local_p1, q.local_p2, q.dist, q.fid1, q.fid2)
+                    (
+                        bits(p.local_p1),
+                        bits(p.local_p2),
+                        p.dist.to_bits(),
+                        p.fid1,
+                        p.fid2
+                    ),
+                    (
+                        bits(q.local_p1),
+                        bits(q.local_p2),
+                        q.dist.to_bits(),
+                        q.fid1,
+                        q.fid2
+                    )
                 );
             }
         }
+        overlapping
+    }
+
+    #[test]
+    fn kept_epa_gives_parrys_contacts_and_manifolds_bit_for_bit() {
+        // A hull against a box and against another hull (the pieces of a decomposed mesh are
+        // hulls), each with one query object over all the poses, so that its EPA is reused.
+        let box_overlaps = compare_with_parry(&hull(), &Cuboid::new(Vector::new(0.4, 0.25, 0.3)));
+        let other = ConvexPolyhedron::from_convex_hull(&[
+            Vector::new(-0.4, -0.2, -0.3),
+            Vector::new(0.5, -0.3, 0.1),
+            Vector::new(0.1, 0.4, -0.2),
+            Vector::new(-0.1, 0.1, 0.5),
+            Vector::new(0.3, 0.3, 0.3),
+            Vector::new(-0.3, -0.4, 0.2),
+        ])
+        .unwrap();
+        let hull_overlaps = compare_with_parry(&hull(), &other);
         // The poses must exercise EPA (overlap) as well as GJK alone (apart).
-        assert!(
-            (5..35).contains(&overlapping),
-            "{overlapping} of 40 overlap"
-        );
+        for overlapping in [box_overlaps, hull_overlaps] {
+            assert!(
+                (5..35).contains(&overlapping),
+                "{overlapping} of 40 overlap"
+            );
+        }
     }
 
     #[test]

@@ -127,14 +127,14 @@ impl MeshCollider {
     /// The triangle nearest `p` (body frame) when every other triangle is farther from `p` by
     /// more than `gap` (m), else `None`. It then stays the nearest, and [`Self::signed_distance`]'s
     /// answer, while `p` moves by less than `gap / 2` (distances to a fixed triangle change by at
-    /// most the motion). Every triangle within `nearest + 2 gap` of `p` is compared (the BVH's
+    /// most the motion). Every triangle within `nearest + gap` of `p` is compared (the BVH's
     /// boxes meeting a cube of that half-side around `p`); the others are farther anyway.
     /// docs/contact.md §"Temporal coherence".
     pub fn unique_nearest_triangle(&self, p: &Vector3<f64>, gap: f64) -> Option<u32> {
         let q = to_parry(p);
         let (projection, (nearest, _)) = self.shape.project_local_point_and_get_location(q, false);
         let distance = (projection.point - q).length();
-        let reach = distance + 2.0 * gap;
+        let reach = distance + gap;
         if !reach.is_finite() {
             return None;
         }

@@ -93,9 +93,15 @@ fn a_unique_nearest_triangle_gives_the_bvh_answer_while_the_point_moves_less_tha
             kept.set(kept.get() + 1);
             let direction = Vector3::new(d.0, d.1, d.2);
             let moved = p + direction.normalize() * 0.49 * gap;
+            // Bit for bit: the distance, closest point and normal as integers (so that 0.0 and
+            // −0.0 differ), and the triangle.
+            let bits = |sd: rigidref::rigid3d::collide::closest_point::SignedDistance| {
+                let v = |x: &Vector3<f64>| x.map(f64::to_bits);
+                (sd.distance.to_bits(), v(&sd.closest), v(&sd.normal), sd.triangle)
+            };
             for q in [p, moved] {
-                prop_assert_eq!(collider.signed_distance_on(&q, triangle), collider.signed_distance(&q),
-                    "{} at {:?}, triangle {}", name, q, triangle);
+                prop_assert_eq!(bits(collider.signed_distance_on(&q, triangle)),
+                    bits(collider.signed_distance(&q)), "{} at {:?}, triangle {}", name, q, triangle);
             }
         });
     }
