@@ -102,7 +102,7 @@ impl CachedDetector {
                 Placed::with_rotation(bi, self.rotations[i]),
                 Placed::with_rotation(bj, self.rotations[j]),
             );
-            for &(a, b) in candidates {
+            for &(a, b) in candidates.iter() {
                 if let Some(c) =
                     super::collide::placed_block_contact((i, &pi), a as usize, (j, &pj), b as usize)
                 {

@@ -103,13 +103,14 @@ impl<A: Clone, T: Copy> PairCache<A, T> {
     /// The candidates of pair `(i, j)`, visited in ascending order within a pass: the kept list
     /// when there is one and `holds(anchor)` says its anchor still holds, else a fresh list from
     /// `fresh`, which is given the pair's last anchor (if the pair was visited in the last pass),
-    /// appends the candidates and returns their anchor.
+    /// appends the candidates and returns their anchor. Returned to change: what a system learns
+    /// of a candidate while the list holds is kept with it (3D: its nearest triangle).
     pub fn candidates(
         &mut self,
         (i, j): (usize, usize),
         holds: impl FnOnce(&A) -> bool,
         fresh: impl FnOnce(Option<&A>, &mut Vec<T>) -> A,
-    ) -> &[T] {
+    ) -> &mut [T] {
         let pair = (i as u32, j as u32);
         while self.cursor < self.entries.len() && self.entries[self.cursor].pair < pair {
             self.cursor += 1;
@@ -134,7 +135,7 @@ impl<A: Clone, T: Copy> PairCache<A, T> {
             anchor,
             items: items.clone(),
         });
-        &self.next_items[items]
+        &mut self.next_items[items]
     }
 
     /// Ends a pass: the lists visited in it become the kept ones.

@@ -1,6 +1,7 @@
 //! Temporal coherence in 3D detection: per body pair, the vertices of each body that were within
-//! a margin of the other's bounding box and sphere (with each one's nearest triangle of the other
-//! body where it was nearer than every other by more than the margin), and (with `collision:
+//! a margin of the other's bounding box and sphere (with what each learns of its nearest triangle
+//! of the other body: kept where it is nearer than every other by more than twice the margin),
+//! and (with `collision:
 //! complete`) the convex piece pairs whose world boxes were within the margin of each other and
 //! which were not apart by more than the margin along a separating axis, kept while the pair has
 //! moved less than half the margin. Everything kept gives exactly what fresh detection finds, so
@@ -8,7 +9,7 @@
 
 use super::convex::apart_by_more_than;
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
-use super::mesh_pair::{MeshCollider, vertex_contact};
+use super::mesh_pair::{MeshCollider, NearestTriangle, vertex_contact};
 use super::pieces::pose;
 use super::vertex_contact::Contact;
 use crate::common::pair_cache::PairCache;
@@ -23,11 +24,10 @@ pub const MARGIN_FRACTION: f64 = 0.05;
 /// A candidate of a pair (i, j), i < j.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Candidate {
-    /// A vertex of body i, against body j, and its unique nearest triangle of j if it had one
-    /// by more than the margin when the list was found.
-    VertexOfFirst(u32, Option<u32>),
-    /// A vertex of body j, against body i, and its unique nearest triangle of i likewise.
-    VertexOfSecond(u32, Option<u32>),
+    /// A vertex of body i, against body j, and what is known of its nearest triangle of j.
+    VertexOfFirst(u32, NearestTriangle),
+    /// A vertex of body j, against body i, and what is known of its nearest triangle of i.
+    VertexOfSecond(u32, NearestTriangle),
     /// Piece a of body i with piece b of body j.
     Pieces(u32, u32),
 }
@@ -82,18 +82,6 @@ impl Anchor {
     }
 }
 
-/// The unique nearest triangle of a candidate vertex at `p` (the other body's frame) that is
-/// inside the other body's box and sphere now, if it is nearer than every other triangle by more
-/// than the margin: while the list holds the vertex moves by at most half the margin in that
-/// frame, so the triangle stays its nearest (a round-off allowance of 1e-9 of the body's radius
-/// on top). Vertices outside the box (not queried now) get none.
-fn nearest(collider: &MeshCollider, p: &Vector3<f64>, margin: f64) -> Option<u32> {
-    if !collider.may_contain(p) {
-        return None;
-    }
-    collider.unique_nearest_triangle(p, margin + 1e-9 * collider.radius())
-}
-
 /// The candidates of pair (i, j) at the bodies' present poses, into `out`, in fresh detection's
 /// order (i's vertices, j's vertices, then piece pairs, each ascending), and their anchor.
 fn find_candidates(
@@ -109,10 +97,7 @@ fn find_candidates(
     for (v, local) in bi.mesh.vertices.iter().enumerate() {
         let in_j = bj.rotation.transpose() * (bi.x + bi.rotation * local - bj.x);
         if cj.may_come_within(&in_j, margin) {
-            out.push(Candidate::VertexOfFirst(
-                v as u32,
-                nearest(cj, &in_j, margin),
-            ));
+            out.push(Candidate::VertexOfFirst(v as u32, NearestTriangle::Unknown));
         }
     }
     for (v, local) in bj.mesh.vertices.iter().enumerate() {
@@ -120,7 +105,7 @@ fn find_candidates(
         if ci.may_come_within(&in_i, margin) {
             out.push(Candidate::VertexOfSecond(
                 v as u32,
-                nearest(ci, &in_i, margin),
+                NearestTriangle::Unknown,
             ));
         }
     }
@@ -167,34 +152,38 @@ pub fn cached_pair_contacts(
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let radii = (colliders[i].radius(), colliders[j].radius());
-    let mut reused = false;
     let candidates = cache.candidates(
         (i, j),
-        |a| {
-            reused = crate::common::faults::fault!(stale_detection_cache)
-                || a.holds(bi, bj, radii, pieces);
-            reused
-        },
+        |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
         |_, list| find_candidates((i, j), bodies, colliders, pieces, list),
     );
     let pair_start = out.len();
+    // A triangle kept at any step of the list's life keeps for the rest of it: the vertex is
+    // then within m / 2 of where it was when the list was found, and stays within m / 2 of it,
+    // so it moves by less than m from where the triangle was found; a gap of 2m (plus round-off)
+    // covers that.
+    let margin = MARGIN_FRACTION * radii.0.min(radii.1);
     let (mut queries, mut nearest_kept) = (0, 0);
-    for c in candidates {
-        let (queried, nearest) = match *c {
-            Candidate::VertexOfFirst(v, nearest) => (
-                vertex_contact(i, bi, v as usize, j, bj, &colliders[j], nearest, out),
-                nearest,
-            ),
-            Candidate::VertexOfSecond(v, nearest) => (
-                vertex_contact(j, bj, v as usize, i, bi, &colliders[i], nearest, out),
-                nearest,
-            ),
+    for c in candidates.iter_mut() {
+        let (vertex, (own, other), (body, against), nearest) = match c {
+            Candidate::VertexOfFirst(v, nearest) => (*v, (i, j), (bi, bj), nearest),
+            Candidate::VertexOfSecond(v, nearest) => (*v, (j, i), (bj, bi), nearest),
             Candidate::Pieces(..) => continue,
         };
-        // Kept: answered on a triangle found at an earlier step (a list found now ran the
-        // search for it).
+        let kept = matches!(nearest, NearestTriangle::Kept(_));
+        let gap = 2.0 * margin + 1e-9 * colliders[other].radius();
+        let queried = vertex_contact(
+            own,
+            body,
+            vertex as usize,
+            other,
+            against,
+            &colliders[other],
+            (nearest, gap),
+            out,
+        );
         queries += queried as u64;
-        nearest_kept += (queried && reused && nearest.is_some()) as u64;
+        nearest_kept += (queried && kept) as u64;
     }
     if pieces {
         let piece_pairs = candidates.iter().filter_map(|c| match *c {

@@ -19,6 +19,18 @@ use parry3d_f64::shape::{TriMesh as ParryTriMesh, TriMeshFlags, TrianglePointLoc
 /// vertex lying in the plane of a face it does not touch. Such a vertex is not a contact.
 pub const SURFACE_TOLERANCE: f64 = 1e-9;
 
+/// What a kept candidate vertex knows of its nearest triangle of the other body
+/// ([`MeshCollider::signed_distance_keeping`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NearestTriangle {
+    /// Not looked at yet.
+    Unknown,
+    /// Not nearer than every other triangle by the gap (or too deep to ask): searched each time.
+    Ambiguous,
+    /// This triangle, nearer than every other by more than the gap when it was found.
+    Kept(u32),
+}
+
 /// A body's mesh prepared for queries: parry's triangle mesh with its BVH and pseudo-normals
 /// (for a reliable inside test), in the body frame.
 #[derive(Clone)]
@@ -127,32 +139,68 @@ impl MeshCollider {
     /// The triangle nearest `p` (body frame) when every other triangle is farther from `p` by
     /// more than `gap` (m), else `None`. It then stays the nearest, and [`Self::signed_distance`]'s
     /// answer, while `p` moves by less than `gap / 2` (distances to a fixed triangle change by at
-    /// most the motion). Every triangle within `nearest + gap` of `p` is compared (the BVH's
-    /// boxes meeting a cube of that half-side around `p`); the others are farther anyway.
-    /// docs/contact.md §"Temporal coherence".
+    /// most the motion). docs/contact.md §"Temporal coherence".
     pub fn unique_nearest_triangle(&self, p: &Vector3<f64>, gap: f64) -> Option<u32> {
         let q = to_parry(p);
         let (projection, (nearest, _)) = self.shape.project_local_point_and_get_location(q, false);
         let distance = (projection.point - q).length();
+        self.is_unique_nearest(p, nearest, distance, gap)
+            .then_some(nearest)
+    }
+
+    /// Whether `triangle`, at `distance` from `p`, is nearer than every other triangle by more
+    /// than `gap`. Every triangle within `distance + gap` of `p` is compared (the BVH's boxes
+    /// meeting a cube of that half-side around `p`); the others are farther anyway.
+    fn is_unique_nearest(&self, p: &Vector3<f64>, triangle: u32, distance: f64, gap: f64) -> bool {
+        let q = to_parry(p);
         let reach = distance + gap;
         if !reach.is_finite() {
-            return None;
+            return false;
         }
         let around = parry3d_f64::bounding_volume::Aabb::new(
             q - PVector::splat(reach),
             q + PVector::splat(reach),
         );
         for other in self.shape.bvh().intersect_aabb(&around) {
-            if other == nearest {
+            if other == triangle {
                 continue;
             }
             let (projection, _) =
                 (self.shape.triangle(other)).project_local_point_and_get_location(q, false);
             if (projection.point - q).length() - distance <= gap {
-                return None;
+                return false;
             }
         }
-        Some(nearest)
+        true
+    }
+
+    /// [`Self::signed_distance`] for a kept candidate vertex, using and settling what is known of
+    /// its nearest triangle: on a kept triangle without the search; by the search when it is
+    /// ambiguous; and when unknown, by the search, after which the triangle is kept if the
+    /// vertex is within `gap` of the surface and the triangle is nearer than every other by
+    /// more than `gap` (shallow vertices only, so that the comparison's neighbourhood stays
+    /// small), else marked ambiguous. docs/contact.md §"Temporal coherence".
+    pub fn signed_distance_keeping(
+        &self,
+        p: &Vector3<f64>,
+        nearest: &mut NearestTriangle,
+        gap: f64,
+    ) -> SignedDistance {
+        match *nearest {
+            NearestTriangle::Kept(triangle) => self.signed_distance_on(p, triangle),
+            NearestTriangle::Ambiguous => self.signed_distance(p),
+            NearestTriangle::Unknown => {
+                let sd = self.signed_distance(p);
+                let depth = sd.distance.abs();
+                *nearest =
+                    if depth < gap && self.is_unique_nearest(p, sd.triangle as u32, depth, gap) {
+                        NearestTriangle::Kept(sd.triangle as u32)
+                    } else {
+                        NearestTriangle::Ambiguous
+                    };
+                sd
+            }
+        }
     }
 
     /// [`Self::signed_distance`] when `triangle` is known to be `p`'s unique nearest triangle
@@ -244,15 +292,25 @@ pub fn vertex_contacts(
         return;
     }
     for vertex in 0..body_i.mesh.vertices.len() {
-        vertex_contact(i, body_i, vertex, j, body_j, collider_j, None, out);
+        let mut nearest = NearestTriangle::Ambiguous;
+        vertex_contact(
+            i,
+            body_i,
+            vertex,
+            j,
+            body_j,
+            collider_j,
+            (&mut nearest, 0.0),
+            out,
+        );
     }
 }
 
 /// [`vertex_contacts`] for one vertex of body i (body j without an analytic ellipsoid): appends
-/// its contact if it is inside body j. `nearest`: the vertex's unique nearest triangle of j when
-/// it is known (kept from an earlier step, [`MeshCollider::unique_nearest_triangle`]), which
-/// spares the BVH search and gives the same contact. Returns whether it computed a signed
-/// distance (the vertex passed the cheap tests).
+/// its contact if it is inside body j. `nearest`: what is known of the vertex's nearest triangle
+/// of j and the gap that keeps it ([`MeshCollider::signed_distance_keeping`]; `Ambiguous` for
+/// the plain search); a kept triangle spares the BVH search and gives the same contact. Returns
+/// whether it computed a signed distance (the vertex passed the cheap tests).
 #[allow(clippy::too_many_arguments)]
 pub fn vertex_contact(
     i: usize,
@@ -261,7 +319,7 @@ pub fn vertex_contact(
     j: usize,
     body_j: &RigidBody,
     collider_j: &MeshCollider,
-    nearest: Option<u32>,
+    (nearest, gap): (&mut NearestTriangle, f64),
     out: &mut Vec<Contact>,
 ) -> bool {
     let local = &body_i.mesh.vertices[vertex];
@@ -276,10 +334,7 @@ pub fn vertex_contact(
     {
         return false;
     }
-    let sd = match nearest {
-        Some(triangle) => collider_j.signed_distance_on(&in_j, triangle),
-        None => collider_j.signed_distance(&in_j),
-    };
+    let sd = collider_j.signed_distance_keeping(&in_j, nearest, gap);
     if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
         && sd.normal.iter().all(|x| x.is_finite())
     {
