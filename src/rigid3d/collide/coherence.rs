@@ -1,10 +1,9 @@
 //! Temporal coherence in 3D detection: per body pair, the vertices of each body that were within
 //! a margin of the other's bounding box and sphere (with what each learns of its nearest triangle
 //! of the other body: kept where it is nearer than every other by more than twice the margin),
-//! and (with `collision:
-//! complete`) the convex piece pairs whose world boxes were within the margin of each other and
-//! which were not apart by more than the margin along a separating axis, kept while the pair has
-//! moved less than half the margin. Everything kept gives exactly what fresh detection finds, so
+//! and (with `collision: complete`) the convex piece pairs whose world boxes were within the
+//! margin of each other and which were not apart by more than the margin along a separating
+//! axis, kept while the pair has moved less than half the margin. Everything kept gives exactly what fresh detection finds, so
 //! the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
 use super::convex::apart_by_more_than;
@@ -82,6 +81,11 @@ impl Anchor {
     }
 }
 
+/// A pair's margin m, m ([`MARGIN_FRACTION`] of the smaller bounding radius).
+fn pair_margin(ci: &MeshCollider, cj: &MeshCollider) -> f64 {
+    MARGIN_FRACTION * ci.radius().min(cj.radius())
+}
+
 /// The candidates of pair (i, j) at the bodies' present poses, into `out`, in fresh detection's
 /// order (i's vertices, j's vertices, then piece pairs, each ascending), and their anchor.
 fn find_candidates(
@@ -93,7 +97,7 @@ fn find_candidates(
 ) -> Anchor {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let (ci, cj) = (&colliders[i], &colliders[j]);
-    let margin = MARGIN_FRACTION * ci.radius().min(cj.radius());
+    let margin = pair_margin(ci, cj);
     for (v, local) in bi.mesh.vertices.iter().enumerate() {
         let in_j = bj.rotation.transpose() * (bi.x + bi.rotation * local - bj.x);
         if cj.may_come_within(&in_j, margin) {
@@ -162,16 +166,17 @@ pub fn cached_pair_contacts(
     // then within m / 2 of where it was when the list was found, and stays within m / 2 of it,
     // so it moves by less than m from where the triangle was found; a gap of 2m (plus round-off)
     // covers that.
-    let margin = MARGIN_FRACTION * radii.0.min(radii.1);
+    let margin = pair_margin(&colliders[i], &colliders[j]);
+    let gap = |other: usize| 2.0 * margin + 1e-9 * colliders[other].radius();
+    let gaps = (gap(j), gap(i));
     let (mut queries, mut nearest_kept) = (0, 0);
     for c in candidates.iter_mut() {
-        let (vertex, (own, other), (body, against), nearest) = match c {
-            Candidate::VertexOfFirst(v, nearest) => (*v, (i, j), (bi, bj), nearest),
-            Candidate::VertexOfSecond(v, nearest) => (*v, (j, i), (bj, bi), nearest),
+        let (vertex, (own, other), (body, against), nearest, gap) = match c {
+            Candidate::VertexOfFirst(v, nearest) => (*v, (i, j), (bi, bj), nearest, gaps.0),
+            Candidate::VertexOfSecond(v, nearest) => (*v, (j, i), (bj, bi), nearest, gaps.1),
             Candidate::Pieces(..) => continue,
         };
         let kept = matches!(nearest, NearestTriangle::Kept(_));
-        let gap = 2.0 * margin + 1e-9 * colliders[other].radius();
         let queried = vertex_contact(
             own,
             body,

@@ -41,10 +41,7 @@ impl ConvexQuery {
         G1: ?Sized + SupportMap,
         G2: ?Sized + SupportMap,
     {
-        let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
-        let mut simplex = VoronoiSimplex::new();
-        simplex.reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
-        let closest = gjk::closest_points(pos12, g1, g2, 0.0, true, &mut simplex);
+        let (closest, simplex) = gjk_from_origins(pos12, g1, g2, 0.0, true);
         if closest != GJKResult::Intersection {
             return closest;
         }
@@ -114,13 +111,31 @@ where
     G1: ?Sized + SupportMap,
     G2: ?Sized + SupportMap,
 {
+    matches!(
+        gjk_from_origins(pos12, g1, g2, distance, false).0,
+        GJKResult::NoIntersection(_)
+    )
+}
+
+/// parry's GJK (`gjk::closest_points` with `max_dist` and `exact_dist`) started, as parry's
+/// contact query starts it, from the direction between the shapes' origins (+x if they
+/// coincide); also returns its final simplex (for EPA).
+fn gjk_from_origins<G1, G2>(
+    pos12: &Pose,
+    g1: &G1,
+    g2: &G2,
+    max_dist: f64,
+    exact_dist: bool,
+) -> (GJKResult, VoronoiSimplex)
+where
+    G1: ?Sized + SupportMap,
+    G2: ?Sized + SupportMap,
+{
     let dir = pos12.translation.try_normalize().unwrap_or(Vector::X);
     let mut simplex = VoronoiSimplex::new();
     simplex.reset(CsoPoint::from_shapes(pos12, g1, g2, dir));
-    matches!(
-        gjk::closest_points(pos12, g1, g2, distance, false, &mut simplex),
-        GJKResult::NoIntersection(_)
-    )
+    let result = gjk::closest_points(pos12, g1, g2, max_dist, exact_dist, &mut simplex);
+    (result, simplex)
 }
 
 #[cfg(test)]

@@ -78,9 +78,9 @@ impl Culling {
     }
 }
 
-/// Collision detection's reusable buffers: the bodies' world boxes and parry's contact
-/// manifold buffers, kept from call to call so that detection allocates nothing once warmed up; and,
-/// when made with [`Detector::cached`], each body pair's candidates kept from step to step
+/// Collision detection's reusable buffers: the bodies' world boxes and the manifold queries'
+/// buffers, kept from call to call so that detection allocates nothing once warmed up; and, when
+/// made with [`Detector::cached`], each body pair's candidates kept from step to step
 /// (docs/contact.md §"Temporal coherence").
 #[derive(Clone, Debug, Default)]
 pub struct Detector {

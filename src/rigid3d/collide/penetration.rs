@@ -4,7 +4,8 @@
 //! For a body and the ground: the depth of its lowest vertex below y = 0 (exact: the deepest
 //! point of a solid below a plane is a vertex). For two bodies whose bounding boxes overlap: the
 //! largest penetration depth (minimum translation distance) of a convex piece of one with a
-//! convex piece of the other, from GJK/EPA ([`super::convex`]); [`super::sat`] is its brute-force oracle.
+//! convex piece of the other, from GJK/EPA ([`super::convex`]); [`super::sat`] is its
+//! brute-force oracle.
 //! For convex bodies this is exactly the distance one body must move to separate them.
 
 use super::convex::ConvexQuery;
@@ -140,8 +141,8 @@ pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut 
 }
 
 /// The penetration measure's buffers (each body's pose and its pieces' world boxes, GJK/EPA's
-/// working memory), kept from
-/// call to call so that the measure allocates nothing once they have grown.
+/// working memory), kept from call to call so that the measure allocates nothing once they have
+/// grown.
 #[derive(Clone, Debug, Default)]
 pub struct PlacedBuffers {
     placed: Vec<Option<(Pose, std::ops::Range<usize>)>>,

@@ -186,6 +186,7 @@ pub(super) fn run_3d(
         rapier_ms.push(clock.elapsed().as_secs_f64() * 1e3 / s.steps as f64);
         rapier_phases.push(phases.map(|x| x / s.steps as f64));
     }
+    let kept = ours.detection_stats().since(&kept_before);
     Ok(BenchRow {
         name: case.name.clone(),
         family: case.family,
@@ -199,8 +200,8 @@ pub(super) fn run_3d(
             [0, 1, 2].map(|k| median(rapier_phases.iter().map(|p: &[f64; 3]| p[k]).collect())),
         ),
         ns_per_contact_sweep: median(rounds.per_contact),
-        detection_kept: ours.detection_stats().since(&kept_before).hit_rate(),
-        nearest_kept: ours.detection_stats().since(&kept_before).nearest_rate(),
+        detection_kept: kept.hit_rate(),
+        nearest_kept: kept.nearest_rate(),
     })
 }
 
