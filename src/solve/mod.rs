@@ -25,11 +25,13 @@ pub mod local;
 pub mod newton;
 pub mod pgs;
 pub mod pgs_delassus;
+mod pgs_lanes;
 mod pgs_threads;
 pub mod projection;
 pub mod qp;
 pub mod residual;
 pub mod shock;
+mod wide;
 
 pub use crate::problem::{SolveMethod, SolveReport};
 pub use local::LocalSolve;

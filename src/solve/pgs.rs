@@ -90,6 +90,13 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     threads: usize,
     /// Threads the last solve's sweeps ran on.
     last_threads: usize,
+    /// Whether a one-thread coloured sweep takes its contacts four at a time
+    /// ([`PgsWorkspace::set_lanes`]; on by default).
+    lanes: bool,
+    /// Whether the last solve's sweeps did.
+    last_lanes: bool,
+    /// With four contacts at a time: the groups, colour by colour.
+    groups: Vec<super::pgs_lanes::LaneGroup<D, R>>,
     pub(super) rng: ChaCha8Rng,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
@@ -234,6 +241,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             moving: Vec::new(),
             threads: 1,
             last_threads: 1,
+            lanes: true,
+            last_lanes: false,
+            groups: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
             local_fallbacks: 0,
         }
@@ -355,6 +365,40 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// row, of at least [`MIN_CONTACTS_PER_THREAD`] contacts per thread and colour.
     pub fn last_threads(&self) -> usize {
         self.last_threads
+    }
+
+    /// Whether a one-thread coloured solve, row by row, visits its colours' contacts four at a
+    /// time (docs/contact.md §"Four contacts per lane"): the same bits either way; on by
+    /// default, off to compare.
+    pub fn set_lanes(&mut self, lanes: bool) {
+        self.lanes = lanes;
+    }
+
+    /// Whether the last solve's sweeps visited contacts four at a time.
+    pub fn last_lanes(&self) -> bool {
+        self.last_lanes
+    }
+
+    /// One coloured sweep with the contacts four at a time: per colour its groups, then the
+    /// rest of the colour one at a time (docs/contact.md §"Four contacts per lane").
+    fn sweep_in_lanes(&mut self, problem: &ContactProblem<D, R>, lambda: &mut [SVector<f64, R>]) {
+        let mut first = 0;
+        for colour in 0..self.colours() {
+            let (a, b) = (self.colour_starts[colour], self.colour_starts[colour + 1]);
+            let grouped = super::pgs_lanes::grouped(b - a);
+            let groups = grouped / super::pgs_lanes::LANES;
+            super::pgs_lanes::visit_groups(
+                problem.friction,
+                &self.groups[first..first + groups],
+                &mut self.delta_velocity,
+                lambda,
+            );
+            first += groups;
+            for position in a + grouped..b {
+                let k = self.order[position];
+                visit(problem, LocalSolve::Rows, self, k, &mut lambda[k]);
+            }
+        }
     }
 
     /// The number of colours of the last coloured solve.
@@ -512,6 +556,24 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !self_contact
         && problem.contacts.len() >= MIN_CONTACTS_PER_THREAD * workspace.threads * colours;
     workspace.last_threads = if threaded { workspace.threads } else { 1 };
+    let lanes = !threaded
+        && settings.order == ContactOrder::Coloured
+        && settings.local == LocalSolve::Rows
+        && workspace.lanes
+        && !crate::common::faults::fault!(stale_friction_bound)
+        && super::pgs_lanes::applicable(&workspace.entries);
+    workspace.last_lanes = lanes;
+    if lanes {
+        let PgsWorkspace {
+            entries,
+            order,
+            colour_starts,
+            moving,
+            groups,
+            ..
+        } = &mut *workspace;
+        super::pgs_lanes::lay_out(entries, order, colour_starts, moving, groups);
+    }
     if threaded {
         let PgsWorkspace {
             entries,
@@ -581,12 +643,16 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             let PgsWorkspace { order, rng, .. } = &mut *workspace;
             order.shuffle(rng);
         }
-        for i in 0..problem.contacts.len() {
-            let k = workspace.order[i];
-            if let Some(&next) = workspace.order.get(i + 2) {
-                workspace.prefetch(next);
+        if lanes {
+            workspace.sweep_in_lanes(problem, lambda);
+        } else {
+            for i in 0..problem.contacts.len() {
+                let k = workspace.order[i];
+                if let Some(&next) = workspace.order.get(i + 2) {
+                    workspace.prefetch(next);
+                }
+                visit(problem, settings.local, workspace, k, &mut lambda[k]);
             }
-            visit(problem, settings.local, workspace, k, &mut lambda[k]);
         }
         iterations += 1;
         if let Some(tolerance) = settings.tolerance

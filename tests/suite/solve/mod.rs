@@ -5,6 +5,7 @@ mod coulomb;
 mod criteria;
 mod derivations;
 mod local_form;
+mod lanes;
 mod local_solve;
 mod newton;
 mod pgs;

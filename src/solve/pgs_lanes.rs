@@ -1,0 +1,320 @@
+//! The coloured sweep four contacts at a time: the contacts of one colour share no moving body,
+//! so four of them can take the same steps side by side, one per lane, with every quantity of
+//! the four stored lane by lane (struct of arrays within a group of four, as Box2D v3's wide
+//! constraints). docs/contact.md §"Four contacts per lane".
+//!
+//! Each lane takes exactly the steps of the one-contact visit ([`super::pgs::solve_contact`] with
+//! its bodies' Δu copied once and written back once): the same products, summed in the same
+//! order as nalgebra's dot product, the same branches taken as selects, so every lane's result is
+//! the one-contact visit's, bit for bit, and the sweep's result is the coloured sweep's. What
+//! changes is only that the processor computes four lanes with one instruction where it can.
+
+// Loops over side s, row r, component d and lane l index several arrays by the same subscript,
+// as the derivation writes them.
+#![allow(clippy::needless_range_loop)]
+
+use super::pgs::Entry;
+pub(super) use super::wide::LANES;
+use super::wide::Wide;
+use crate::problem::{FrictionModel, RowBounds};
+use nalgebra::SVector;
+
+/// A group of four contacts of one colour as a visit reads them, each quantity lane by lane
+/// (lane l is the group's l-th contact). The entries' quantities, rearranged; nothing new.
+#[derive(Clone, Debug)]
+pub(super) struct LaneGroup<const D: usize, const R: usize> {
+    /// The contacts' indices in the problem (for λ).
+    contact: [usize; LANES],
+    /// Per side, the body of each lane (0 where the side is the static world).
+    body: [[usize; LANES]; 2],
+    /// Per side, 1 where the lane's side is a body, 0 where it is the static world (a number,
+    /// not a bool, so that the processor selects with it lane by lane).
+    present: [Wide; 2],
+    /// Per side, whether each lane's side is a body that moves (a pinned body's Δu is only
+    /// read; the static world's is not a body's).
+    moving: [[bool; LANES]; 2],
+    /// J_sᵀ: [side][row][component], lane by lane.
+    jacobian_t: [[[Wide; D]; R]; 2],
+    /// M_s⁻¹ J_sᵀ: [side][row][component], lane by lane.
+    inverse_mass_jacobian_t: [[[Wide; D]; R]; 2],
+    /// b per row, m/s.
+    b: [Wide; R],
+    /// a_r per row.
+    diagonal: [Wide; R],
+    /// ρ, the cone step's scale.
+    tangent_rho: Wide,
+    /// μ.
+    mu: Wide,
+    /// Compliance on the normal row.
+    compliance: Wide,
+}
+
+/// Whether a solve can take its coloured sweep four contacts at a time: every constraint a
+/// contact (no joint's free rows), no contact between a body and itself, and a body dimension
+/// whose dot product [`sum_in_nalgebras_order`] reproduces.
+pub(super) fn applicable<const D: usize, const R: usize>(entries: &[Entry<D, R>]) -> bool {
+    D < 8
+        && R >= 1
+        && entries.iter().all(|e| {
+            e.bounds == RowBounds::Contact && !(e.bodies[0].is_some() && e.bodies[0] == e.bodies[1])
+        })
+}
+
+/// Lays out the groups: per colour (positions `starts[c]..starts[c + 1]` of the visiting order,
+/// whose entries are `entries[position]`), its first ⌊n / 4⌋ × 4 contacts in groups of four;
+/// the rest of each colour is visited one at a time. `order[position]` is the contact's index.
+pub(super) fn lay_out<const D: usize, const R: usize>(
+    entries: &[Entry<D, R>],
+    order: &[usize],
+    starts: &[usize],
+    moving: &[bool],
+    groups: &mut Vec<LaneGroup<D, R>>,
+) {
+    groups.clear();
+    for colour in starts.windows(2) {
+        let (a, b) = (colour[0], colour[1]);
+        for first in (a..b).step_by(LANES).filter(|&first| first + LANES <= b) {
+            let zero = Wide::splat(0.0);
+            let mut g = LaneGroup {
+                contact: [0; LANES],
+                body: [[0; LANES]; 2],
+                present: [zero; 2],
+                moving: [[false; LANES]; 2],
+                jacobian_t: [[[zero; D]; R]; 2],
+                inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
+                b: [zero; R],
+                diagonal: [zero; R],
+                tangent_rho: zero,
+                mu: zero,
+                compliance: zero,
+            };
+            for l in 0..LANES {
+                let e = &entries[first + l];
+                g.contact[l] = order[first + l];
+                for s in 0..2 {
+                    // The static world's side stays zero (its Δu is zero and never written).
+                    let Some(body) = e.bodies[s] else { continue };
+                    g.body[s][l] = body;
+                    g.present[s].0[l] = 1.0;
+                    g.moving[s][l] = moving[body];
+                    for r in 0..R {
+                        for d in 0..D {
+                            g.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
+                            g.inverse_mass_jacobian_t[s][r][d].0[l] =
+                                e.inverse_mass_jacobian_t[s][(d, r)];
+                        }
+                    }
+                }
+                for r in 0..R {
+                    g.b[r].0[l] = e.b[r];
+                    g.diagonal[r].0[l] = e.law.diagonal[r];
+                }
+                g.tangent_rho.0[l] = e.law.tangent_rho;
+                g.mu.0[l] = e.law.mu;
+                g.compliance.0[l] = e.law.compliance;
+            }
+            groups.push(g);
+        }
+    }
+}
+
+/// The number of contacts of a colour of `n` that go in groups.
+pub(super) fn grouped(n: usize) -> usize {
+    n / LANES * LANES
+}
+
+/// Σ_d p_d in the order nalgebra's dot product sums a D-vector's products (pairs for D = 2, 3,
+/// 4; from zero, one by one, for other D below 8), lane by lane: so that a lane's
+/// J_s,r · Δu_s is the one-contact visit's to the bit.
+#[inline(always)]
+fn sum_in_nalgebras_order<const D: usize>(p: &[Wide; D]) -> Wide {
+    match D {
+        2 => p[0] + p[1],
+        3 => p[0] + p[1] + p[2],
+        4 => (p[0] + p[2]) + (p[1] + p[3]),
+        _ => {
+            let mut sum = Wide::splat(0.0);
+            for &term in p {
+                sum += term;
+            }
+            sum
+        }
+    }
+}
+
+/// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ per lane (without compliance), a side adding its term only
+/// where it is a body.
+#[inline(always)]
+fn velocity<const D: usize, const R: usize>(
+    g: &LaneGroup<D, R>,
+    u: &[[Wide; D]; 2],
+    r: usize,
+) -> Wide {
+    let mut w = g.b[r];
+    for s in 0..2 {
+        let mut products = [Wide::splat(0.0); D];
+        for d in 0..D {
+            products[d] = g.jacobian_t[s][r][d] * u[s][d];
+        }
+        let dot = sum_in_nalgebras_order(&products);
+        w = g.present[s].ne(Wide::splat(0.0)).select(w + dot, w);
+    }
+    w
+}
+
+/// λ_r changes by `delta` per lane: Δu_s += (M_s⁻¹ J_sᵀ)_r δ per side. A lane whose row does not
+/// move passes δ = +0, which changes nothing: 0 · x is ±0 and Δu is never −0 (it starts at +0
+/// and a sum is −0 only when both terms are), so Δu + (±0) is Δu to the bit; and the static
+/// world's side is zero and never written back.
+#[inline(always)]
+fn apply<const D: usize, const R: usize>(
+    g: &LaneGroup<D, R>,
+    u: &mut [[Wide; D]; 2],
+    r: usize,
+    delta: Wide,
+) {
+    for s in 0..2 {
+        for d in 0..D {
+            u[s][d] += delta * g.inverse_mass_jacobian_t[s][r][d];
+        }
+    }
+}
+
+/// One visit of the group's four contacts, each lane the steps of
+/// [`super::pgs::solve_contact`]: normal row, then the friction rows bounded by μ times the
+/// normal impulse just computed (box or disk).
+#[inline(always)]
+fn visit_group<const D: usize, const R: usize>(
+    friction: FrictionModel,
+    g: &LaneGroup<D, R>,
+    delta_velocity: &mut [SVector<f64, D>],
+    lambda: &mut [SVector<f64, R>],
+) {
+    let zero = Wide::splat(0.0);
+    // The bodies' Δu and the contacts' λ, read once.
+    let mut u = [[zero; D]; 2];
+    for s in 0..2 {
+        for l in 0..LANES {
+            if g.present[s].0[l] != 0.0 {
+                let v = &delta_velocity[g.body[s][l]];
+                for d in 0..D {
+                    u[s][d].0[l] = v[d];
+                }
+            }
+        }
+    }
+    let mut lam = [zero; R];
+    for l in 0..LANES {
+        for r in 0..R {
+            lam[r].0[l] = lambda[g.contact[l]][r];
+        }
+    }
+
+    // Normal row: λn ← max(0, λn − w_n / a_n) where a_n > 0 (elsewhere λn stays and δ = 0).
+    let moves = g.diagonal[0].gt(zero);
+    let w_n = velocity(g, &u, 0) + g.compliance * lam[0];
+    let lambda_n = (lam[0] - w_n / g.diagonal[0]).max(zero);
+    apply(g, &mut u, 0, moves.select(lambda_n - lam[0], zero));
+    lam[0] = moves.select(lambda_n, lam[0]);
+
+    // Friction rows, bounded by μ λn. Where the bound is 0, each nonzero friction impulse is
+    // taken back to 0 (a zero one stays as it is, −0 included).
+    let bound = g.mu * lam[0];
+    let zero_bound = bound.eq(zero);
+    match friction {
+        FrictionModel::Box => {
+            // Row by row: λ_r ← clamp(λ_r − w_r / a_r, ±bound) where a_r > 0, else clamped.
+            for r in 1..R {
+                let old = lam[r];
+                let w = velocity(g, &u, r);
+                let stepped = (old - w / g.diagonal[r]).clamp(-bound, bound);
+                let moves = g.diagonal[r].gt(zero);
+                let nonzero = old.ne(zero);
+                let delta = moves.select(stepped - old, zero);
+                let delta = zero_bound.select(nonzero.select(-old, zero), delta);
+                apply(g, &mut u, r, delta);
+                let next = moves.select(stepped, old.clamp(-bound, bound));
+                lam[r] = zero_bound.select(nonzero.select(zero, old), next);
+            }
+        }
+        FrictionModel::Cone => {
+            // One projected-gradient step on the pair with the scalar step 1/ρ (every row's
+            // velocity before any update), then onto the disk (projection::project_disk).
+            let rho = g.tangent_rho;
+            let mut trial = lam;
+            for r in 1..R {
+                let w = velocity(g, &u, r);
+                trial[r] = rho.gt(zero).select(lam[r] - w / rho, lam[r]);
+            }
+            let mut squares = Wide::splat(-0.0);
+            for row in &trial[1..] {
+                squares += *row * *row;
+            }
+            let norm = squares.sqrt();
+            let scale = norm.gt(zero).select(bound / norm, zero);
+            let outside = norm.gt(bound);
+            for row in &mut trial[1..] {
+                *row = outside.select(*row * scale, *row);
+            }
+            for r in 1..R {
+                let old = lam[r];
+                let nonzero = old.ne(zero);
+                let delta = zero_bound.select(nonzero.select(-old, zero), trial[r] - old);
+                apply(g, &mut u, r, delta);
+                lam[r] = zero_bound.select(nonzero.select(zero, old), trial[r]);
+            }
+        }
+    }
+
+    // Written back once: λ, and the moving bodies' Δu.
+    for l in 0..LANES {
+        for r in 0..R {
+            lambda[g.contact[l]][r] = lam[r].0[l];
+        }
+    }
+    for s in 0..2 {
+        for l in 0..LANES {
+            if g.moving[s][l] {
+                let v = &mut delta_velocity[g.body[s][l]];
+                for d in 0..D {
+                    v[d] = u[s][d].0[l];
+                }
+            }
+        }
+    }
+}
+
+/// Visits `groups` in turn: the grouped contacts of one colour (any order within a colour gives
+/// the same bits, the contacts being independent). With AVX2 the processor takes four lanes
+/// per instruction; without, the same code two or one at a time, to the same bits (no fused
+/// multiply-add either way).
+pub(super) fn visit_groups<const D: usize, const R: usize>(
+    friction: FrictionModel,
+    groups: &[LaneGroup<D, R>],
+    delta_velocity: &mut [SVector<f64, D>],
+    lambda: &mut [SVector<f64, R>],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: the processor has AVX2, checked just above.
+        unsafe { visit_groups_avx2(friction, groups, delta_velocity, lambda) };
+        return;
+    }
+    for g in groups {
+        visit_group(friction, g, delta_velocity, lambda);
+    }
+}
+
+/// [`visit_groups`] compiled for AVX2 (four f64 lanes per instruction).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn visit_groups_avx2<const D: usize, const R: usize>(
+    friction: FrictionModel,
+    groups: &[LaneGroup<D, R>],
+    delta_velocity: &mut [SVector<f64, D>],
+    lambda: &mut [SVector<f64, R>],
+) {
+    for g in groups {
+        visit_group(friction, g, delta_velocity, lambda);
+    }
+}
