@@ -31,6 +31,7 @@ pub mod projection;
 pub mod qp;
 pub mod residual;
 pub mod shock;
+mod sweep_entry;
 mod wide;
 
 pub use crate::problem::{SolveMethod, SolveReport};

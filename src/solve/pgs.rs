@@ -17,6 +17,8 @@ use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
+use super::pgs_threads::share;
+pub(super) use super::sweep_entry::{Entry, RowLaw, Shared};
 
 /// The order in which a sweep visits the contacts.
 #[derive(
@@ -90,54 +92,19 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     threads: usize,
     /// Threads the last solve's sweeps ran on.
     last_threads: usize,
-    /// Whether a one-thread coloured sweep takes its contacts four at a time
+    /// Whether a coloured sweep, row by row, takes its colours' contacts four at a time
     /// ([`PgsWorkspace::set_lanes`]; on by default).
     lanes: bool,
     /// Whether the last solve's sweeps did.
     last_lanes: bool,
-    /// With four contacts at a time: the groups, colour by colour.
+    /// With four contacts at a time: the groups, colour by colour, colour c's being
+    /// `groups[group_starts[c]..group_starts[c + 1]]`.
     groups: Vec<super::pgs_lanes::LaneGroup<D, R>>,
+    group_starts: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
     local_fallbacks: u32,
-}
-
-/// Contact `k` as a sweep reads it, gathered in one place (Box2D's "constraint" struct): one
-/// stretch of memory per visit, wherever the order jumps, and borrowed apart from the bodies' Δu
-/// that a visit changes, so that the compiler knows the one is not written through the other.
-#[derive(Clone, Debug)]
-pub(super) struct Entry<const D: usize, const R: usize> {
-    /// The problem's bodies of its two sides (`None`: the static world).
-    pub bodies: [Option<usize>; 2],
-    /// J_sᵀ per side (D × R): row r of J_s is column r here, contiguous in memory.
-    pub jacobian_t: [SMatrix<f64, D, R>; 2],
-    /// M_s⁻¹ J_sᵀ per side (D × R), zero for the static world (and, during shock propagation,
-    /// for a side held fixed).
-    pub inverse_mass_jacobian_t: [SMatrix<f64, D, R>; 2],
-    /// b, m/s.
-    pub b: SVector<f64, R>,
-    /// The constants a visit steps with.
-    pub law: RowLaw<R>,
-    /// The rows' bounds (a contact's, or a joint's free rows).
-    pub bounds: RowBounds,
-    /// The warm start λ₀ (read by the deliberate fault `stale_friction_bound`): here so that
-    /// a visit reads nothing of the problem's contact, wherever the order jumps.
-    pub lambda0: SVector<f64, R>,
-}
-
-/// A constraint's constants as a visit reads them.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct RowLaw<const R: usize> {
-    /// a_r = (A + C)_rr, the rows' diagonal ([`RowScales::diagonal`]).
-    pub diagonal: SVector<f64, R>,
-    /// ρ, the cone step's scale ([`RowScales::tangent_rho`]).
-    pub tangent_rho: f64,
-    /// μ.
-    pub mu: f64,
-    /// Compliance on the normal row (a joint's on every row), added to the rows' velocities
-    /// by the visit; 0 where [`ContactRows::velocity`] includes it already (the local form).
-    pub compliance: f64,
 }
 
 /// One constraint's rows as a visit sees them: the current velocity of a row, and the update
@@ -201,31 +168,6 @@ impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
     }
 }
 
-impl<const D: usize, const R: usize> Entry<D, R> {
-    /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ (without compliance).
-    #[inline(always)]
-    pub(super) fn velocity(&self, delta_velocity: &[SVector<f64, D>], r: usize) -> f64 {
-        let mut w = self.b[r];
-        for s in 0..2 {
-            if let Some(b) = self.bodies[s] {
-                w += self.jacobian_t[s].column(r).dot(&delta_velocity[b]);
-            }
-        }
-        w
-    }
-
-    /// λ_r changes by `delta`: Δu_s += (M_s⁻¹ J_sᵀ)_r δ for each body.
-    #[inline(always)]
-    fn apply(&self, delta_velocity: &mut [SVector<f64, D>], r: usize, delta: f64) {
-        for s in 0..2 {
-            if let Some(b) = self.bodies[s] {
-                let column = self.inverse_mass_jacobian_t[s].column(r);
-                delta_velocity[b].axpy(delta, &column, 1.0);
-            }
-        }
-    }
-}
-
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// An empty workspace whose random orders come from `seed`.
     pub fn new(seed: u64) -> Self {
@@ -244,6 +186,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             lanes: true,
             last_lanes: false,
             groups: Vec::new(),
+            group_starts: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
             local_fallbacks: 0,
         }
@@ -367,7 +310,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.last_threads
     }
 
-    /// Whether a one-thread coloured solve, row by row, visits its colours' contacts four at a
+    /// Whether a coloured solve, row by row, visits its colours' contacts four at a
     /// time (docs/contact.md §"Four contacts per lane"): the same bits either way; on by
     /// default, off to compare.
     pub fn set_lanes(&mut self, lanes: bool) {
@@ -382,18 +325,17 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// One coloured sweep with the contacts four at a time: per colour its groups, then the
     /// rest of the colour one at a time (docs/contact.md §"Four contacts per lane").
     fn sweep_in_lanes(&mut self, problem: &ContactProblem<D, R>, lambda: &mut [SVector<f64, R>]) {
-        let mut first = 0;
         for colour in 0..self.colours() {
             let (a, b) = (self.colour_starts[colour], self.colour_starts[colour + 1]);
             let grouped = super::pgs_lanes::grouped(b - a);
-            let groups = grouped / super::pgs_lanes::LANES;
-            super::pgs_lanes::visit_groups(
-                problem.friction,
-                &self.groups[first..first + groups],
-                &mut self.delta_velocity,
-                lambda,
-            );
-            first += groups;
+            let groups = &self.groups[self.group_starts[colour]..self.group_starts[colour + 1]];
+            let shared = Shared {
+                delta_velocity: self.delta_velocity.as_mut_ptr(),
+                lambda: lambda.as_mut_ptr(),
+            };
+            // SAFETY: the groups were laid out from this problem, whose bodies' Δu and
+            // contacts' λ `shared` points at; nothing else runs meanwhile.
+            unsafe { super::pgs_lanes::visit_groups(problem.friction, groups, &shared) };
             for position in a + grouped..b {
                 let k = self.order[position];
                 visit(problem, LocalSolve::Rows, self, k, &mut lambda[k]);
@@ -556,11 +498,11 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !self_contact
         && problem.contacts.len() >= MIN_CONTACTS_PER_THREAD * workspace.threads * colours;
     workspace.last_threads = if threaded { workspace.threads } else { 1 };
-    let lanes = !threaded
-        && settings.order == ContactOrder::Coloured
+    let lanes = settings.order == ContactOrder::Coloured
         && settings.local == LocalSolve::Rows
         && workspace.lanes
         && !crate::common::faults::fault!(stale_friction_bound)
+        && !self_contact
         && super::pgs_lanes::applicable(&workspace.entries);
     workspace.last_lanes = lanes;
     if lanes {
@@ -570,9 +512,10 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             colour_starts,
             moving,
             groups,
+            group_starts,
             ..
         } = &mut *workspace;
-        super::pgs_lanes::lay_out(entries, order, colour_starts, moving, groups);
+        super::pgs_lanes::lay_out(entries, order, colour_starts, moving, groups, group_starts);
     }
     if threaded {
         let PgsWorkspace {
@@ -584,14 +527,18 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             moving,
             delta_velocity,
             threads,
+            groups,
+            group_starts,
             ..
         } = &mut *workspace;
+        let threads = *threads;
         let (bodies, contacts) = (delta_velocity.len(), lambda.len());
         let shared = Shared {
             delta_velocity: delta_velocity.as_mut_ptr(),
             lambda: lambda.as_mut_ptr(),
         };
-        let (entries, order, moving) = (&*entries, &*order, &*moving);
+        let (entries, order, moving, starts) = (&*entries, &*order, &*moving, &*colour_starts);
+        let (groups, group_starts) = (&*groups, &*group_starts);
         // The closures take `shared` whole (a reference), not its pointer fields, which are
         // not Sync on their own.
         let shared = &shared;
@@ -613,6 +560,19 @@ pub fn solve_pgs<const D: usize, const R: usize>(
                 )
             };
         };
+        // Thread t's share of colour c: a contiguous part of its groups and of the rest (with
+        // four at a time), or of its contacts.
+        let visit_share = |colour: usize, t: usize| {
+            let (a, b) = (starts[colour], starts[colour + 1]);
+            let mut rest = a..b;
+            if lanes {
+                let mine = share(group_starts[colour]..group_starts[colour + 1], t, threads);
+                // SAFETY: as for `visit`; the groups were laid out from this problem.
+                unsafe { super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared) };
+                rest = a + super::pgs_lanes::grouped(b - a)..b;
+            }
+            share(rest, t, threads).for_each(visit);
+        };
         let reached = std::sync::atomic::AtomicBool::new(false);
         let after_sweep = || {
             let Some(tolerance) = settings.tolerance else {
@@ -631,9 +591,9 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         };
         iterations = super::pgs_threads::sweep_in_threads(
             settings.max_iterations,
-            colour_starts,
-            *threads,
-            &visit,
+            colour_starts.len().saturating_sub(1),
+            threads,
+            &visit_share,
             &after_sweep,
         );
         converged = reached.load(std::sync::atomic::Ordering::Relaxed);
@@ -844,19 +804,6 @@ pub(super) fn solve_contact<const R: usize>(
         }
     }
 }
-
-/// What the threads of a coloured solve share: the bodies' Δu and the contacts' λ, written
-/// through raw pointers ([`super::pgs_threads::sweep_in_threads`] schedules the visits).
-struct Shared<const D: usize, const R: usize> {
-    delta_velocity: *mut SVector<f64, D>,
-    lambda: *mut SVector<f64, R>,
-}
-
-// SAFETY: the pointers are written only at indices that one thread owns for the current colour
-// (a contact's λ; its moving bodies' Δu, which no other contact of the colour touches); the
-// barrier between colours orders every write before the next colour's reads; a pinned body's
-// Δu is only read.
-unsafe impl<const D: usize, const R: usize> Sync for Shared<D, R> {}
 
 /// One visit of contact `k` on a thread (row by row, as [`visit`] with [`CachedRows`]): copy its
 /// bodies' Δu, update, write back the moving ones. Every operation is the one-thread visit's,

@@ -13,7 +13,7 @@
 // as the derivation writes them.
 #![allow(clippy::needless_range_loop)]
 
-use super::pgs::Entry;
+use super::sweep_entry::{Entry, Shared};
 pub(super) use super::wide::LANES;
 use super::wide::Wide;
 use crate::problem::{FrictionModel, RowBounds};
@@ -61,16 +61,20 @@ pub(super) fn applicable<const D: usize, const R: usize>(entries: &[Entry<D, R>]
 }
 
 /// Lays out the groups: per colour (positions `starts[c]..starts[c + 1]` of the visiting order,
-/// whose entries are `entries[position]`), its first ⌊n / 4⌋ × 4 contacts in groups of four;
-/// the rest of each colour is visited one at a time. `order[position]` is the contact's index.
+/// whose entries are `entries[position]`), its first ⌊n / 4⌋ × 4 contacts in groups of four,
+/// `groups[group_starts[c]..group_starts[c + 1]]`; the rest of each colour is visited one at a
+/// time. `order[position]` is the contact's index.
 pub(super) fn lay_out<const D: usize, const R: usize>(
     entries: &[Entry<D, R>],
     order: &[usize],
     starts: &[usize],
     moving: &[bool],
     groups: &mut Vec<LaneGroup<D, R>>,
+    group_starts: &mut Vec<usize>,
 ) {
     groups.clear();
+    group_starts.clear();
+    group_starts.push(0);
     for colour in starts.windows(2) {
         let (a, b) = (colour[0], colour[1]);
         for first in (a..b).step_by(LANES).filter(|&first| first + LANES <= b) {
@@ -115,6 +119,7 @@ pub(super) fn lay_out<const D: usize, const R: usize>(
             }
             groups.push(g);
         }
+        group_starts.push(groups.len());
     }
 }
 
@@ -183,12 +188,14 @@ fn apply<const D: usize, const R: usize>(
 /// One visit of the group's four contacts, each lane the steps of
 /// [`super::pgs::solve_contact`]: normal row, then the friction rows bounded by μ times the
 /// normal impulse just computed (box or disk).
+///
+/// # Safety
+/// As [`visit_groups`].
 #[inline(always)]
-fn visit_group<const D: usize, const R: usize>(
+unsafe fn visit_group<const D: usize, const R: usize>(
     friction: FrictionModel,
     g: &LaneGroup<D, R>,
-    delta_velocity: &mut [SVector<f64, D>],
-    lambda: &mut [SVector<f64, R>],
+    shared: &Shared<D, R>,
 ) {
     let zero = Wide::splat(0.0);
     // The bodies' Δu and the contacts' λ, read once.
@@ -196,7 +203,8 @@ fn visit_group<const D: usize, const R: usize>(
     for s in 0..2 {
         for l in 0..LANES {
             if g.present[s].0[l] != 0.0 {
-                let v = &delta_velocity[g.body[s][l]];
+                // SAFETY: the caller's contract.
+                let v = unsafe { &*shared.delta_velocity.add(g.body[s][l]) };
                 for d in 0..D {
                     u[s][d].0[l] = v[d];
                 }
@@ -205,8 +213,10 @@ fn visit_group<const D: usize, const R: usize>(
     }
     let mut lam = [zero; R];
     for l in 0..LANES {
+        // SAFETY: the caller's contract.
+        let contact = unsafe { *shared.lambda.add(g.contact[l]) };
         for r in 0..R {
-            lam[r].0[l] = lambda[g.contact[l]][r];
+            lam[r].0[l] = contact[r];
         }
     }
 
@@ -268,14 +278,15 @@ fn visit_group<const D: usize, const R: usize>(
 
     // Written back once: λ, and the moving bodies' Δu.
     for l in 0..LANES {
-        for r in 0..R {
-            lambda[g.contact[l]][r] = lam[r].0[l];
-        }
+        let contact = SVector::<f64, R>::from_fn(|r, _| lam[r].0[l]);
+        // SAFETY: the caller's contract.
+        unsafe { *shared.lambda.add(g.contact[l]) = contact };
     }
     for s in 0..2 {
         for l in 0..LANES {
             if g.moving[s][l] {
-                let v = &mut delta_velocity[g.body[s][l]];
+                // SAFETY: the caller's contract.
+                let v = unsafe { &mut *shared.delta_velocity.add(g.body[s][l]) };
                 for d in 0..D {
                     v[d] = u[s][d].0[l];
                 }
@@ -284,37 +295,46 @@ fn visit_group<const D: usize, const R: usize>(
     }
 }
 
-/// Visits `groups` in turn: the grouped contacts of one colour (any order within a colour gives
+/// Visits `groups` in turn: grouped contacts of one colour (any order within a colour gives
 /// the same bits, the contacts being independent). With AVX2 the processor takes four lanes
 /// per instruction; without, the same code two or one at a time, to the same bits (no fused
 /// multiply-add either way).
-pub(super) fn visit_groups<const D: usize, const R: usize>(
+///
+/// # Safety
+/// `shared` points at every body's Δu and every contact's λ of the problem the groups were laid
+/// out from, and while this runs nothing else reads or writes the groups' contacts' λ or their
+/// moving bodies' Δu, and nothing writes a pinned body's Δu.
+pub(super) unsafe fn visit_groups<const D: usize, const R: usize>(
     friction: FrictionModel,
     groups: &[LaneGroup<D, R>],
-    delta_velocity: &mut [SVector<f64, D>],
-    lambda: &mut [SVector<f64, R>],
+    shared: &Shared<D, R>,
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: the processor has AVX2, checked just above.
-        unsafe { visit_groups_avx2(friction, groups, delta_velocity, lambda) };
+        // SAFETY: the processor has AVX2, checked just above; the rest is the caller's
+        // contract.
+        unsafe { visit_groups_avx2(friction, groups, shared) };
         return;
     }
     for g in groups {
-        visit_group(friction, g, delta_velocity, lambda);
+        // SAFETY: the caller's contract.
+        unsafe { visit_group(friction, g, shared) };
     }
 }
 
 /// [`visit_groups`] compiled for AVX2 (four f64 lanes per instruction).
+///
+/// # Safety
+/// As [`visit_groups`], on a processor with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn visit_groups_avx2<const D: usize, const R: usize>(
+unsafe fn visit_groups_avx2<const D: usize, const R: usize>(
     friction: FrictionModel,
     groups: &[LaneGroup<D, R>],
-    delta_velocity: &mut [SVector<f64, D>],
-    lambda: &mut [SVector<f64, R>],
+    shared: &Shared<D, R>,
 ) {
     for g in groups {
-        visit_group(friction, g, delta_velocity, lambda);
+        // SAFETY: the caller's contract.
+        unsafe { visit_group(friction, g, shared) };
     }
 }

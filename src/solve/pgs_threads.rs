@@ -50,16 +50,15 @@ impl SpinBarrier {
     }
 }
 
-/// Runs up to `sweeps` sweeps on `threads` threads: for each colour c (`starts[c]..starts[c+1]`
-/// in visiting order), thread t visits its contiguous part of the colour's positions with
-/// `visit(position)`, and all meet at a barrier before the next colour. After each sweep thread
-/// 0 calls `after_sweep` while the others wait; it returns true to stop. Returns the sweeps
-/// done.
+/// Runs up to `sweeps` sweeps on `threads` threads: for each of `colours` colours, thread t
+/// visits its share of the colour with `visit(colour, t)` ([`share`] splits a range), and all
+/// meet at a barrier before the next colour. After each sweep thread 0 calls `after_sweep`
+/// while the others wait; it returns true to stop. Returns the sweeps done.
 pub(super) fn sweep_in_threads(
     sweeps: u32,
-    starts: &[usize],
+    colours: usize,
     threads: usize,
-    visit: &(dyn Fn(usize) + Sync),
+    visit: &(dyn Fn(usize, usize) + Sync),
     after_sweep: &(dyn Fn() -> bool + Sync),
 ) -> u32 {
     let barrier = SpinBarrier::new(threads);
@@ -67,11 +66,8 @@ pub(super) fn sweep_in_threads(
     let done = AtomicUsize::new(0);
     let work = |t: usize| {
         for sweep in 0..sweeps {
-            for colour in 0..starts.len().saturating_sub(1) {
-                let (a, b) = (starts[colour], starts[colour + 1]);
-                for position in (a + (b - a) * t / threads)..(a + (b - a) * (t + 1) / threads) {
-                    visit(position);
-                }
+            for colour in 0..colours {
+                visit(colour, t);
                 barrier.wait();
             }
             if t == 0 {
@@ -94,4 +90,10 @@ pub(super) fn sweep_in_threads(
         work(0);
     });
     done.load(Ordering::Relaxed) as u32
+}
+
+/// Thread t's contiguous part of `range` when `threads` threads split it.
+pub(super) fn share(range: std::ops::Range<usize>, t: usize, threads: usize) -> std::ops::Range<usize> {
+    let (a, n) = (range.start, range.len());
+    (a + n * t / threads)..(a + n * (t + 1) / threads)
 }

@@ -1,9 +1,9 @@
-//! Four f64 lanes and the operations the lane-wise sweep takes on them
-//! ([`super::pgs_lanes`]). Each operation is the scalar one lane by lane, written as a loop
-//! over the four lanes that the compiler turns into one vector instruction; the IEEE
-//! operations (+, −, ×, ÷, √, comparisons) are correctly rounded in either form, so a lane's
-//! result is the scalar result to the bit. No fused multiply-add: a · b + c rounds twice, as
-//! the scalar code does.
+//! Four f64 lanes and the operations the lane-wise sweep takes on them (docs/contact.md §"Four
+//! contacts per lane"; [`super::pgs_lanes`]). Each operation is the scalar one lane by lane,
+//! written as a loop over the four lanes that the compiler turns into one vector instruction;
+//! the IEEE operations (+, −, ×, ÷, √, comparisons) are correctly rounded in either form, so a
+//! lane's result is the scalar result to the bit. No fused multiply-add: a · b + c rounds twice,
+//! as the scalar code does.
 
 // Loops over side s, row r, component d and lane l index several arrays by the same subscript,
 // as the derivation writes them.
