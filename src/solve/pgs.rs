@@ -53,6 +53,15 @@ pub enum ContactOrder {
 /// sweeps on several threads ([`PgsWorkspace::set_threads`]); smaller solves stay on one.
 pub const MIN_CONTACTS_PER_THREAD: usize = 64;
 
+/// The most contacts for which a coloured solve visits its colours' contacts four at a time
+/// (docs/contact.md §"Four contacts per lane"). The groups are laid out from the entries at the
+/// start of each solve, one more pass over every contact's data: while those data stay in the
+/// processor's caches the sweeps gain more than that pass costs (PGS 25–30 % faster up to
+/// 10 000 contacts), beyond they do not (equal at 20 000–29 000, 20–30 % slower at 37 000 and
+/// 96 000 on the pyramid grids; docs/performance.md §"Issue 33, fourth part"). Either way the
+/// result is the same bits.
+pub const MAX_CONTACTS_IN_GROUPS: usize = 16_384;
+
 /// How long PGS runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PgsSettings {
@@ -503,6 +512,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && workspace.lanes
         && !crate::common::faults::fault!(stale_friction_bound)
         && !self_contact
+        && problem.contacts.len() <= MAX_CONTACTS_IN_GROUPS
         && super::pgs_lanes::applicable(&workspace.entries);
     workspace.last_lanes = lanes;
     if lanes {

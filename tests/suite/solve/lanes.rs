@@ -192,9 +192,17 @@ fn four_contacts_per_lane_give_the_one_at_a_time_sweeps_bits_in_2d() {
 
 /// Where a contact joins a body to itself, or a constraint is a joint, the sweep goes one at a
 /// time (the groups' copies of Δu could not see each other's writes; a joint's rows are not a
-/// contact's): the workspace says so.
+/// contact's), and so does a problem of more than `MAX_CONTACTS_IN_GROUPS` contacts (where
+/// laying out the groups costs more than they gain): the workspace says so.
 #[test]
-fn self_contacts_and_joints_keep_the_one_at_a_time_sweep() {
+fn self_contacts_joints_and_large_problems_keep_the_one_at_a_time_sweep() {
+    let limit = rigidref::solve::pgs::MAX_CONTACTS_IN_GROUPS;
+    let mut numbers = Numbers(11);
+    let at_limit = random_problem::<3, 2>(&mut numbers, 500, limit, FrictionModel::Box);
+    assert!(solve(&at_limit, 1, true).3);
+    let mut above = at_limit.clone();
+    above.contacts.push(above.contacts[0].clone());
+    assert!(!solve(&above, 1, true).3);
     let mut numbers = Numbers(7);
     let mut problem = random_problem::<6, 3>(&mut numbers, 10, 40, FrictionModel::Box);
     assert!(solve(&problem, 1, true).3);
