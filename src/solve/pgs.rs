@@ -8,17 +8,17 @@
 //! each unbounded.
 
 use super::local::{LocalSolve, solve_local};
-use super::projection::{project_disk, project_feasible};
+use super::pgs_threads::share;
+use super::projection::{positive_part, project_disk, project_feasible};
 use super::residual::{
     RowScales, constraint_residual, contact_coulomb_residual, coulomb_scale, free_residual,
 };
+pub(super) use super::sweep_entry::{Entry, RowLaw, Shared};
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
-use super::pgs_threads::share;
-pub(super) use super::sweep_entry::{Entry, RowLaw, Shared};
 
 /// The order in which a sweep visits the contacts.
 #[derive(
@@ -62,6 +62,21 @@ pub const MIN_CONTACTS_PER_THREAD: usize = 64;
 /// result is the same bits.
 pub const MAX_CONTACTS_IN_GROUPS: usize = 16_384;
 
+/// Whether and how a coloured sweep, row by row, visits its colours' contacts four at a time
+/// (docs/contact.md §"Four contacts per lane"); the same bits in every case.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Lanes {
+    /// One contact at a time.
+    Off,
+    /// Four at a time, compiled for the baseline processor (two f64 per instruction on
+    /// x86-64's SSE2).
+    Portable,
+    /// Four at a time, with the widest instructions the processor has (AVX2's four f64 per
+    /// instruction where present, else as `Portable`). The default.
+    #[default]
+    Native,
+}
+
 /// How long PGS runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PgsSettings {
@@ -102,8 +117,8 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Threads the last solve's sweeps ran on.
     last_threads: usize,
     /// Whether a coloured sweep, row by row, takes its colours' contacts four at a time
-    /// ([`PgsWorkspace::set_lanes`]; on by default).
-    lanes: bool,
+    /// ([`PgsWorkspace::set_lanes`]; natively by default).
+    lanes: Lanes,
     /// Whether the last solve's sweeps did.
     last_lanes: bool,
     /// With four contacts at a time: the groups, colour by colour, colour c's being
@@ -192,7 +207,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             moving: Vec::new(),
             threads: 1,
             last_threads: 1,
-            lanes: true,
+            lanes: Lanes::Native,
             last_lanes: false,
             groups: Vec::new(),
             group_starts: Vec::new(),
@@ -319,16 +334,20 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.last_threads
     }
 
-    /// Whether a coloured solve, row by row, visits its colours' contacts four at a
-    /// time (docs/contact.md §"Four contacts per lane"): the same bits either way; on by
-    /// default, off to compare.
-    pub fn set_lanes(&mut self, lanes: bool) {
+    /// Whether and how a coloured solve, row by row, visits its colours' contacts four at a
+    /// time (docs/contact.md §"Four contacts per lane"): the same bits in every case;
+    /// [`Lanes::Native`] by default, [`Lanes::Off`] to compare.
+    pub fn set_lanes(&mut self, lanes: Lanes) {
         self.lanes = lanes;
     }
 
-    /// Whether the last solve's sweeps visited contacts four at a time.
-    pub fn last_lanes(&self) -> bool {
-        self.last_lanes
+    /// The groups of four the last solve's sweeps visited (0 when they went one at a time).
+    pub fn last_groups(&self) -> usize {
+        if self.last_lanes {
+            self.groups.len()
+        } else {
+            0
+        }
     }
 
     /// One coloured sweep with the contacts four at a time: per colour its groups, then the
@@ -344,7 +363,14 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             };
             // SAFETY: the groups were laid out from this problem, whose bodies' Δu and
             // contacts' λ `shared` points at; nothing else runs meanwhile.
-            unsafe { super::pgs_lanes::visit_groups(problem.friction, groups, &shared) };
+            unsafe {
+                super::pgs_lanes::visit_groups(
+                    problem.friction,
+                    groups,
+                    &shared,
+                    self.lanes == Lanes::Native,
+                )
+            };
             for position in a + grouped..b {
                 let k = self.order[position];
                 visit(problem, LocalSolve::Rows, self, k, &mut lambda[k]);
@@ -509,7 +535,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     workspace.last_threads = if threaded { workspace.threads } else { 1 };
     let lanes = settings.order == ContactOrder::Coloured
         && settings.local == LocalSolve::Rows
-        && workspace.lanes
+        && workspace.lanes != Lanes::Off
         && !crate::common::faults::fault!(stale_friction_bound)
         && !self_contact
         && problem.contacts.len() <= MAX_CONTACTS_IN_GROUPS
@@ -527,6 +553,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         } = &mut *workspace;
         super::pgs_lanes::lay_out(entries, order, colour_starts, moving, groups, group_starts);
     }
+    let workspace_lanes = workspace.lanes;
     if threaded {
         let PgsWorkspace {
             entries,
@@ -549,6 +576,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         };
         let (entries, order, moving, starts) = (&*entries, &*order, &*moving, &*colour_starts);
         let (groups, group_starts) = (&*groups, &*group_starts);
+        let native = workspace_lanes == Lanes::Native;
         // The closures take `shared` whole (a reference), not its pointer fields, which are
         // not Sync on their own.
         let shared = &shared;
@@ -578,7 +606,9 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             if lanes {
                 let mine = share(group_starts[colour]..group_starts[colour + 1], t, threads);
                 // SAFETY: as for `visit`; the groups were laid out from this problem.
-                unsafe { super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared) };
+                unsafe {
+                    super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared, native)
+                };
                 rest = a + super::pgs_lanes::grouped(b - a)..b;
             }
             share(rest, t, threads).for_each(visit);
@@ -760,7 +790,7 @@ pub(super) fn solve_contact<const R: usize>(
     // Normal row: λn ← max(0, λn − w_n / a_n); a row with a_n = 0 cannot move anything.
     if diagonal[0] > 0.0 {
         let w_n = rows.velocity(0) + law.compliance * lambda[0];
-        let lambda_n = (lambda[0] - w_n / diagonal[0]).max(0.0);
+        let lambda_n = positive_part(lambda[0] - w_n / diagonal[0]);
         rows.apply(0, lambda_n - lambda[0]);
         lambda[0] = lambda_n;
     }

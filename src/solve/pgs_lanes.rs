@@ -128,9 +128,9 @@ pub(super) fn grouped(n: usize) -> usize {
     n / LANES * LANES
 }
 
-/// Σ_d p_d in the order nalgebra's dot product sums a D-vector's products (pairs for D = 2, 3,
-/// 4; from zero, one by one, for other D below 8), lane by lane: so that a lane's
-/// J_s,r · Δu_s is the one-contact visit's to the bit.
+/// Σ_d p_d in the order nalgebra's dot product sums a D-vector's products (left to right for
+/// D = 2 and 3, (p₀ + p₂) + (p₁ + p₃) for 4, one by one from +0 for the other D below 8), lane
+/// by lane: so that a lane's J_s,r · Δu_s is the one-contact visit's to the bit.
 #[inline(always)]
 fn sum_in_nalgebras_order<const D: usize>(p: &[Wide; D]) -> Wide {
     match D {
@@ -223,7 +223,7 @@ unsafe fn visit_group<const D: usize, const R: usize>(
     // Normal row: λn ← max(0, λn − w_n / a_n) where a_n > 0 (elsewhere λn stays and δ = 0).
     let moves = g.diagonal[0].gt(zero);
     let w_n = velocity(g, &u, 0) + g.compliance * lam[0];
-    let lambda_n = (lam[0] - w_n / g.diagonal[0]).max(zero);
+    let lambda_n = (lam[0] - w_n / g.diagonal[0]).positive_part();
     apply(g, &mut u, 0, moves.select(lambda_n - lam[0], zero));
     lam[0] = moves.select(lambda_n, lam[0]);
 
@@ -296,9 +296,9 @@ unsafe fn visit_group<const D: usize, const R: usize>(
 }
 
 /// Visits `groups` in turn: grouped contacts of one colour (any order within a colour gives
-/// the same bits, the contacts being independent). With AVX2 the processor takes four lanes
-/// per instruction; without, the same code two or one at a time, to the same bits (no fused
-/// multiply-add either way).
+/// the same bits, the contacts being independent). `native`, on a processor with AVX2: four
+/// lanes per instruction; else the same code compiled for the baseline processor (two lanes per
+/// instruction on x86-64), to the same bits (no fused multiply-add either way).
 ///
 /// # Safety
 /// `shared` points at every body's Δu and every contact's λ of the problem the groups were laid
@@ -308,9 +308,10 @@ pub(super) unsafe fn visit_groups<const D: usize, const R: usize>(
     friction: FrictionModel,
     groups: &[LaneGroup<D, R>],
     shared: &Shared<D, R>,
+    native: bool,
 ) {
     #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
+    if native && std::is_x86_feature_detected!("avx2") {
         // SAFETY: the processor has AVX2, checked just above; the rest is the caller's
         // contract.
         unsafe { visit_groups_avx2(friction, groups, shared) };

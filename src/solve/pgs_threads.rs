@@ -1,6 +1,7 @@
 //! The schedule of PGS sweeps in the coloured order on several threads (`threads: N`):
 //! which thread visits which contacts, and the barriers between colours. docs/contact.md
-//! §"Coloured order". The visit itself is [`super::pgs`]'s.
+//! §"Coloured order". The visits themselves are [`super::pgs`]'s (one contact) and
+//! [`super::pgs_lanes`]'s (four, §"Four contacts per lane").
 //!
 //! The contacts of one colour share no moving body, so their visits are independent: each reads
 //! and writes only its own bodies' Δu and its own λ. The threads split each colour into
@@ -93,7 +94,11 @@ pub(super) fn sweep_in_threads(
 }
 
 /// Thread t's contiguous part of `range` when `threads` threads split it.
-pub(super) fn share(range: std::ops::Range<usize>, t: usize, threads: usize) -> std::ops::Range<usize> {
+pub(super) fn share(
+    range: std::ops::Range<usize>,
+    t: usize,
+    threads: usize,
+) -> std::ops::Range<usize> {
     let (a, n) = (range.start, range.len());
     (a + n * t / threads)..(a + n * (t + 1) / threads)
 }

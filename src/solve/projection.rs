@@ -52,3 +52,11 @@ pub fn project_disk<const R: usize>(lambda: &SVector<f64, R>, bound: f64) -> SVe
     }
     p
 }
+
+/// max(x, 0) with every case fixed: x where x > 0, else +0 (for −0 and NaN too). `f64::max`
+/// may return either zero for max(−0, +0), so the sweep's one-contact and four-lane visits
+/// both use this (docs/contact.md §"Four contacts per lane").
+#[inline(always)]
+pub fn positive_part(x: f64) -> f64 {
+    if x > 0.0 { x } else { 0.0 }
+}

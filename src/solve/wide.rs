@@ -54,7 +54,11 @@ impl Wide {
     fn compare(self, other: Wide, f: impl Fn(f64, f64) -> bool) -> Mask {
         let mut out = [0; LANES];
         for l in 0..LANES {
-            out[l] = if f(self.0[l], other.0[l]) { u64::MAX } else { 0 };
+            out[l] = if f(self.0[l], other.0[l]) {
+                u64::MAX
+            } else {
+                0
+            };
         }
         Mask(out)
     }
@@ -65,10 +69,12 @@ impl Wide {
         self.map(f64::sqrt)
     }
 
-    /// `f64::max` per lane.
+    /// max(x, 0) per lane as [`super::projection::positive_part`] computes it (+0 for −0 and
+    /// NaN).
     #[inline(always)]
-    pub fn max(self, other: Wide) -> Wide {
-        self.zip(other, f64::max)
+    pub fn positive_part(self) -> Wide {
+        let zero = Wide::splat(0.0);
+        self.gt(zero).select(self, zero)
     }
 
     /// self > other per lane.
