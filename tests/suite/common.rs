@@ -181,6 +181,27 @@ pub mod problems {
             })
     }
 
+    /// `copies` disjoint copies of `problem` (body indices shifted), one problem: as many
+    /// independent copies as the coloured sweep's threads need contacts.
+    pub fn tiled<const D: usize, const R: usize>(
+        problem: &rigidref::problem::ContactProblem<D, R>,
+        copies: usize,
+    ) -> rigidref::problem::ContactProblem<D, R> {
+        let n = problem.bodies.len();
+        let mut out = problem.clone();
+        out.bodies.clear();
+        out.contacts.clear();
+        for copy in 0..copies {
+            out.bodies.extend(problem.bodies.iter().cloned());
+            out.contacts.extend(problem.contacts.iter().map(|c| {
+                let mut c = c.clone();
+                c.bodies = c.bodies.map(|b| b.map(|b| b + copy * n));
+                c
+            }));
+        }
+        out
+    }
+
     /// The problem: assembled from the random bodies and contacts by the project's own assembly
     /// (so its Jacobians are real contact Jacobians), then b replaced by the random one.
     pub fn build(

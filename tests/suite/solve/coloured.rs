@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::problems::{build, spec};
+use common::problems::{build, spec, tiled};
 use nalgebra::SVector;
 use proptest::prelude::*;
 use rigidref::problem::{ContactProblem3, FrictionModel};
@@ -166,23 +166,6 @@ fn coloured_runs_are_bit_identical_on_one_and_two_threads_and_found_is_the_defau
             "{name}: the coloured order changed nothing (not exercised)"
         );
     }
-}
-
-/// `copies` disjoint copies of `problem` (body indices shifted), one problem.
-fn tiled(problem: &ContactProblem3, copies: usize) -> ContactProblem3 {
-    let n = problem.bodies.len();
-    let mut out = problem.clone();
-    out.bodies.clear();
-    out.contacts.clear();
-    for copy in 0..copies {
-        out.bodies.extend(problem.bodies.iter().cloned());
-        out.contacts.extend(problem.contacts.iter().map(|c| {
-            let mut c = c.clone();
-            c.bodies = c.bodies.map(|b| b.map(|b| b + copy * n));
-            c
-        }));
-    }
-    out
 }
 
 /// Solves large enough for the threads (200 disjoint copies of a random problem with friction,

@@ -1,6 +1,7 @@
 //! The coloured sweep four contacts at a time (docs/contact.md §"Four contacts per lane"): the
 //! one-contact-at-a-time sweep's bits, for both problem shapes and both friction models.
 
+use crate::common::problems::tiled;
 use nalgebra::{SMatrix, SVector};
 use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use rigidref::solve::pgs::Lanes;
@@ -191,26 +192,6 @@ fn assert_same_bits<const D: usize, const R: usize>(
     );
 }
 
-/// `copies` disjoint copies of `problem` (body indices shifted), one problem.
-fn tiled<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    copies: usize,
-) -> ContactProblem<D, R> {
-    let n = problem.bodies.len();
-    let mut out = problem.clone();
-    out.bodies.clear();
-    out.contacts.clear();
-    for copy in 0..copies {
-        out.bodies.extend(problem.bodies.iter().cloned());
-        out.contacts.extend(problem.contacts.iter().map(|c| {
-            let mut c = c.clone();
-            c.bodies = c.bodies.map(|b| b.map(|b| b + copy * n));
-            c
-        }));
-    }
-    out
-}
-
 fn bits<const N: usize>(v: &[SVector<f64, N>]) -> Vec<[u64; N]> {
     v.iter()
         .map(|x| std::array::from_fn(|i| x[i].to_bits()))
@@ -272,27 +253,29 @@ fn four_contacts_per_lane_give_the_one_at_a_time_sweeps_bits_in_other_dimensions
 
 /// Problems large enough for two threads (20 disjoint copies of a random problem: 4 000
 /// contacts, more than 64 per thread and colour): with groups on two threads, every bit of the
-/// one-at-a-time sweep on one thread, in 3D and 2D, box and cone, after 3 sweeps and 30.
-#[test]
-fn four_contacts_per_lane_on_two_threads_give_the_one_at_a_time_sweeps_bits() {
-    fn check<const D: usize, const R: usize>(seed: u64) {
-        let mut numbers = Numbers(seed);
-        for friction in [FrictionModel::Box, FrictionModel::Cone] {
-            for case in 0..4 {
-                let problem = tiled(&random_problem::<D, R>(&mut numbers, 30, 200, friction), 20);
-                for sweeps in [3, 30] {
-                    let what = format!("{D}×{R}, {friction:?} case {case}, {sweeps} sweeps");
-                    let one = solve_on(&problem, sweeps, Lanes::Off, 1);
-                    let two = solve_on(&problem, sweeps, Lanes::Native, 2);
-                    assert_eq!(two.4, 2, "{what}: the threads did not run");
-                    assert!(two.3 > 0, "{what}: no groups");
-                    assert_same_bits(&two, &one, &what);
-                }
+/// one-at-a-time sweep on one thread, box and cone, after 3 sweeps and 30.
+fn two_threads_same_bits_as_one_at_a_time<const D: usize, const R: usize>(seed: u64) {
+    let mut numbers = Numbers(seed);
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        for case in 0..4 {
+            let problem = tiled(&random_problem::<D, R>(&mut numbers, 30, 200, friction), 20);
+            for sweeps in [3, 30] {
+                let what = format!("{D}×{R}, {friction:?} case {case}, {sweeps} sweeps");
+                let one = solve_on(&problem, sweeps, Lanes::Off, 1);
+                let two = solve_on(&problem, sweeps, Lanes::Native, 2);
+                assert_eq!(two.4, 2, "{what}: the threads did not run");
+                assert!(two.3 > 0, "{what}: no groups");
+                assert_same_bits(&two, &one, &what);
             }
         }
     }
-    check::<6, 3>(0x3D2);
-    check::<3, 2>(0x2D2);
+}
+
+/// [`two_threads_same_bits_as_one_at_a_time`] in 3D and 2D.
+#[test]
+fn four_contacts_per_lane_on_two_threads_give_the_one_at_a_time_sweeps_bits() {
+    two_threads_same_bits_as_one_at_a_time::<6, 3>(0x3D2);
+    two_threads_same_bits_as_one_at_a_time::<3, 2>(0x2D2);
 }
 
 /// Signed zeros, built on purpose (random problems rarely make them): four 2D bodies each on the
