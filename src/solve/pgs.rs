@@ -43,9 +43,10 @@ pub enum ContactOrder {
     /// A fresh permutation every sweep from the workspace's seeded generator (ChaCha8).
     Random,
     /// Colour by colour: contacts grouped so that no two of a group share a moving body
-    /// ([`super::colour::colour_contacts`], deterministic), problem order within a group; the
-    /// same order every sweep. Consecutive visits are then independent and overlap in the
-    /// processor. docs/contact.md §"Coloured order".
+    /// (deterministic: src/solve/colour.rs), problem order within a group; the same order every
+    /// sweep. A group's contacts are independent, so they are visited four at a time where
+    /// they can be, with the same bits. Different last bits from the problem order; the same
+    /// bits on any number of threads. docs/contact.md §"Coloured order".
     Coloured,
 }
 
@@ -55,11 +56,11 @@ pub const MIN_CONTACTS_PER_THREAD: usize = 64;
 
 /// The most contacts for which a coloured solve visits its colours' contacts four at a time
 /// (docs/contact.md §"Four contacts per lane"). The groups are laid out from the entries at the
-/// start of each solve, one more pass over every contact's data: while those data stay in the
-/// processor's caches the sweeps gain more than that pass costs (PGS 25–30 % faster up to
-/// 10 000 contacts), beyond they do not (equal at 20 000–29 000, 20–30 % slower at 37 000 and
-/// 96 000 on the pyramid grids; docs/performance.md §"Issue 33, fourth part"). Either way the
-/// result is the same bits.
+/// start of each solve, one more pass over every contact's data. Measured against one contact
+/// at a time: PGS about 30 % faster at 926–2 292 contacts and 13–25 % at 7 168–9 178, equal at
+/// 20 480–28 672, slower at 36 568 (37.6–42.5 → 49.4–51.0 ms) and 96 322 (118.5–119.5 →
+/// 149.1–153.2 ms) (docs/performance.md §"Issue 33, fourth part"). Either way the result is the
+/// same bits.
 pub const MAX_CONTACTS_IN_GROUPS: usize = 16_384;
 
 /// Whether and how a coloured sweep, row by row, visits its colours' contacts four at a time
@@ -119,10 +120,9 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Whether a coloured sweep, row by row, takes its colours' contacts four at a time
     /// ([`PgsWorkspace::set_lanes`]; natively by default).
     lanes: Lanes,
-    /// Whether the last solve's sweeps did.
-    last_lanes: bool,
     /// With four contacts at a time: the groups, colour by colour, colour c's being
-    /// `groups[group_starts[c]..group_starts[c + 1]]`.
+    /// `groups[group_starts[c]..group_starts[c + 1]]`; empty when the last solve went one
+    /// contact at a time.
     groups: Vec<super::pgs_lanes::LaneGroup<D, R>>,
     group_starts: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
@@ -208,7 +208,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             threads: 1,
             last_threads: 1,
             lanes: Lanes::Native,
-            last_lanes: false,
             groups: Vec::new(),
             group_starts: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
@@ -343,11 +342,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// The groups of four the last solve's sweeps visited (0 when they went one at a time).
     pub fn last_groups(&self) -> usize {
-        if self.last_lanes {
-            self.groups.len()
-        } else {
-            0
-        }
+        self.groups.len()
     }
 
     /// One coloured sweep with the contacts four at a time: per colour its groups, then the
@@ -494,8 +489,6 @@ pub(super) fn row_residual<const D: usize, const R: usize>(
         .fold(0.0, f64::max)
 }
 
-impl<const D: usize, const R: usize> PgsWorkspace<D, R> {}
-
 /// Solves `problem` by projected Gauss–Seidel, starting from each contact's `lambda0` (projected
 /// onto its feasible set). On return `lambda` holds one impulse per contact (N·s) and
 /// `workspace.delta_velocity(i)` each body's velocity change. docs/contact.md §"PGS".
@@ -521,8 +514,14 @@ pub fn solve_pgs<const D: usize, const R: usize>(
 
     let mut iterations = 0;
     let mut converged = false;
-    let self_contact =
-        (workspace.entries.iter()).any(|e| e.bodies[0].is_some() && e.bodies[0] == e.bodies[1]);
+    // One pass over the entries for what the threads and the groups of four exclude: a contact
+    // between a body and itself, and (groups only) a joint's free rows.
+    let (self_contact, joint) = (workspace.entries.iter()).fold((false, false), |(s, j), e| {
+        (
+            s || (e.bodies[0].is_some() && e.bodies[0] == e.bodies[1]),
+            j || e.bounds == RowBounds::Free,
+        )
+    });
     // Threads only where a colour gives each at least MIN_CONTACTS_PER_THREAD visits on
     // average: below that, starting them and meeting at every colour's barrier costs more than
     // the visits (the result is the same bits either way).
@@ -538,9 +537,10 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && workspace.lanes != Lanes::Off
         && !crate::common::faults::fault!(stale_friction_bound)
         && !self_contact
+        && !joint
         && problem.contacts.len() <= MAX_CONTACTS_IN_GROUPS
-        && super::pgs_lanes::applicable(&workspace.entries);
-    workspace.last_lanes = lanes;
+        && super::pgs_lanes::dimensions_fit::<D, R>();
+    workspace.groups.clear();
     if lanes {
         let PgsWorkspace {
             entries,

@@ -15,8 +15,8 @@
 
 use super::sweep_entry::{Entry, Shared};
 pub(super) use super::wide::LANES;
-use super::wide::Wide;
-use crate::problem::{FrictionModel, RowBounds};
+use super::wide::{Mask, Wide};
+use crate::problem::FrictionModel;
 use nalgebra::SVector;
 
 /// A group of four contacts of one colour as a visit reads them, each quantity lane by lane
@@ -27,9 +27,9 @@ pub(super) struct LaneGroup<const D: usize, const R: usize> {
     contact: [usize; LANES],
     /// Per side, the body of each lane (0 where the side is the static world).
     body: [[usize; LANES]; 2],
-    /// Per side, 1 where the lane's side is a body, 0 where it is the static world (a number,
-    /// not a bool, so that the processor selects with it lane by lane).
-    present: [Wide; 2],
+    /// Per side, set in the lanes whose side is a body, clear where it is the static world (a
+    /// bit mask, so that the processor selects with it lane by lane).
+    present: [Mask; 2],
     /// Per side, whether each lane's side is a body that moves (a pinned body's Δu is only
     /// read; the static world's is not a body's).
     moving: [[bool; LANES]; 2],
@@ -49,15 +49,11 @@ pub(super) struct LaneGroup<const D: usize, const R: usize> {
     compliance: Wide,
 }
 
-/// Whether a solve can take its coloured sweep four contacts at a time: every constraint a
-/// contact (no joint's free rows), no contact between a body and itself, and a body dimension
-/// whose dot product [`sum_in_nalgebras_order`] reproduces.
-pub(super) fn applicable<const D: usize, const R: usize>(entries: &[Entry<D, R>]) -> bool {
-    D < 8
-        && R >= 1
-        && entries.iter().all(|e| {
-            e.bounds == RowBounds::Contact && !(e.bodies[0].is_some() && e.bodies[0] == e.bodies[1])
-        })
+/// Whether the groups can take problems of this shape: a body dimension whose dot product
+/// [`sum_in_nalgebras_order`] reproduces (below 8) and at least the normal row. The caller
+/// excludes joints and contacts between a body and itself (`super::pgs::solve_pgs`).
+pub(super) const fn dimensions_fit<const D: usize, const R: usize>() -> bool {
+    D < 8 && R >= 1
 }
 
 /// Lays out the groups: per colour (positions `starts[c]..starts[c + 1]` of the visiting order,
@@ -77,12 +73,12 @@ pub(super) fn lay_out<const D: usize, const R: usize>(
     group_starts.push(0);
     for colour in starts.windows(2) {
         let (a, b) = (colour[0], colour[1]);
-        for first in (a..b).step_by(LANES).filter(|&first| first + LANES <= b) {
+        for first in (a..a + grouped(b - a)).step_by(LANES) {
             let zero = Wide::splat(0.0);
             let mut g = LaneGroup {
                 contact: [0; LANES],
                 body: [[0; LANES]; 2],
-                present: [zero; 2],
+                present: [Mask::NONE; 2],
                 moving: [[false; LANES]; 2],
                 jacobian_t: [[[zero; D]; R]; 2],
                 inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
@@ -99,7 +95,7 @@ pub(super) fn lay_out<const D: usize, const R: usize>(
                     // The static world's side stays zero (its Δu is zero and never written).
                     let Some(body) = e.bodies[s] else { continue };
                     g.body[s][l] = body;
-                    g.present[s].0[l] = 1.0;
+                    g.present[s].set(l);
                     g.moving[s][l] = moving[body];
                     for r in 0..R {
                         for d in 0..D {
@@ -162,7 +158,7 @@ fn velocity<const D: usize, const R: usize>(
             products[d] = g.jacobian_t[s][r][d] * u[s][d];
         }
         let dot = sum_in_nalgebras_order(&products);
-        w = g.present[s].ne(Wide::splat(0.0)).select(w + dot, w);
+        w = g.present[s].select(w + dot, w);
     }
     w
 }
@@ -202,7 +198,7 @@ unsafe fn visit_group<const D: usize, const R: usize>(
     let mut u = [[zero; D]; 2];
     for s in 0..2 {
         for l in 0..LANES {
-            if g.present[s].0[l] != 0.0 {
+            if g.present[s].lane(l) {
                 // SAFETY: the caller's contract.
                 let v = unsafe { &*shared.delta_velocity.add(g.body[s][l]) };
                 for d in 0..D {

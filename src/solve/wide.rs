@@ -112,6 +112,21 @@ impl Wide {
 }
 
 impl Mask {
+    /// No lane's condition holds.
+    pub const NONE: Mask = Mask([0; LANES]);
+
+    /// Sets lane `l`'s condition.
+    #[inline(always)]
+    pub fn set(&mut self, l: usize) {
+        self.0[l] = u64::MAX;
+    }
+
+    /// Lane `l`'s condition.
+    #[inline(always)]
+    pub fn lane(self, l: usize) -> bool {
+        self.0[l] != 0
+    }
+
     /// Per lane: `yes` where the condition holds, else `no` (a bitwise blend, exact).
     #[inline(always)]
     pub fn select(self, yes: Wide, no: Wide) -> Wide {

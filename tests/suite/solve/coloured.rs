@@ -8,6 +8,7 @@ use common::problems::{build, spec, tiled};
 use nalgebra::SVector;
 use proptest::prelude::*;
 use rigidref::problem::{ContactProblem3, FrictionModel};
+use rigidref::solve::pgs::Lanes;
 use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
 
 fn solve(
@@ -182,21 +183,10 @@ fn two_threads_give_the_one_threads_bits_on_large_coloured_solves() {
         let small = build(&s, 0.5, 0.0, FrictionModel::Box);
         let big = tiled(&small, 200);
         for sweeps in [3, 200] {
-            let solve_on = |threads: usize| {
-                let mut workspace = PgsWorkspace::new(0);
-                workspace.set_threads(threads);
-                let mut lambda = Vec::new();
-                let settings = PgsSettings {
-                    max_iterations: sweeps,
-                    tolerance: None,
-                    order: ContactOrder::Coloured,
-                    local: LocalSolve::Rows,
-                };
-                let report = solve_pgs(&big, &settings, &mut workspace, &mut lambda);
-                (lambda, report, workspace.last_threads())
-            };
-            let (one, one_report, one_threads) = solve_on(1);
-            let (two, two_report, two_threads) = solve_on(2);
+            let (one, _, one_report, _, one_threads) =
+                super::solve_on(&big, sweeps, Lanes::Native, 1);
+            let (two, _, two_report, _, two_threads) =
+                super::solve_on(&big, sweeps, Lanes::Native, 2);
             assert_eq!(
                 (one_threads, two_threads),
                 (1, 2),

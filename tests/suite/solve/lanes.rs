@@ -1,11 +1,11 @@
 //! The coloured sweep four contacts at a time (docs/contact.md §"Four contacts per lane"): the
 //! one-contact-at-a-time sweep's bits, for both problem shapes and both friction models.
 
+use super::{Solved, solve_on};
 use crate::common::problems::tiled;
 use nalgebra::{SMatrix, SVector};
 use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use rigidref::solve::pgs::Lanes;
-use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
 
 /// splitmix64: a small seeded generator, so the problems are the same on every run.
 struct Numbers(u64);
@@ -122,47 +122,6 @@ fn random_problem<const D: usize, const R: usize>(
         bodies,
         contacts,
     }
-}
-
-/// What a solve gives: λ, every body's Δu, the report, the groups its sweeps visited, and the
-/// threads they ran on.
-type Solved<const D: usize, const R: usize> = (
-    Vec<SVector<f64, R>>,
-    Vec<SVector<f64, D>>,
-    rigidref::solve::SolveReport,
-    usize,
-    usize,
-);
-
-/// Solves `problem` in the coloured order on `threads` threads, with the groups of four as
-/// `lanes` says.
-fn solve_on<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    sweeps: u32,
-    lanes: Lanes,
-    threads: usize,
-) -> Solved<D, R> {
-    let mut workspace = PgsWorkspace::new(0);
-    workspace.set_lanes(lanes);
-    workspace.set_threads(threads);
-    let mut lambda = Vec::new();
-    let settings = PgsSettings {
-        max_iterations: sweeps,
-        tolerance: None,
-        order: ContactOrder::Coloured,
-        local: LocalSolve::Rows,
-    };
-    let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
-    let delta_velocity = (0..problem.bodies.len())
-        .map(|i| *workspace.delta_velocity(i))
-        .collect();
-    (
-        lambda,
-        delta_velocity,
-        report,
-        workspace.last_groups(),
-        workspace.last_threads(),
-    )
 }
 
 /// [`solve_on`] one thread.

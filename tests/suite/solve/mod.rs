@@ -57,3 +57,44 @@ fn run_pgs<const D: usize, const R: usize>(
     let report = rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     (lambda, report)
 }
+
+/// What a solve gives: λ, every body's Δu, the report, the groups its sweeps visited, and the
+/// threads they ran on.
+pub(super) type Solved<const D: usize, const R: usize> = (
+    Vec<nalgebra::SVector<f64, R>>,
+    Vec<nalgebra::SVector<f64, D>>,
+    rigidref::solve::SolveReport,
+    usize,
+    usize,
+);
+
+/// Solves `problem` in the coloured order, row by row, cold settings (no tolerance), on
+/// `threads` threads, with the groups of four as `lanes` says.
+pub(super) fn solve_on<const D: usize, const R: usize>(
+    problem: &rigidref::problem::ContactProblem<D, R>,
+    sweeps: u32,
+    lanes: rigidref::solve::pgs::Lanes,
+    threads: usize,
+) -> Solved<D, R> {
+    let mut workspace = rigidref::solve::PgsWorkspace::new(0);
+    workspace.set_lanes(lanes);
+    workspace.set_threads(threads);
+    let mut lambda = Vec::new();
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: sweeps,
+        tolerance: None,
+        order: rigidref::solve::ContactOrder::Coloured,
+        local: rigidref::solve::LocalSolve::Rows,
+    };
+    let report = rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
+    let delta_velocity = (0..problem.bodies.len())
+        .map(|i| *workspace.delta_velocity(i))
+        .collect();
+    (
+        lambda,
+        delta_velocity,
+        report,
+        workspace.last_groups(),
+        workspace.last_threads(),
+    )
+}
