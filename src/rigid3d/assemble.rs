@@ -28,7 +28,8 @@ pub struct ProblemSettings {
 
 /// The contact problem of the current substep: every body (its world M⁻¹ and velocity after the
 /// velocity step), and per contact J₁ = [dᵀ (r₁×d)ᵀ] and J₂ = −[dᵀ (r₂×d)ᵀ] for d = n, t1, t2,
-/// rᵢ = p − xᵢ, b = J₁u₁ + J₂u₂ − (β/h) max(depth − slop, 0) e_n, and λ₀ from `warm`.
+/// rᵢ = p − xᵢ, b = J₁u₁ + J₂u₂ − (β/h) max(depth − slop, 0) e_n + (gap/h) e_n with
+/// gap = max(−depth, 0) (a speculative contact), and λ₀ from `warm`.
 pub fn assemble_problem(
     bodies: &[RigidBody],
     contacts: &[Contact],
@@ -78,6 +79,11 @@ pub fn assemble_problem_into(
                 b += j2 * problem_bodies[body2].velocity;
             }
             b[0] -= settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
+            // A speculative contact (`collision: complete`, a gap of −depth): the bodies may
+            // close the gap within the step, no more (docs/contact.md §"Speculative contacts").
+            if c.depth < 0.0 {
+                b[0] -= c.depth / settings.h;
+            }
             ProblemContact {
                 bodies: [Some(c.body1), c.body2],
                 jacobian: [j1, j2],

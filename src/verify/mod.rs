@@ -2,6 +2,8 @@
 //!
 //! - [`convergence`]: a scene at several step sizes, each observable's observed order;
 //! - [`crosscheck`]: every contact problem solved by PGS and by clarabel, compared;
+//! - [`detection`]: 3D detection's contacts against the separating-axis oracle, over random and
+//!   degenerate poses (the campaign);
 //! - [`golden`]: the canonical scenes' golden traces and the comparison with a fresh run;
 //! - [`snapshots`]: the rounded run summaries the insta snapshot tests keep;
 //! - [`references`]: independent references (a rapier3d mirror, RK4 on Euler's equations,
@@ -12,6 +14,7 @@
 
 pub mod convergence;
 pub mod crosscheck;
+pub mod detection;
 #[cfg(feature = "fault-injection")]
 pub mod faults;
 pub mod golden;

@@ -6,10 +6,10 @@
 //! axis, kept while the pair has moved less than half the margin. Everything kept gives exactly what fresh detection finds, so
 //! the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
-use super::convex::apart_by_more_than;
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, NearestTriangle, vertex_contact};
 use super::pieces::pose;
+use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::Contact;
 use crate::common::pair_cache::PairCache;
 use crate::rigid3d::body::RigidBody;
@@ -93,6 +93,7 @@ fn find_candidates(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
+    sat: &mut SatBuffers,
     out: &mut Vec<Candidate>,
 ) -> Anchor {
     let (bi, bj) = (&bodies[i], &bodies[j]);
@@ -115,6 +116,7 @@ fn find_candidates(
     }
     if pieces {
         let (pose_i, pose_j) = (pose(bi), pose(bj));
+        let placement = Placement::between((&bi.rotation, &bi.x), (&bj.rotation, &bj.x));
         for (a, piece_a) in ci.pieces.pieces.iter().enumerate() {
             let box_a = piece_a.world_aabb(&pose_i);
             for (b, piece_b) in cj.pieces.pieces.iter().enumerate() {
@@ -125,12 +127,12 @@ fn find_candidates(
                 // Pieces further apart than the margin stay apart while the list holds (each
                 // point moves by at most half the margin relative to the other body): no
                 // manifold of theirs can have a point, so they are not candidates. The
-                // separating axis GJK finds decides it once per list.
+                // separating-axis query decides it once per list.
                 if near
-                    && !apart_by_more_than(
-                        &pose_i.inv_mul(&pose_j),
-                        &piece_a.shape,
-                        &piece_b.shape,
+                        && !sat.apart_by_more_than(
+                        &piece_a.polytope,
+                        &piece_b.polytope,
+                        &placement,
                         margin,
                     )
                 {
@@ -159,7 +161,7 @@ pub fn cached_pair_contacts(
     let candidates = cache.candidates(
         (i, j),
         |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
-        |_, list| find_candidates((i, j), bodies, colliders, pieces, list),
+        |_, list| find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list),
     );
     let pair_start = out.len();
     // A triangle kept at any step of the list's life keeps for the rest of it: the vertex is

@@ -128,9 +128,25 @@ impl Detector {
     ) {
         out.clear();
         for (i, body) in bodies.iter().enumerate() {
-            ground_contacts(i, body, out);
+            // `complete` takes vertices within the speculative margin above the plane too (a body
+            // written exactly on the ground is held from the first step); the vertex rule only
+            // vertices below it.
+            let touching = match method {
+                CollisionMethod::Vertices => 0.0,
+                CollisionMethod::Complete => super::manifold::speculative_margin(colliders[i].radius()),
+            };
+            ground_contacts(i, body, touching, out);
         }
         MeshCollider::world_boxes(bodies, colliders, &mut self.boxes);
+        if method == CollisionMethod::Complete {
+            // Bodies within the speculative margin have contacts: their boxes must pair (0.3
+            // written as 0.1 + 0.2 lifts a box 4e-17 m off the one below).
+            for (b, collider) in self.boxes.iter_mut().zip(colliders) {
+                let grow = super::manifold::speculative_margin(collider.radius());
+                b.min = b.min.add_scalar(-grow);
+                b.max = b.max.add_scalar(grow);
+            }
+        }
         self.find_pairs(bodies, colliders);
         if self.use_cache {
             self.cache.begin();

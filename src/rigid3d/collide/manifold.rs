@@ -1,27 +1,38 @@
 //! `collision: complete`: the contacts the vertex rule misses, from contact manifolds between the
-//! two bodies' convex pieces (the penetration direction by GJK/EPA, then the two pieces'
-//! supporting faces, edges or vertices clipped against each other: parry3d's steps, driven by
-//! [`super::convex`]). docs/contact.md §"Complete collision detection".
+//! two bodies' convex pieces (the axis of least penetration by separating axes, then the
+//! reference face clipped against the incident face, or the closest points of two edges:
+//! [`super::separating_axes`]). docs/contact.md §"Complete collision detection".
 
-use super::convex::ConvexQuery;
 use super::mesh_pair::MeshCollider;
-use super::pieces::{ConvexPieces, pose, world_point, world_vector};
+use super::pieces::{ConvexPieces, pose};
+use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::frame::ContactFrame;
 use parry3d_f64::math::Pose;
-use parry3d_f64::query::ContactManifold;
 
 /// A manifold point whose witness lies within this fraction of the smaller body's bounding radius
 /// of a contact already found (a vertex contact, or an earlier manifold point) is that contact.
 pub const SAME_POINT_TOLERANCE: f64 = 1e-9;
 
-/// The manifold queries' working memory (GJK/EPA's buffers and the manifold's points), kept from
-/// call to call so that they allocate nothing once grown.
+/// Manifold points (and, with `collision: complete`, ground vertices) apart by at most this
+/// fraction of the smaller body's bounding radius are speculative contacts: their depth is minus
+/// the gap, and the problem lets the bodies close the gap in the step but no more
+/// (docs/contact.md §"Speculative contacts"). A resting stack written exactly touching then
+/// keeps its contacts while round-off rocks a corner up by micrometres.
+pub const SPECULATIVE_FRACTION: f64 = 0.01;
+
+/// The speculative margin of a body of bounding radius `radius`, m.
+pub fn speculative_margin(radius: f64) -> f64 {
+    SPECULATIVE_FRACTION * radius
+}
+
+/// The manifold queries' working memory (the separating-axis query's placed vertices, clip
+/// polygons and points), kept from call to call so that they allocate nothing once grown.
 #[derive(Clone, Debug, Default)]
 pub struct ManifoldBuffers {
-    query: ConvexQuery,
-    manifold: ContactManifold<(), ()>,
+    /// The separating-axis query's buffers.
+    pub sat: SatBuffers,
 }
 
 /// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
@@ -44,7 +55,7 @@ pub fn manifold_contacts(
     for (a, piece_a) in pair.pieces_i.pieces.iter().enumerate() {
         let box_a = piece_a.world_aabb(&pair.pose_i);
         for (b, piece_b) in pair.pieces_j.pieces.iter().enumerate() {
-            if box_a.overlaps(&piece_b.world_aabb(&pair.pose_j)) {
+            if within(&box_a, &piece_b.world_aabb(&pair.pose_j), pair.margin) {
                 piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
             }
         }
@@ -66,13 +77,20 @@ pub fn manifold_contacts_among(
     let pair = PairPoses::new((i, j), bodies, colliders);
     for (a, b) in candidates {
         let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
-        if piece_a
-            .world_aabb(&pair.pose_i)
-            .overlaps(&piece_b.world_aabb(&pair.pose_j))
-        {
+        if within(
+            &piece_a.world_aabb(&pair.pose_i),
+            &piece_b.world_aabb(&pair.pose_j),
+            pair.margin,
+        ) {
             piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
         }
     }
+}
+
+/// Whether two boxes overlap or are apart by at most `gap` (m) along every axis: pieces that may
+/// come within the speculative margin.
+fn within(a: &crate::common::broad::Aabb, b: &crate::common::broad::Aabb, gap: f64) -> bool {
+    (0..3).all(|k| a.min[k] - gap <= b.max[k] && b.min[k] - gap <= a.max[k])
 }
 
 /// A body pair placed for the manifold queries.
@@ -81,10 +99,17 @@ struct PairPoses<'a> {
     j: usize,
     pieces_i: &'a ConvexPieces,
     pieces_j: &'a ConvexPieces,
+    /// Body i's rotation and position (the pieces' frame is the body's).
+    rotation_i: nalgebra::Matrix3<f64>,
+    x_i: nalgebra::Vector3<f64>,
+    /// Body j's frame seen from body i's.
+    placement: Placement,
+    /// The world poses, for the pieces' world boxes.
     pose_i: Pose,
     pose_j: Pose,
-    pos12: Pose,
     tolerance: f64,
+    /// The speculative margin, m.
+    margin: f64,
 }
 
 impl<'a> PairPoses<'a> {
@@ -93,16 +118,19 @@ impl<'a> PairPoses<'a> {
         bodies: &[RigidBody],
         colliders: &'a [MeshCollider],
     ) -> PairPoses<'a> {
-        let (pose_i, pose_j) = (pose(&bodies[i]), pose(&bodies[j]));
+        let (bi, bj) = (&bodies[i], &bodies[j]);
         PairPoses {
             i,
             j,
             pieces_i: &colliders[i].pieces,
             pieces_j: &colliders[j].pieces,
-            pose_i,
-            pose_j,
-            pos12: pose_i.inv_mul(&pose_j),
+            rotation_i: bi.rotation,
+            x_i: bi.x,
+            placement: Placement::between((&bi.rotation, &bi.x), (&bj.rotation, &bj.x)),
+            pose_i: pose(bi),
+            pose_j: pose(bj),
             tolerance: SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius()),
+            margin: speculative_margin(colliders[i].radius().min(colliders[j].radius())),
         }
     }
 }
@@ -116,29 +144,31 @@ fn piece_pair_contacts(
     buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
-    let (i, j, tolerance) = (pair.i, pair.j, pair.tolerance);
-    let (pose_i, pose_j) = (&pair.pose_i, &pair.pose_j);
+    let (i, j, tolerance, margin) = (pair.i, pair.j, pair.tolerance, pair.margin);
     let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
-    // A fresh manifold each time (its buffers reused): GJK does not start from the previous
-    // normal, which would make detection depend on history.
-    let manifold = &mut buffers.manifold;
-    buffers
-        .query
-        .manifold(&pair.pos12, &piece_a.shape, &piece_b.shape, manifold);
-    // parry's n1 points out of piece a toward piece b; ours points from j into i.
-    let n = -world_vector(pose_i, manifold.local_n1);
-    if !(n.iter().all(|x| x.is_finite()) && (n.norm() - 1.0).abs() < 1e-6) {
+    // Afresh each time (the buffers reused): no history, so detection depends on the state only.
+    // Pieces apart by more than the margin have no contact, so such a gap stops it.
+    let Some(found) = buffers.sat.contact(
+        &piece_a.polytope,
+        &piece_b.polytope,
+        &pair.placement,
+        margin,
+    ) else {
         return;
-    }
-    let n = n.normalize();
-    for point in &manifold.points {
-        // Touching or apart (or NaN): not a contact.
-        if point.dist.is_nan() || point.dist >= -tolerance {
+    };
+    // n₁ points out of piece a toward piece b (body i's frame); ours points from j into i.
+    let n = -(pair.rotation_i * found.normal);
+    let world = |p: &nalgebra::Vector3<f64>| pair.x_i + pair.rotation_i * p;
+    for point in &buffers.sat.points {
+        // Apart by more than the margin (or NaN): not a contact. Within it, a speculative
+        // contact of negative depth (a stack written exactly touching is held from its first
+        // step, and keeps its corners while round-off rocks it).
+        if point.distance.is_nan() || point.distance > margin {
             continue;
         }
-        let on_i = world_point(pose_i, point.local_p1);
-        let on_j = world_point(pose_j, point.local_p2);
-        let depth = -point.dist;
+        let on_i = world(&point.on_a);
+        let on_j = world(&point.on_b);
+        let depth = -point.distance;
         // The same contact: the same point, depth and line of action (a vertex of
         // j seen from i has the opposite normal).
         let same = |c: &Contact, at: &nalgebra::Vector3<f64>, normal: f64| {
@@ -159,8 +189,8 @@ fn piece_pair_contacts(
             feature: Feature::Manifold {
                 piece1: a as u32,
                 piece2: b as u32,
-                feature1: point.fid1.0,
-                feature2: point.fid2.0,
+                feature1: point.feature_a,
+                feature2: point.feature_b,
             },
             point: on_i,
             frame: ContactFrame::from_normal(&n),

@@ -15,19 +15,20 @@
 //!   culls the vertices that cannot be inside it before the BVH query;
 //! - [`closest_point`]: the brute-force oracle that tests hold [`mesh_pair`] against;
 //! - [`pieces`]: each mesh as convex pieces (itself when convex, else a convex decomposition);
-//! - [`convex`]: two convex pieces' contact by GJK/EPA and their manifold, with the working
-//!   memory kept between calls;
+//! - [`polytope`]: a convex piece's faces, planes and edges;
+//! - [`separating_axes`]: two convex pieces' contact by separating axes (exact where faces touch
+//!   exactly, edges are parallel or the overlap is deep) and its contact points by clipping;
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
 //!   vertex rule misses (edge–edge crossings, faces on faces);
-//! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, and
-//!   [`sat`], its brute-force oracle.
+//! - [`sat`]: the oracle, separating axes by brute force (sharing no code with detection);
+//! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, by the
+//!   oracle.
 //!
 //! A contact always has the vertex owner as body 1 and the body it penetrates (or the ground) as
 //! body 2, so the normal (out of body 2) is the direction body 1 must move to separate.
 
 pub mod closest_point;
 pub mod coherence;
-pub mod convex;
 pub mod detect;
 pub mod ellipsoid;
 pub mod ground;
@@ -35,7 +36,9 @@ pub mod manifold;
 pub mod mesh_pair;
 pub mod penetration;
 pub mod pieces;
+pub mod polytope;
 pub mod sat;
+pub mod separating_axes;
 pub mod sphere_tree;
 pub mod vertex_contact;
 

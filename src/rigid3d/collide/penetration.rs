@@ -4,18 +4,18 @@
 //! For a body and the ground: the depth of its lowest vertex below y = 0 (exact: the deepest
 //! point of a solid below a plane is a vertex). For two bodies whose bounding boxes overlap: the
 //! largest penetration depth (minimum translation distance) of a convex piece of one with a
-//! convex piece of the other, from GJK/EPA ([`super::convex`]); [`super::sat`] is its
-//! brute-force oracle.
-//! For convex bodies this is exactly the distance one body must move to separate them.
+//! convex piece of the other, from the separating-axis oracle ([`super::sat`]; for two boxes its
+//! 15 axes, [`Cuboid::depth`]), which shares no code with detection, so that a body inside
+//! another cannot hide behind the contacts that were found. For convex bodies this is exactly
+//! the distance one body must move to separate them.
 
-use super::convex::ConvexQuery;
 use super::mesh_pair::MeshCollider;
-use super::pieces::{ClimbingSupport, Cuboid, pose};
+use super::pieces::{Cuboid, pose};
+use super::sat::OracleBuffers;
 use crate::common::broad::{Aabb, overlapping_pairs};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
 use parry3d_f64::math::Pose;
-use parry3d_f64::query::gjk::GJKResult;
 
 /// Interpenetration deeper than this fraction of the smaller body's size (the smallest side of
 /// its bounding box in its own frame) means contacts were missed: a quarter.
@@ -52,7 +52,7 @@ pub fn mesh_size(mesh: &TriMesh) -> f64 {
 }
 
 /// Penetration depth of bodies `i` and `j`, m: the largest over pairs of their convex pieces of
-/// parry's contact depth (0 when no pieces overlap).
+/// the oracle's depth (0 when no pieces overlap).
 pub fn pair_depth(
     body_i: &RigidBody,
     collider_i: &MeshCollider,
@@ -72,18 +72,21 @@ pub fn pair_depth(
     let (pose_i, boxes_i) = placed(body_i, collider_i);
     let (pose_j, boxes_j) = placed(body_j, collider_j);
     placed_pair_depth(
-        (collider_i, &pose_i, &boxes_i),
-        (collider_j, &pose_j, &boxes_j),
-        &mut ConvexQuery::default(),
+        (body_i, collider_i, &pose_i, &boxes_i),
+        (body_j, collider_j, &pose_j, &boxes_j),
+        &mut OracleBuffers::default(),
     )
 }
+
+/// A body placed for the measure: the body, its collider, its pose, its pieces' world boxes.
+type PlacedBody<'a> = (&'a RigidBody, &'a MeshCollider, &'a Pose, &'a [Aabb]);
 
 /// [`pair_depth`] for bodies whose pose and pieces' world boxes are already computed (once per
 /// body per measure, however many pairs it is in).
 fn placed_pair_depth(
-    (collider_i, pose_i, boxes_i): (&MeshCollider, &Pose, &[Aabb]),
-    (collider_j, pose_j, boxes_j): (&MeshCollider, &Pose, &[Aabb]),
-    query: &mut ConvexQuery,
+    (body_i, collider_i, pose_i, boxes_i): PlacedBody,
+    (body_j, collider_j, pose_j, boxes_j): PlacedBody,
+    oracle: &mut OracleBuffers,
 ) -> f64 {
     let mut deepest = 0.0_f64;
     for (a, box_a) in collider_i.pieces.pieces.iter().zip(boxes_i) {
@@ -91,19 +94,17 @@ fn placed_pair_depth(
             if !box_a.overlaps(box_b) {
                 continue;
             }
-            // Two boxes: the exact separating-axis depth, a tenth of GJK/EPA's cost.
-            if let (Some(ca), Some(cb)) = (&a.cuboid, &b.cuboid) {
-                deepest = deepest.max(Cuboid::depth(ca, pose_i, cb, pose_j));
-                continue;
-            }
-            // Otherwise GJK/EPA (what `parry3d_f64::query::contact` runs for two convex
-            // polyhedra) with supports found by climbing the hulls' vertex graphs.
-            let pos12 = pose_i.inv_mul(pose_j);
-            if let GJKResult::ClosestPoints(p1, p2_1, n1) =
-                query.contact(&pos12, &ClimbingSupport::new(a), &ClimbingSupport::new(b))
-            {
-                deepest = deepest.max(-(p2_1 - p1).dot(n1));
-            }
+            // Two boxes: their own 15 separating axes, a tenth of the general oracle's cost.
+            let depth = if let (Some(ca), Some(cb)) = (&a.cuboid, &b.cuboid) {
+                Cuboid::depth(ca, pose_i, cb, pose_j)
+            } else {
+                oracle.depth(
+                    (a, &body_i.rotation, &body_i.x),
+                    (b, &body_j.rotation, &body_j.x),
+                    true,
+                )
+            };
+            deepest = deepest.max(depth);
         }
     }
     deepest
@@ -140,14 +141,14 @@ pub fn penetrations(bodies: &[RigidBody], colliders: &[MeshCollider], out: &mut 
     );
 }
 
-/// The penetration measure's buffers (each body's pose and its pieces' world boxes, GJK/EPA's
-/// working memory), kept from call to call so that the measure allocates nothing once they have
+/// The penetration measure's buffers (each body's pose and its pieces' world boxes, the
+/// oracle's working memory), kept from call to call so that the measure allocates nothing once they have
 /// grown.
 #[derive(Clone, Debug, Default)]
 pub struct PlacedBuffers {
     placed: Vec<Option<(Pose, std::ops::Range<usize>)>>,
     piece_boxes: Vec<Aabb>,
-    query: ConvexQuery,
+    oracle: OracleBuffers,
 }
 
 /// [`penetrations`] given the bodies' world boxes (`boxes[i]` of body i) and the pairs whose
@@ -176,7 +177,7 @@ pub fn penetrations_in(
     let PlacedBuffers {
         placed,
         piece_boxes,
-        query,
+        oracle,
     } = buffers;
     placed.clear();
     placed.resize(bodies.len(), None);
@@ -200,9 +201,9 @@ pub fn penetrations_in(
     for &(i, j) in pairs {
         let side = |k: usize| {
             let (pose, range) = placed[k].as_ref().expect("placed above");
-            (&colliders[k], pose, &piece_boxes[range.clone()])
+            (&bodies[k], &colliders[k], pose, &piece_boxes[range.clone()])
         };
-        let depth = placed_pair_depth(side(i), side(j), query);
+        let depth = placed_pair_depth(side(i), side(j), oracle);
         if depth > 0.0 {
             out.push(Penetration {
                 body1: i,

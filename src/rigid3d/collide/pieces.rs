@@ -9,9 +9,9 @@
 use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
+use super::polytope::Polytope;
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
-use parry3d_f64::shape::ConvexPolyhedron;
 use parry3d_f64::transformation::vhacd::{VHACD, VHACDParameters};
 
 /// Voxels along the longest side of a non-convex mesh's bounding box in its decomposition.
@@ -26,64 +26,19 @@ pub const CONVEXITY_TOLERANCE: f64 = 1e-9;
 /// One convex piece, body frame.
 #[derive(Clone, Debug)]
 pub struct Piece {
-    /// The piece as parry's convex polyhedron (coplanar triangles merged into faces).
-    pub shape: ConvexPolyhedron,
-    /// Its vertices, m.
+    /// The piece as a polytope: merged faces, their loops and planes, edges between faces
+    /// (what `collision: complete`'s separating-axis query reads).
+    pub polytope: Polytope,
+    /// Its vertices, m (the hull's; the same as the polytope's).
     pub vertices: Vec<Vector3<f64>>,
-    /// Its outward face normals, one per hull triangle (repeats included).
+    /// Its hull triangles (counter-clockwise seen from outside), those of non-zero area.
+    pub triangles: Vec<[usize; 3]>,
+    /// The outward unit normal of each of `triangles` (repeats included: what the oracle reads).
     pub normals: Vec<Vector3<f64>>,
-    /// Its edges as vertex index pairs.
+    /// The hull triangles' edges as vertex index pairs, each once.
     pub edges: Vec<[usize; 2]>,
     /// The piece as a box, when it is one (the penetration measure's exact shortcut).
     pub cuboid: Option<Cuboid>,
-    /// For each vertex, the vertices it shares an edge with (the hull's vertex graph).
-    pub neighbours: Vec<Vec<usize>>,
-    /// The vertices as parry's vectors (the support function's points).
-    points: Vec<PVector>,
-}
-
-/// A piece's support function by climbing its vertex graph (the penetration measure's GJK/EPA):
-/// from the vertex the last query ended on, move to a neighbour further along the direction
-/// while there is one. On a convex polyhedron a vertex no neighbour improves on is furthest
-/// along the direction (the simplex method's optimality test), so this returns a furthest
-/// vertex, as parry's scan of every vertex does, in a few steps instead of one per vertex (162
-/// on the project's ball). Where several vertices are furthest it may return another of them
-/// than the scan: the same support value, so the same depth to EPA's tolerance.
-pub struct ClimbingSupport<'a> {
-    piece: &'a Piece,
-    last: std::cell::Cell<usize>,
-}
-
-impl<'a> ClimbingSupport<'a> {
-    /// The support function of `piece`, starting from its first vertex.
-    pub fn new(piece: &'a Piece) -> ClimbingSupport<'a> {
-        ClimbingSupport {
-            piece,
-            last: std::cell::Cell::new(0),
-        }
-    }
-}
-
-impl parry3d_f64::shape::SupportMap for ClimbingSupport<'_> {
-    fn local_support_point(&self, dir: PVector) -> PVector {
-        let points = &self.piece.points;
-        let mut best = self.last.get();
-        let mut best_dot = points[best].dot(dir);
-        loop {
-            let mut moved = false;
-            for &n in &self.piece.neighbours[best] {
-                let d = points[n].dot(dir);
-                if d > best_dot {
-                    (best, best_dot, moved) = (n, d, true);
-                }
-            }
-            if !moved {
-                break;
-            }
-        }
-        self.last.set(best);
-        points[best]
-    }
 }
 
 /// A piece that is a rectangular box, body frame: centre, unit edge directions, half extents.
@@ -247,58 +202,48 @@ impl Piece {
         let parry_points: Vec<PVector> = points.iter().map(to_parry).collect();
         // The fallible hull: points that span no volume (a flat or degenerate piece) are no piece,
         // not a panic (found by fuzzing: tests/fuzz-regressions/scene3d/flat-piece).
-        let (hull_points, triangles) =
+        let (hull_points, hull_triangles) =
             parry3d_f64::transformation::try_convex_hull(&parry_points).ok()?;
-        let shape = ConvexPolyhedron::from_convex_hull(&parry_points)?;
         let vertices: Vec<Vector3<f64>> = hull_points.into_iter().map(from_parry).collect();
-        let mut normals = Vec::with_capacity(triangles.len());
+        let all: Vec<[usize; 3]> = hull_triangles
+            .iter()
+            .map(|t| t.map(|i| i as usize))
+            .collect();
+        let polytope = Polytope::from_hull(vertices.clone(), &all)?;
+        if !(polytope.volume() > 0.0) {
+            return None;
+        }
+        let mut triangles = Vec::with_capacity(all.len());
+        let mut normals = Vec::with_capacity(all.len());
         let mut edges = Vec::new();
-        for t in &triangles {
-            let [a, b, c] = t.map(|i| vertices[i as usize]);
+        for t in &all {
+            let [a, b, c] = t.map(|i| vertices[i]);
             let n = (b - a).cross(&(c - a));
             if n.norm() > 0.0 {
+                triangles.push(*t);
                 normals.push(n.normalize());
             }
             for k in 0..3 {
-                let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
+                let (i, j) = (t[k], t[(k + 1) % 3]);
                 if i < j {
                     edges.push([i, j]);
                 }
             }
         }
         let cuboid = Cuboid::of(&vertices);
-        let mut neighbours = vec![Vec::new(); vertices.len()];
-        for t in &triangles {
-            for k in 0..3 {
-                let (i, j) = (t[k] as usize, t[(k + 1) % 3] as usize);
-                if !neighbours[i].contains(&j) {
-                    neighbours[i].push(j);
-                }
-                if !neighbours[j].contains(&i) {
-                    neighbours[j].push(i);
-                }
-            }
-        }
-        let points = vertices.iter().map(to_parry).collect();
         Some(Piece {
-            shape,
+            polytope,
             vertices,
+            triangles,
             normals,
             edges,
             cuboid,
-            neighbours,
-            points,
         })
     }
 
-    /// The piece's volume, m³ (divergence theorem over a fan of its faces).
+    /// The piece's volume, m³.
     pub fn volume(&self) -> f64 {
-        let mesh = self.shape.to_trimesh();
-        let v: Vec<Vector3<f64>> = mesh.0.into_iter().map(from_parry).collect();
-        mesh.1
-            .iter()
-            .map(|t| v[t[0] as usize].dot(&v[t[1] as usize].cross(&v[t[2] as usize])) / 6.0)
-            .sum()
+        self.polytope.volume()
     }
 
     /// The piece's world bounding box under `pose`.

@@ -42,7 +42,8 @@ pub struct Contact {
     pub point: Vector3<f64>,
     /// Contact frame; `frame.n` points from body 2 into body 1.
     pub frame: ContactFrame,
-    /// Penetration depth along n, m, ≥ 0.
+    /// Penetration depth along n, m: > 0 for the vertex rule; with `collision: complete` it may
+    /// be ≤ 0, a speculative contact whose gap is −depth (docs/contact.md §"Speculative contacts").
     pub depth: f64,
 }
 

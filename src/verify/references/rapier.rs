@@ -73,8 +73,16 @@ fn collider(mesh: &TriMesh) -> Result<ColliderBuilder, String> {
     let mut shapes: Vec<SharedShape> = pieces
         .pieces
         .iter()
-        .map(|p| SharedShape::new(p.shape.clone()))
-        .collect();
+        .map(|p| {
+            let points: Vec<_> = p
+                .vertices
+                .iter()
+                .map(|v| rapier3d_f64::math::Vector::new(v.x, v.y, v.z))
+                .collect();
+            SharedShape::convex_hull(&points)
+                .ok_or_else(|| "a convex piece spans no volume".to_string())
+        })
+        .collect::<Result<_, _>>()?;
     if shapes.len() == 1 {
         Ok(ColliderBuilder::new(shapes.remove(0)))
     } else {

@@ -77,7 +77,13 @@ fn cached_detection_finds_the_fresh_contacts_on_every_substep_of_the_canonical_s
         );
         reused += stats.reused;
         all += stats.reused + stats.refreshed;
-        (nearest_kept, queries) = (nearest_kept + stats.nearest_kept, queries + stats.queries);
+        // The share of kept nearest triangles is measured on scenes whose bodies rest at some
+        // depth: in the scenes written exactly touching every vertex lies on a face of the other
+        // body, where no triangle is nearer than the rest by the gap, and the cache rightly
+        // keeps none (their lists and contacts are still checked above).
+        if !name.starts_with("touching_") {
+            (nearest_kept, queries) = (nearest_kept + stats.nearest_kept, queries + stats.queries);
+        }
     }
     // The kept nearest triangles answered a share of the vertex queries, with the same contacts.
     assert!(

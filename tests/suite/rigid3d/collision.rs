@@ -133,7 +133,7 @@ fn ground_contacts_are_exactly_the_vertices_below_the_plane() {
         let rotation = exp_so3(&Vector3::new(w.0, w.1, w.2));
         let body = body_with(mesh.clone(), Vector3::new(0.3, y, -0.2), rotation);
         let mut contacts = Vec::new();
-        ground_contacts(4, &body, &mut contacts);
+        ground_contacts(4, &body, 0.0, &mut contacts);
         let below: Vec<usize> = (0..mesh.vertices.len())
             .filter(|&i| (body.x + body.rotation * mesh.vertices[i]).y < 0.0)
             .collect();

@@ -193,7 +193,7 @@ pub(super) fn box_on_ground(
     body.omega = w;
     body.update_world_inertia();
     let mut contacts = Vec::new();
-    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, &mut contacts);
+    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, 0.0, &mut contacts);
     assert_eq!(contacts.len(), 4);
     let settings = ProblemSettings {
         h: 0.01,

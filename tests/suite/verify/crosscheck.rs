@@ -155,7 +155,7 @@ fn body_on_ground(
     body.v = v;
     body.update_world_inertia();
     let mut contacts = Vec::new();
-    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, &mut contacts);
+    rigidref::rigid3d::collide::ground::ground_contacts(0, &body, 0.0, &mut contacts);
     assert!(!contacts.is_empty());
     let settings = ProblemSettings {
         h: 0.01,

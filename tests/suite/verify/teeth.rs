@@ -69,11 +69,20 @@ fn snapshot_failures(faults: Faults) -> Vec<String> {
 /// the faults: PGS run to convergence, or the step's Newton answer) and clarabel disagree, or
 /// the answer does not reach the residual tolerance (the unmodified solvers reach it on every
 /// problem of these scenes: `the_unmodified_code_passes_every_check`); this is
-/// `rigidref crosscheck --strict`.
+/// `rigidref crosscheck --strict`. The scenes written exactly touching are solved here by the
+/// exact solver: on their aligned stacks PGS run to convergence stalls (200 000 sweeps leave a
+/// residual up to 4e-5 m/s on touching_three_cubes, where Newton solves every problem; docs/contact.md
+/// §"Speculative contacts"), so PGS could not verify their problems either way.
 fn crosscheck_failures(faults: Faults) -> Vec<String> {
     scenes()
         .into_iter()
         .filter(|(_, scene)| scene.params.check_collisions)
+        .map(|(name, mut scene)| {
+            if name.starts_with("scenes/touching_") {
+                scene.params.solver = rigidref::solve::Solver::Newton;
+            }
+            (name, scene)
+        })
         .filter(|(_, scene)| {
             let settings = CrosscheckSettings {
                 solver: scene.params.solver,
