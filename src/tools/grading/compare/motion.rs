@@ -11,9 +11,9 @@
 //! displacement, e = max(0, |Δx − Δ v̄| − Δ |Δv| / 2), the same for the rotation (θ in 2D; the
 //! rotation vector of R_b R_aᵀ against ω in 3D, at a lever of one unit: 1 m, 1 block). A
 //! simulator may legitimately move bodies beyond their velocities: post-stabilisation pushes
-//! them out of penetration, a few steps of gravity may be lumped between records. The allowance
-//! is therefore a scale of the reference's own motion: [`ALLOWANCE_STEPS`] of the reference's
-//! steps at its top speed, per reference step the interval spans.
+//! them out of penetration. The allowance is therefore a scale of the reference's own motion:
+//! [`ALLOWANCE_STEPS`] of the reference's steps at its top speed, per reference step the
+//! interval spans.
 
 use super::Outcome;
 
@@ -153,9 +153,10 @@ pub(super) struct Scale {
 /// Judges every interval between the candidate's records: `times` the records' times,
 /// `bodies` the bodies judged, `state(k, i)` body i at record k, `turned(k, i)` its rotation
 /// from record k − 1 to k (θ_k − θ_{k−1} in 2D, the rotation vector of R_k R_{k−1}ᵀ in 3D);
-/// `label(i)` names body i; `reference` gives the reference's step, top speed S and unit. One row: passes when no body's unexplained displacement
-/// (or rotation, at one unit from its centre) exceeds [`ALLOWANCE_STEPS`] · dt · S per reference
-/// step of the interval; it names the worst.
+/// `label(i)` names body i; `reference` gives the reference's step, top speed S and units. One
+/// row: passes when no body's unexplained displacement (or rotation, at one unit from its
+/// centre) exceeds [`ALLOWANCE_STEPS`] · dt · S per reference step of the interval; it names the
+/// worst.
 pub(super) fn motion_row(
     times: &[f64],
     bodies: &[usize],
