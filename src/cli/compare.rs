@@ -4,11 +4,11 @@
 
 use anyhow::bail;
 use clap::Args;
-use rigidref::rigid3d::trace::{Trace, read_trace_file};
+use rigidref::rigid3d::trace::Trace;
 use rigidref::tools::grading::compare::{
-    Comparison, OutcomeTolerances, OutcomeTolerances2, TrajectoryTolerances, compare_outcomes,
-    compare_outcomes_2d, compare_trajectories, compare_trajectories_2d, outcome_scene,
-    outcome_scene_2d, read_trace2_file, time_text, trace_dimension,
+    AnyTrace, Comparison, OutcomeTolerances, OutcomeTolerances2, Trace2, TrajectoryTolerances,
+    compare_outcomes, compare_outcomes_2d, compare_trajectories, compare_trajectories_2d,
+    outcome_scene, outcome_scene_2d, read_trace_any, read_trace_of, time_text,
 };
 use std::path::{Path, PathBuf};
 
@@ -25,26 +25,40 @@ Trajectory mode (the default) aligns the two traces by time: at each of REF's re
 the span both cover, OTHER is interpolated (positions, velocities, energies and momenta linearly;
 orientations by slerp), and per body and quantity the error, its maximum and the first time it
 exceeds its tolerance are reported. Bodies are matched by name when both traces name the same
-bodies, else by index. Outcome mode compares what happened instead: the time of first contact,
-when each body comes to rest, where and how it rests (orientation up to the body's symmetries,
-which --scene supplies, by default the scene REF's header names), the energy at the end, and the
-Dzhanibekov flip times of a lone spinning body. Impacts make multi-body scenes chaotic: two
-correct simulators diverge after a few impacts; compare such scenes in outcome mode
-(docs/grading.md says which mode fits which scene).
+bodies, else by body (the same mass, the nearest first position), so that bodies listed in
+another order under other names are found. Outcome mode compares what happened instead: the
+time of first contact, when each body comes to rest (at rest below 0.05 m/s and 0.1 rad/s,
+moving above twice that, settling in between, which agrees with either; the speeds are shown),
+where and how it rests (orientation up to the body's symmetries, which --scene supplies, by
+default the scene REF's header names), the energy at the end, and the Dzhanibekov flip times of
+a lone spinning body. Impacts make multi-body scenes chaotic: two correct simulators diverge
+after a few impacts; compare such scenes in outcome mode (docs/grading.md says which mode fits
+which scene).
+
+Both modes also judge every record of OTHER against itself: each body's positions must follow
+its velocities, within 4 of REF's steps at REF's top speed per step (a body cannot move without
+velocity, or jump and come back); a trace that does not fails (docs/grading.md §\"Positions
+follow velocities\").
 
 Before comparing, OTHER is refused (a verdict of its own, exit status 1) when it cannot be
-judged fairly: no records; other bodies than REF's; a non-finite number or a matrix that is not a
-rotation; a time repeated or going back; a start later or an end earlier than REF's by more than
-one of REF's steps (\"ends at 0.5 s of 2 s\"); or records further apart than REF's own spacing
-or 10 of REF's steps, whichever is larger.
+judged fairly: a header value that makes no sense (dt or a mass ≤ 0); no records; other bodies
+than REF's (another number, or a body with no partner of its mass); a non-finite number or a
+matrix that is not a rotation; a time repeated or going back; a start later or an end earlier
+than REF's by more than the gap allowance (\"ends at 0.5 s of 2 s\"); or records further apart
+than the gap allowance: REF's own spacing or 10 of REF's steps, whichever is larger.
 
 2D traces (the image-block system; docs/grading.md §\"2D traces\") are compared in the 2D units
 (blocks, time units), with the same refusals; bodies are matched by what the image gives (block
 count, mass and first centre), whatever order OTHER lists them in. Trajectory mode: positions,
 angles, velocities, angular velocities, energies and momenta. Outcome mode: per body, at rest at
-the end or not, the rest position (0.1 block) and angle modulo the block shape's quarter-turn
-symmetry (0.1 rad; the shape from --scene, an image or 2D scene file, by default REF's source),
-standing or toppled (turned by more than 45°), and the total energy at the end.
+the end or not (below 0.05 block/t at its fastest point, moving above 0.1, settling between), the
+rest position (0.1 block) and angle modulo the block shape's quarter-turn symmetry (0.1 rad; the
+shape from --scene, an image or 2D scene file, by default REF's source), standing or toppled
+(turned by more than 45°), and the total energy at the end.
+
+Both files are read as `grade` reads a submission: regular files only (a FIFO or a device is an
+error, never opened for reading), counted against --max-input-mb while they are read. A file
+that is not a trace says why (a byte-order mark, a second header, a 2D trace where REF is 3D).
 
 Exit status: 0 the traces agree, 1 they differ or OTHER is refused, 2 a trace is unreadable (or
 REF itself is malformed).")]
@@ -71,10 +85,23 @@ pub struct CompareArgs {
     pub json: bool,
 }
 
-fn read(path: &Path) -> Result<Trace, Unreadable> {
-    let trace = read_trace_file(path).map_err(Unreadable)?;
-    for note in &trace.notes {
-        eprintln!("note: {note}");
+/// The trace at `path`, as `grade` reads a submission: a regular file only (a FIFO or a device
+/// is an error, unread), counted against --max-input-mb while it is read.
+fn read(path: &Path) -> Result<AnyTrace, Unreadable> {
+    let limit = rigidref::common::input::max_input_bytes();
+    read_trace_any(path, limit, "--max-input-mb").map_err(Unreadable)
+}
+
+/// OTHER, of the reference's system (`wanted` dimensions).
+fn read_other(args: &CompareArgs, wanted: u64) -> Result<AnyTrace, Unreadable> {
+    let limit = rigidref::common::input::max_input_bytes();
+    let because = format!("the reference is {wanted}D");
+    let trace = read_trace_of(&args.other, wanted, &because, limit, "--max-input-mb")
+        .map_err(Unreadable)?;
+    if let AnyTrace::Three(t) = &trace {
+        for note in &t.notes {
+            eprintln!("note: {note}");
+        }
     }
     Ok(trace)
 }
@@ -126,12 +153,12 @@ fn print_comparison(c: &Comparison) {
             );
         }
     }
-    if !c.outcomes.is_empty() {
+    if !c.outcomes.is_empty() || !c.checks.is_empty() {
         println!(
             "{:<48} {:>24} {:>28} {:>14}  result",
             "observable", "reference", "other", "tolerance"
         );
-        for o in &c.outcomes {
+        for o in c.outcomes.iter().chain(&c.checks) {
             println!(
                 "{:<48} {:>24} {:>28} {:>14}  {}",
                 o.name,
@@ -153,9 +180,10 @@ fn print_comparison(c: &Comparison) {
 }
 
 /// 2D traces (the image-block system): trajectory or outcome mode, bodies matched by the image.
-fn comparison_2d(args: &CompareArgs) -> anyhow::Result<Comparison> {
-    let reference = read_trace2_file(&args.reference).map_err(Unreadable)?;
-    let other = read_trace2_file(&args.other).map_err(Unreadable)?;
+fn comparison_2d(args: &CompareArgs, reference: Trace2) -> anyhow::Result<Comparison> {
+    let AnyTrace::Two(other) = read_other(args, 2)? else {
+        unreachable!("read_other checked the dimension")
+    };
     if args.outcome {
         let scene = outcome_scene_2d(&reference, &args.reference, args.scene.as_deref())
             .map_err(|e| Unreadable(format!("--scene: {e}")))?;
@@ -200,10 +228,14 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
         let message = format!("--tolerance must be positive, got {}", args.tolerance);
         return Err(Unreadable(message).into());
     }
-    let comparison = if trace_dimension(&args.reference) == Some(2) {
-        comparison_2d(&args)?
-    } else {
-        comparison_3d(&args)?
+    let comparison = match read(&args.reference)? {
+        AnyTrace::Two(reference) => comparison_2d(&args, reference)?,
+        AnyTrace::Three(reference) => {
+            for note in &reference.notes {
+                eprintln!("note: {note}");
+            }
+            comparison_3d(&args, reference)?
+        }
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&comparison)?);
@@ -222,9 +254,10 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<()> {
 }
 
 /// 3D traces: trajectory or outcome mode.
-fn comparison_3d(args: &CompareArgs) -> anyhow::Result<Comparison> {
-    let reference = read(&args.reference)?;
-    let other = read(&args.other)?;
+fn comparison_3d(args: &CompareArgs, reference: Trace) -> anyhow::Result<Comparison> {
+    let AnyTrace::Three(other) = read_other(args, 3)? else {
+        unreachable!("read_other checked the dimension")
+    };
     let comparison = if args.outcome {
         let scene = outcome_scene(&reference, &args.reference, args.scene.as_deref())
             .map_err(|e| Unreadable(format!("--scene: {e}")))?;

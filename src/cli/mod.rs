@@ -45,10 +45,16 @@ pub struct Cli {
     run: run_args::RunArgs,
     /// The largest input file read (scene, body file, mesh, image, problem file, trace), MB; a
     /// larger one is a one-line error (docs/scene-format.md §"Input limits").
-    #[arg(long, global = true, value_name = "MB", default_value_t = 1024)]
+    #[arg(
+        long,
+        global = true,
+        value_name = "MB",
+        default_value_t = 1024,
+        help_heading = "Input limits (every command)"
+    )]
     max_input_mb: u64,
     /// The largest image read by the 2D system, pixels (its blocks grow with them).
-    #[arg(long, global = true, value_name = "PIXELS", default_value_t = rigidref::common::input::DEFAULT_MAX_IMAGE_PIXELS)]
+    #[arg(long, global = true, value_name = "PIXELS", default_value_t = rigidref::common::input::DEFAULT_MAX_IMAGE_PIXELS, help_heading = "Input limits (every command)")]
     max_image_pixels: u64,
 }
 

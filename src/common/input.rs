@@ -7,6 +7,7 @@
 //! grows at most linearly with the file's bytes, so the byte limit bounds them all; an image's
 //! blocks grow with its pixels, which a compressed file does not bound, hence the second limit.
 
+use std::io::Read;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -60,10 +61,118 @@ pub fn check_size(path: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-/// `std::fs::read_to_string` within the input limit.
+/// `std::fs::read_to_string` within the input limit: judged by its size first, then counted
+/// while it is read (a file whose size the metadata does not tell, such as a device or a file
+/// that grows, stops at the limit).
 pub fn read_text(path: &Path) -> std::io::Result<String> {
     check_size(path)?;
-    std::fs::read_to_string(path)
+    let limit = MAX_INPUT_BYTES.load(Ordering::Relaxed);
+    let mut text = String::new();
+    Capped::new(std::fs::File::open(path)?, limit, "--max-input-mb").read_to_string(&mut text)?;
+    Ok(text)
+}
+
+/// A reader that fails as soon as more than its limit of bytes has come through it: the
+/// streaming half of an input limit, for what a file's metadata does not tell (a device such as
+/// /dev/zero reports no size; a file may grow while it is read).
+pub struct Capped<R> {
+    inner: R,
+    left: u64,
+    limit: u64,
+    option: &'static str,
+}
+
+impl<R> Capped<R> {
+    /// `inner`, limited to `limit` bytes; `option` is what raises the limit, for the message.
+    pub fn new(inner: R, limit: u64, option: &'static str) -> Capped<R> {
+        Capped {
+            inner,
+            left: limit,
+            limit,
+            option,
+        }
+    }
+}
+
+impl<R: Read> Read for Capped<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        // One byte more than is left, so that reaching the limit exactly is not an error.
+        let room = usize::try_from(self.left.saturating_add(1)).unwrap_or(usize::MAX);
+        let want = buf.len().min(room);
+        let n = self.inner.read(&mut buf[..want])?;
+        if n as u64 > self.left {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "more than the limit of {} was read (raise it with {})",
+                    bytes(self.limit),
+                    self.option
+                ),
+            ));
+        }
+        self.left -= n as u64;
+        Ok(n)
+    }
+}
+
+/// Opens `path` for reading only if it is a regular file (after symbolic links) of at most
+/// `limit` bytes, and counts what is read against `limit` (`option` raises it). A FIFO, a
+/// device or a folder is an error without being read: opening a FIFO for reading waits for a
+/// writer, and a device such as /dev/zero never ends. The file is opened without waiting
+/// (`O_NONBLOCK`) and judged again from the opened handle, so that a FIFO put in its place
+/// between the two looks cannot block either. What `compare`, `compare-problem` and `grade`
+/// read traces and problem files with (docs/grading.md §"Untrusted submissions").
+pub fn open_regular(
+    path: &Path,
+    limit: u64,
+    option: &'static str,
+) -> std::io::Result<Capped<std::fs::File>> {
+    let not_regular = || {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file (a FIFO, a device or a folder); not read",
+        )
+    };
+    let too_large = |size: u64| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "{} is more than the limit of {} (raise it with {option}); not read",
+                bytes(size),
+                bytes(limit)
+            ),
+        )
+    };
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(not_regular());
+    }
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path)?;
+    let meta = file.metadata()?;
+    if !meta.is_file() {
+        return Err(not_regular());
+    }
+    if meta.len() > limit {
+        return Err(too_large(meta.len()));
+    }
+    Ok(Capped::new(file, limit, option))
+}
+
+/// The text of the regular file at `path` ([`open_regular`]) within `limit` bytes.
+pub fn read_regular_text(path: &Path, limit: u64, option: &'static str) -> std::io::Result<String> {
+    let mut text = String::new();
+    open_regular(path, limit, option)?.read_to_string(&mut text)?;
+    Ok(text)
 }
 
 /// `std::fs::File::open` within the input limit.

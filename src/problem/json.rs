@@ -163,6 +163,25 @@ fn body_index(i: Option<usize>) -> i64 {
     i.map_or(-1, |i| i as i64)
 }
 
+/// A problem file's text as JSON, of either form: errors say what is wrong in words (a UTF-8
+/// byte-order mark, which JSON does not allow; text that is not JSON or is cut off, and where),
+/// never serde's bare message.
+pub fn json_value(text: &str) -> Result<serde_json::Value, String> {
+    if text.starts_with('\u{feff}') {
+        return Err(
+            "the file starts with a UTF-8 byte-order mark (BOM), which JSON does not allow; \
+             write it without one"
+                .into(),
+        );
+    }
+    serde_json::from_str(text).map_err(|e| {
+        format!(
+            "not a problem file: {}",
+            crate::common::trace::json_problem(&e)
+        )
+    })
+}
+
 /// A problem file's `format` and `version` (of either form) must be this reader's.
 pub(super) fn check_format_and_version(format: &str, version: u32) -> Result<(), String> {
     if format != PROBLEM_FORMAT {
@@ -309,18 +328,22 @@ impl ProblemFile {
     pub fn read(path: &std::path::Path) -> Result<ProblemFile, String> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        let value: serde_json::Value =
-            serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        ProblemFile::parse(&text, &path.display().to_string())
+    }
+
+    /// Reads a problem file's text; errors name `source` and what is wrong (a byte-order mark,
+    /// JSON that is not, a local-form file, a key the format does not have).
+    pub fn parse(text: &str, source: &str) -> Result<ProblemFile, String> {
+        let value = json_value(text).map_err(|e| format!("{source}: {e}"))?;
         if value.get("form").and_then(|f| f.as_str()) == Some(LOCAL_FORM) {
             return Err(format!(
-                "{}: a local-form problem (W, q; no bodies or Jacobian): this needs the body \
-                 form, a problem with bodies as `rigidref run --dump-problems` writes",
-                path.display()
+                "{source}: a local-form problem (W, q; no bodies or Jacobian): this needs the body \
+                 form, a problem with bodies as `rigidref run --dump-problems` writes"
             ));
         }
-        match serde_json::from_str(&text) {
+        match serde_json::from_str(text) {
             Ok(file) => Ok(file),
-            Err(e) => Err(format!("{}: {e}", path.display())),
+            Err(e) => Err(format!("{source}: {e}")),
         }
     }
 }

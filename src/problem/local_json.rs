@@ -195,7 +195,7 @@ impl AnyProblemFile {
     /// Parses a problem file's text: the local form where `form` is `"local"`, else the body
     /// form. Errors give the line and column.
     pub fn parse(text: &str) -> Result<AnyProblemFile, String> {
-        let value: serde_json::Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let value = super::json::json_value(text)?;
         match value.get("form") {
             Some(serde_json::Value::String(f)) if f == LOCAL_FORM => serde_json::from_str(text)
                 .map(AnyProblemFile::Local)

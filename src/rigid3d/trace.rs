@@ -355,24 +355,38 @@ pub struct Trace {
 pub const DESCRIPTIVE_KEYS: [&str; 4] = ["scene", "source", "integrator", "substeps"];
 
 /// Reads the JSON Lines trace in the file `path`, judged by its size first
-/// ([`crate::common::input::open`]); errors name the file (and the line). `rigidref compare` and
-/// the Python bindings' `compare_traces` read traces with this.
+/// ([`crate::common::input::open`]); errors name the file (and the line). The golden traces are
+/// read with this; `rigidref compare`, `grade` and the Python bindings read a trace through
+/// `tools::grading::compare::read_trace_any`, which reads regular files only.
 pub fn read_trace_file(path: &std::path::Path) -> Result<Trace, String> {
     let file = crate::common::input::open(path)
         .map_err(|e| format!("{}: cannot open: {e}", path.display()))?;
     read_trace(std::io::BufReader::new(file), &path.display().to_string())
 }
 
-/// Reads a JSON Lines trace; errors name the line.
+/// Reads a 3D JSON Lines trace; errors name the line and what is wrong with it: a byte-order
+/// mark, a first line that is not a rigidref header, a 2D trace, a second header line, a NaN
+/// (docs/trace-format.md §"Reading rules").
 pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
     let mut lines = reader.lines().enumerate();
     let (_, first) = lines
         .next()
         .ok_or_else(|| format!("{source}: empty trace"))?;
     let first = first.map_err(|e| format!("{source}: {e}"))?;
-    let header: TraceHeader =
-        serde_json::from_str(&first).map_err(|e| format!("{source}:1: bad header: {e}"))?;
-    let given: serde_json::Value = serde_json::from_str(&first).unwrap_or_default();
+    let given = crate::common::trace::header_value(&first, source)?;
+    let dimension = given.get("dimension").and_then(serde_json::Value::as_u64);
+    if dimension != Some(3) {
+        return Err(match dimension {
+            Some(d @ 2) => crate::common::trace::wrong_dimension(source, d, 3),
+            _ => format!("{source}:1: the header's \"dimension\" must be 2 or 3"),
+        });
+    }
+    let header: TraceHeader = serde_json::from_value(given.clone()).map_err(|e| {
+        format!(
+            "{source}:1: bad header: {}",
+            crate::common::trace::json_problem(&e)
+        )
+    })?;
     let missing: Vec<&str> = DESCRIPTIVE_KEYS
         .into_iter()
         .filter(|k| given.get(k).is_none())
@@ -385,11 +399,6 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
             missing.join(", ")
         )]
     };
-    if header.format != FORMAT_NAME || !(1..=FORMAT_VERSION).contains(&header.version) {
-        return Err(format!(
-            "{source}:1: not a {FORMAT_NAME} trace of version 1 to {FORMAT_VERSION}"
-        ));
-    }
     let mut records = Vec::new();
     for (i, line) in lines {
         let line = line.map_err(|e| format!("{source}: {e}"))?;
@@ -404,8 +413,14 @@ pub fn read_trace(reader: impl BufRead, source: &str) -> Result<Trace, String> {
                     "{source}:{}: a number is NaN or Infinity (not finite): a trace holds finite numbers",
                     i + 1
                 )
+            } else if crate::common::trace::is_header_line(&line) {
+                crate::common::trace::repeated_header(source, i + 1)
             } else {
-                format!("{source}:{}: {e}", i + 1)
+                format!(
+                    "{source}:{}: not a record: {}",
+                    i + 1,
+                    crate::common::trace::json_problem(&e)
+                )
             }
         })?);
     }

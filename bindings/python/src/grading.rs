@@ -5,14 +5,13 @@ use crate::errors;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rigidref::common::scene_json::Overrides;
-use rigidref::rigid3d::trace::read_trace_file;
 use rigidref::tools::grading::compare::{
-    OutcomeTolerances, OutcomeTolerances2, TrajectoryTolerances, compare_outcomes,
+    AnyTrace, OutcomeTolerances, OutcomeTolerances2, TrajectoryTolerances, compare_outcomes,
     compare_outcomes_2d, compare_trajectories, compare_trajectories_2d, outcome_scene,
-    outcome_scene_2d, read_trace2_file, trace_dimension,
+    outcome_scene_2d, read_trace_any, read_trace_of,
 };
 use rigidref::tools::grading::grade::{
-    GradeMode, Limits, grade_all, load_references, submissions, verdict,
+    GradeMode, Limits, grade_all, load_references, submission_name, submissions, verdict,
 };
 use std::path::PathBuf;
 
@@ -53,11 +52,19 @@ pub fn compare_traces<'py>(
             reference.display()
         ))
     };
+    // Read as `rigidref compare` reads them: regular files within the input limit, the other
+    // of the reference's system.
+    let limit = rigidref::common::input::max_input_bytes();
+    let reference_trace =
+        read_trace_any(&reference, limit, "--max-input-mb").map_err(errors::trace)?;
+    let wanted = reference_trace.dimension();
+    let because = format!("the reference is {wanted}D");
+    let other = read_trace_of(&candidate, wanted, &because, limit, "--max-input-mb")
+        .map_err(errors::trace)?;
     // 2D traces (the image-block system): bodies matched by the image, as `rigidref compare`
     // does.
-    if trace_dimension(&reference) == Some(2) {
-        let reference_trace = read_trace2_file(&reference).map_err(errors::trace)?;
-        let other = read_trace2_file(&candidate).map_err(errors::trace)?;
+    if let (AnyTrace::Two(reference_trace), AnyTrace::Two(other)) = (&reference_trace, &other) {
+        let (reference_trace, other) = (reference_trace.clone(), other.clone());
         let comparison = match mode {
             "trajectory" => {
                 let tol = TrajectoryTolerances::uniform(tolerance);
@@ -88,8 +95,10 @@ pub fn compare_traces<'py>(
         d.set_item("first_failure", comparison.first_failure())?;
         return Ok(d);
     }
-    let reference_trace = read_trace_file(&reference).map_err(errors::trace)?;
-    let other = read_trace_file(&candidate).map_err(errors::trace)?;
+    let (AnyTrace::Three(reference_trace), AnyTrace::Three(other)) = (reference_trace, other)
+    else {
+        unreachable!("read_trace_of checked the dimension")
+    };
     let comparison = match mode {
         "trajectory" => {
             let tol = TrajectoryTolerances::uniform(tolerance);
@@ -182,11 +191,8 @@ pub fn grade<'py>(
     out.set_item("rows", to_python(py, &rows)?)?;
     let verdicts = PyDict::new(py);
     for folder in &folders {
-        let name = folder
-            .file_name()
-            .unwrap_or_default()
-            .to_string_lossy()
-            .to_string();
+        // The name as the rows give it: byte for byte (a byte that is not UTF-8 as \xNN).
+        let name = submission_name(folder);
         let per_scene = PyDict::new(py);
         for r in &references {
             per_scene.set_item(&r.name, verdict(&rows, &name, &r.name))?;

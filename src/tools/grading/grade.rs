@@ -5,18 +5,20 @@
 //! observable. docs/grading.md §"Grading a batch".
 
 use super::compare::{
-    Comparison, OutcomeTolerances, OutcomeTolerances2, Trace2, TrajectoryTolerances,
+    AnyTrace, Comparison, OutcomeTolerances, OutcomeTolerances2, Trace2, TrajectoryTolerances,
     compare_outcomes, compare_outcomes_2d, compare_trajectories, compare_trajectories_2d,
-    read_trace2_file, time_text,
+    read_trace_of, time_text,
 };
-use super::compare_problem::{ProblemTolerance, compare_problems};
+use super::compare_problem::{ProblemTolerance, compare_problems_matched};
+use super::table::row;
+pub use super::table::{GradeRow, display_name, submission_name, to_csv, to_markdown, verdict};
 use crate::blocks2d::body::Body2;
 use crate::blocks2d::scene::Scene2;
 use crate::blocks2d::trace::{Record2, TraceHeader2};
 use crate::common::scene_json::Overrides;
 use crate::problem::json::ProblemFile;
 use crate::rigid3d::scene::Scene;
-use crate::rigid3d::trace::{Trace, TraceHeader, TraceRecord, read_trace};
+use crate::rigid3d::trace::{Trace, TraceHeader, TraceRecord};
 use crate::rigid3d::world::World;
 use crate::sim::{Flow, drive, steps_in};
 use std::path::{Path, PathBuf};
@@ -61,11 +63,30 @@ pub enum ReferenceRun {
     },
 }
 
+/// The most steps a reference run of `grade` takes: it keeps every step in memory (about
+/// 0.3 kB a step, plus 0.15 kB a body (3D; 0.05 kB in 2D) and 0.1 kB a contact), so
+/// `--time` is bounded; 200 000 steps are 2 000 s of a 3D scene at 0.01 s, 10 000 time units
+/// of a 2D one at 0.05, about 0.6 GB for 10 bodies with 10 contacts.
+pub const MAX_GRADE_STEPS: u64 = 200_000;
+
+/// The steps of a reference run of `time` at step `dt`, within [`MAX_GRADE_STEPS`].
+fn grade_steps(name: &str, time: f64, dt: f64) -> Result<u64, String> {
+    let steps = steps_in(time, dt, "").map_err(|e| format!("{name}: {e}"))?;
+    if steps > MAX_GRADE_STEPS {
+        return Err(format!(
+            "{name}: --time {time} is {steps} steps of {dt}; grade runs a scene for at most \
+             {MAX_GRADE_STEPS} steps, since it keeps every step of the reference in memory \
+             (docs/grading.md §\"Grading a batch\")"
+        ));
+    }
+    Ok(steps)
+}
+
 /// Runs the 3D `scene` (named `name`) for `time` seconds, recording every frame and keeping the
 /// first contact problem.
 pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, String> {
+    let steps = grade_steps(name, time, scene.params.dt)?;
     let mut world = World::new(&scene)?;
-    let steps = steps_in(time, scene.params.dt, "").map_err(|e| format!("{name}: {e}"))?;
     let header = TraceHeader::for_world(&world, &scene.source);
     let mut records = vec![TraceRecord::of_world(&world)];
     let mut first_problem = None;
@@ -98,7 +119,7 @@ pub fn reference(name: &str, scene: Scene, time: f64) -> Result<Reference, Strin
 pub fn reference_2d(name: &str, scene: Scene2, time: f64) -> Result<Reference, String> {
     let mut world = scene.world;
     let bodies = world.bodies.clone();
-    let steps = steps_in(time, world.params.dt, "").map_err(|e| format!("{name}: {e}"))?;
+    let steps = grade_steps(name, time, world.params.dt)?;
     let mut header = TraceHeader2::for_world(&world, name, &scene.image.display().to_string());
     header.overrides = scene.overrides;
     let mut records = vec![Record2::of_world(&world, false)];
@@ -251,37 +272,10 @@ pub fn admissible(dir: &Path, path: &Path, limits: &Limits) -> Result<(), (&'sta
     Ok(())
 }
 
-/// One row of the grade table.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct GradeRow {
-    /// The submission folder's name.
-    pub submission: String,
-    /// The scene's name.
-    pub scene: String,
-    /// The observable or quantity (`trace` for the file as a whole).
-    pub observable: String,
-    /// `pass`, `fail`, `refused` (the trace is too short, degenerate or for other bodies:
-    /// [`crate::tools::grading::compare::Refusal`]), `missing` or `unreadable`.
-    pub result: String,
-    /// The figure: the error, the observable's values, or what is wrong with the file.
-    pub figure: String,
-}
-
-fn row(submission: &str, scene: &str, observable: &str, result: &str, figure: String) -> GradeRow {
-    GradeRow {
-        submission: submission.into(),
-        scene: scene.into(),
-        observable: observable.into(),
-        result: result.into(),
-        figure,
-    }
-}
-
-fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRow> {
+/// The rows of a comparison (`row(observable, result, figure)` makes one).
+fn comparison_rows(c: &Comparison, row: &dyn Fn(&str, &str, String) -> GradeRow) -> Vec<GradeRow> {
     if let Some(r) = &c.refused {
         return vec![row(
-            submission,
-            scene,
             "trace",
             "refused",
             format!("{}: {}", r.kind, r.message),
@@ -294,9 +288,7 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
         .collect();
     if !moved.is_empty() {
         rows.push(row(
-            submission,
-            scene,
-            "bodies matched by the image",
+            &format!("bodies matched by {}", c.matched_by),
             "note",
             format!("reference body = submission's body: {}", moved.join(", ")),
         ));
@@ -321,145 +313,212 @@ fn comparison_rows(submission: &str, scene: &str, c: &Comparison) -> Vec<GradeRo
                 e.max_error, e.unit, e.tolerance
             ),
         };
-        rows.push(row(submission, scene, &e.quantity, result, figure));
+        rows.push(row(&e.quantity, result, figure));
     }
-    for o in &c.outcomes {
+    for o in c.outcomes.iter().chain(&c.checks) {
         let figure = format!(
             "reference {}, submission {} (tolerance {})",
             o.reference, o.other, o.tolerance
         );
-        rows.push(row(
-            submission,
-            scene,
-            &o.name,
-            if o.passed { "pass" } else { "fail" },
-            figure,
+        rows.push(row(&o.name, if o.passed { "pass" } else { "fail" }, figure));
+    }
+    rows
+}
+
+/// Whether the submission folder `dir` may be read, judged like its files: a folder, or a
+/// symbolic link to a folder inside the submissions folder (`dir`'s parent). Err(why) names the
+/// link's target when it leaves.
+pub fn admissible_folder(dir: &Path) -> Result<(), String> {
+    let shown = dir.display();
+    let meta = std::fs::symlink_metadata(dir).map_err(|e| format!("{shown}: {e}"))?;
+    if !meta.file_type().is_symlink() {
+        return Ok(());
+    }
+    let root = dir.parent().unwrap_or(Path::new("."));
+    let (Ok(target), Ok(inside)) = (std::fs::canonicalize(dir), std::fs::canonicalize(root)) else {
+        return Err(format!(
+            "{shown}: a symbolic link to nothing readable; not opened"
         ));
+    };
+    if !target.starts_with(&inside) || target == inside {
+        return Err(format!(
+            "{shown}: the submission folder is a symbolic link leaving the submissions folder \
+             (to {}); not opened",
+            target.display()
+        ));
+    }
+    Ok(())
+}
+
+/// A submission's trace for reference `r`, compared in `mode` (its rows), and the matching of
+/// its bodies onto the reference's when it was compared.
+fn grade_trace(
+    path: &Path,
+    r: &Reference,
+    mode: GradeMode,
+    limits: &Limits,
+    row: &dyn Fn(&str, &str, String) -> GradeRow,
+) -> (Vec<GradeRow>, Option<Vec<usize>>) {
+    let (wanted, because) = match &r.run {
+        ReferenceRun::Three { .. } => (3, "the scene is 3D"),
+        ReferenceRun::Two { .. } => (2, "the scene is 2D"),
+    };
+    let read = read_trace_of(
+        path,
+        wanted,
+        because,
+        limits.max_file_bytes,
+        "--max-file-mb",
+    );
+    let mut rows = Vec::new();
+    let compared = read.and_then(|candidate| match (&r.run, candidate) {
+        (ReferenceRun::Three { scene, trace }, AnyTrace::Three(candidate)) => {
+            for note in &candidate.notes {
+                rows.push(row("trace header", "note", note.clone()));
+            }
+            match mode {
+                GradeMode::Trajectory => {
+                    compare_trajectories(trace, &candidate, &TrajectoryTolerances::default())
+                }
+                GradeMode::Outcome => compare_outcomes(
+                    trace,
+                    &candidate,
+                    Some(scene),
+                    &OutcomeTolerances::default(),
+                ),
+            }
+        }
+        (ReferenceRun::Two { bodies, trace }, AnyTrace::Two(candidate)) => match mode {
+            GradeMode::Trajectory => {
+                compare_trajectories_2d(trace, &candidate, &TrajectoryTolerances::default())
+            }
+            GradeMode::Outcome => compare_outcomes_2d(
+                trace,
+                &candidate,
+                Some(bodies),
+                &OutcomeTolerances2::default(),
+            ),
+        },
+        _ => unreachable!("read_trace_of checked the dimension"),
+    });
+    match compared {
+        Ok(c) => {
+            let matching = (c.refused.is_none()).then(|| c.matching.clone());
+            rows.extend(comparison_rows(&c, row));
+            (rows, matching)
+        }
+        Err(e) => {
+            rows.push(row("trace", "unreadable", e));
+            (rows, None)
+        }
+    }
+}
+
+/// A submission's first contact problem against the reference's: its rows. `matching`, the
+/// traces' (other body of each reference body), matches the problems' bodies when both
+/// problems have the traces' bodies; else they are matched from the problems' contacts.
+fn grade_problem(
+    path: &Path,
+    reference_problem: &ProblemFile,
+    matching: Option<&[usize]>,
+    limits: &Limits,
+    row: &dyn Fn(&str, &str, String) -> GradeRow,
+) -> Vec<GradeRow> {
+    const WHAT: &str = "first contact problem";
+    let text =
+        crate::common::input::read_regular_text(path, limits.max_file_bytes, "--max-file-mb")
+            .map_err(|e| format!("{}: {e}", path.display()));
+    let problem = text.and_then(|t| ProblemFile::parse(&t, &path.display().to_string()));
+    let result = problem.and_then(|p| {
+        let fits = |map: &[usize]| {
+            map.len() == reference_problem.bodies.len()
+                && map.iter().all(|&j| j < p.bodies.len())
+                && p.bodies.len() == reference_problem.bodies.len()
+        };
+        let given = matching.filter(|m| fits(m));
+        compare_problems_matched(reference_problem, &p, given, ProblemTolerance::default())
+    });
+    let mut rows = Vec::new();
+    match result {
+        Ok(report) => {
+            for note in &report.notes {
+                rows.push(row(WHAT, "note", note.clone()));
+            }
+            let (diffs, n) = (report.differences, report.compared);
+            rows.push(match diffs.first() {
+                None => row(WHAT, "pass", format!("{n} values agree")),
+                Some(first) => row(
+                    WHAT,
+                    "fail",
+                    format!(
+                        "{} of {n} values differ; first: {} (reference {}, submission {})",
+                        diffs.len(),
+                        first.quantity,
+                        first.reference,
+                        first.other
+                    ),
+                ),
+            });
+        }
+        Err(e) => rows.push(row(WHAT, "unreadable", e)),
     }
     rows
 }
 
 /// Grades one submission folder against every reference. Never fails: a missing or unreadable
-/// file becomes its row.
+/// file becomes its row, and so does a submission folder that is a link leaving the
+/// submissions folder (every scene `refused`, nothing in it opened).
 pub fn grade_submission(
     dir: &Path,
     references: &[Reference],
     mode: GradeMode,
     limits: &Limits,
 ) -> Vec<GradeRow> {
-    let submission = dir.file_name().map_or_else(
-        || dir.display().to_string(),
-        |n| n.to_string_lossy().to_string(),
-    );
+    let submission = submission_name(dir);
     let mut rows = Vec::new();
-    for r in references {
-        let path = dir.join(format!("{}.jsonl", r.name));
-        if let Err((result, why)) = admissible(dir, &path, limits) {
-            rows.push(row(&submission, &r.name, "trace", result, why));
-        } else {
-            let compared = match &r.run {
-                ReferenceRun::Three { scene, trace } => {
-                    let read = std::fs::File::open(&path)
-                        .map_err(|e| format!("{}: cannot open: {e}", path.display()))
-                        .and_then(|f| {
-                            read_trace(std::io::BufReader::new(f), &path.display().to_string())
-                        });
-                    if let Ok(candidate) = &read {
-                        for note in &candidate.notes {
-                            rows.push(row(
-                                &submission,
-                                &r.name,
-                                "trace header",
-                                "note",
-                                note.clone(),
-                            ));
-                        }
-                    }
-                    read.and_then(|candidate| match mode {
-                        GradeMode::Trajectory => compare_trajectories(
-                            trace,
-                            &candidate,
-                            &TrajectoryTolerances::default(),
-                        ),
-                        GradeMode::Outcome => compare_outcomes(
-                            trace,
-                            &candidate,
-                            Some(scene),
-                            &OutcomeTolerances::default(),
-                        ),
-                    })
-                }
-                ReferenceRun::Two { bodies, trace } => {
-                    read_trace2_file(&path).and_then(|candidate| match mode {
-                        GradeMode::Trajectory => compare_trajectories_2d(
-                            trace,
-                            &candidate,
-                            &TrajectoryTolerances::default(),
-                        ),
-                        GradeMode::Outcome => compare_outcomes_2d(
-                            trace,
-                            &candidate,
-                            Some(bodies),
-                            &OutcomeTolerances2::default(),
-                        ),
-                    })
-                }
-            };
-            match compared {
-                Ok(c) => rows.extend(comparison_rows(&submission, &r.name, &c)),
-                Err(e) => rows.push(row(&submission, &r.name, "trace", "unreadable", e)),
-            }
+    if let Err(why) = admissible_folder(dir) {
+        for r in references {
+            rows.push(row(&submission, &r.name, "trace", "refused", why.clone()));
         }
+        return rows;
+    }
+    for r in references {
+        let mine = |observable: &str, result: &str, figure: String| {
+            row(&submission, &r.name, observable, result, figure)
+        };
+        let path = dir.join(format!("{}.jsonl", r.name));
+        let matching = match admissible(dir, &path, limits) {
+            Err((result, why)) => {
+                rows.push(mine("trace", result, why));
+                None
+            }
+            Ok(()) => {
+                let (trace_rows, matching) = grade_trace(&path, r, mode, limits, &mine);
+                rows.extend(trace_rows);
+                matching
+            }
+        };
         let problem_path = dir.join(format!("{}.problem.json", r.name));
         let problem_given = std::fs::symlink_metadata(&problem_path).is_ok();
-        if let (true, Some(_)) = (problem_given, &r.first_problem)
-            && let Err((result, why)) = admissible(dir, &problem_path, limits)
-        {
-            rows.push(row(
-                &submission,
-                &r.name,
-                "first contact problem",
-                result,
-                why,
-            ));
-        } else if let (true, Some(reference_problem)) = (problem_given, &r.first_problem) {
-            let result = ProblemFile::read(&problem_path)
-                .and_then(|p| compare_problems(reference_problem, &p, ProblemTolerance::default()));
-            rows.push(match result {
-                Ok((diffs, n)) if diffs.is_empty() => row(
-                    &submission,
-                    &r.name,
-                    "first contact problem",
-                    "pass",
-                    format!("{n} values agree"),
-                ),
-                Ok((diffs, n)) => row(
-                    &submission,
-                    &r.name,
-                    "first contact problem",
-                    "fail",
-                    format!(
-                        "{} of {n} values differ; first: {} (reference {}, submission {})",
-                        diffs.len(),
-                        diffs[0].quantity,
-                        diffs[0].reference,
-                        diffs[0].other
-                    ),
-                ),
-                Err(e) => row(
-                    &submission,
-                    &r.name,
-                    "first contact problem",
-                    "unreadable",
-                    e,
-                ),
-            });
+        let Some(reference_problem) = r.first_problem.as_ref().filter(|_| problem_given) else {
+            continue;
+        };
+        match admissible(dir, &problem_path, limits) {
+            Err((result, why)) => rows.push(mine("first contact problem", result, why)),
+            Ok(()) => rows.extend(grade_problem(
+                &problem_path,
+                reference_problem,
+                matching.as_deref(),
+                limits,
+                &mine,
+            )),
         }
     }
     rows
 }
 
-/// The submission folders of `dir`, sorted by name.
+/// The submission folders of `dir` (folders and symbolic links to folders, which
+/// [`grade_submission`] judges), sorted by their names' bytes.
 pub fn submissions(dir: &Path) -> Result<Vec<PathBuf>, String> {
     let mut out: Vec<PathBuf> = std::fs::read_dir(dir)
         .map_err(|e| format!("{}: cannot read the submissions folder: {e}", dir.display()))?
@@ -497,76 +556,4 @@ pub fn grade_all(
         .into_iter()
         .flat_map(|m| m.into_inner().unwrap_or_else(|e| e.into_inner()))
         .collect()
-}
-
-/// A submission's verdict for a scene: `pass` when every row passes, else the worst result
-/// (`missing`, `unreadable`, `refused`, `fail`).
-pub fn verdict(rows: &[GradeRow], submission: &str, scene: &str) -> &'static str {
-    let mine = rows
-        .iter()
-        .filter(|r| r.submission == submission && r.scene == scene);
-    let mut verdict = "pass";
-    for r in mine {
-        verdict = match (verdict, r.result.as_str()) {
-            (_, "missing") => "missing",
-            ("missing", _) => "missing",
-            (_, "unreadable") => "unreadable",
-            ("unreadable", _) => "unreadable",
-            (_, "refused") => "refused",
-            ("refused", _) => "refused",
-            (_, "fail") => "fail",
-            (v, _) => v,
-        };
-    }
-    verdict
-}
-
-/// The table as CSV (one row per observable).
-pub fn to_csv(rows: &[GradeRow]) -> Result<String, String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(["submission", "scene", "observable", "result", "figure"])
-        .map_err(|e| e.to_string())?;
-    for r in rows {
-        w.write_record([&r.submission, &r.scene, &r.observable, &r.result, &r.figure])
-            .map_err(|e| e.to_string())?;
-    }
-    String::from_utf8(w.into_inner().map_err(|e| e.to_string())?).map_err(|e| e.to_string())
-}
-
-/// The table as Markdown: the verdict of each submission for each scene, then every row that
-/// did not pass.
-pub fn to_markdown(rows: &[GradeRow], scenes: &[String]) -> String {
-    let mut names: Vec<&str> = rows.iter().map(|r| r.submission.as_str()).collect();
-    names.dedup();
-    let mut out = String::from("| submission |");
-    for s in scenes {
-        out.push_str(&format!(" {s} |"));
-    }
-    out.push_str("\n|---|");
-    out.push_str(&"---|".repeat(scenes.len()));
-    out.push('\n');
-    for n in &names {
-        out.push_str(&format!("| {n} |"));
-        for s in scenes {
-            out.push_str(&format!(" {} |", verdict(rows, n, s)));
-        }
-        out.push('\n');
-    }
-    let problems: Vec<&GradeRow> = rows.iter().filter(|r| r.result != "pass").collect();
-    if !problems.is_empty() {
-        out.push_str(
-            "\n| submission | scene | observable | result | figure |\n|---|---|---|---|---|\n",
-        );
-        for r in problems {
-            out.push_str(&format!(
-                "| {} | {} | {} | {} | {} |\n",
-                r.submission,
-                r.scene,
-                r.observable,
-                r.result,
-                r.figure.replace('|', "\\|")
-            ));
-        }
-    }
-    out
 }

@@ -10,7 +10,6 @@
 use super::series::{Plot, plots_2d, plots_3d};
 use crate::blocks2d::trace::{Record2, TraceHeader2};
 use crate::blocks2d::world::World2;
-use crate::common::trace::{FORMAT_NAME, FORMAT_VERSION};
 use crate::rigid3d::frame::ContactFrame;
 use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::trace::{TraceHeader, TraceRecord};
@@ -91,25 +90,14 @@ pub fn read_run_trace(
     let Some((_, first)) = lines.next() else {
         return Err(format!("{source}: empty file; not a rigidref trace"));
     };
-    let header: Value = serde_json::from_str(first).map_err(|_| {
-        format!("{source}:1: not a rigidref trace (the first line is not a JSON header)")
-    })?;
-    if header.get("format").and_then(Value::as_str) != Some(FORMAT_NAME) {
-        return Err(format!(
-            "{source}:1: not a rigidref trace (its header has no \"format\": \"{FORMAT_NAME}\")"
-        ));
-    }
-    let version = header.get("version").and_then(Value::as_u64).unwrap_or(0);
-    if !(1..=u64::from(FORMAT_VERSION)).contains(&version) {
-        return Err(format!(
-            "{source}:1: trace version {version}; this rigidref reads versions 1 to {FORMAT_VERSION}"
-        ));
-    }
+    let header = crate::common::trace::header_value(first, source)?;
     let rest: Vec<(usize, &str)> = lines.collect();
     match header.get("dimension").and_then(Value::as_u64) {
         Some(3) => {
-            let header: TraceHeader = serde_json::from_value(header)
-                .map_err(|e| format!("{source}:1: bad 3D trace header: {e}"))?;
+            let header: TraceHeader = serde_json::from_value(header).map_err(|e| {
+                let why = crate::common::trace::json_problem(&e);
+                format!("{source}:1: bad 3D trace header: {why}")
+            })?;
             let records = read_records(
                 &rest,
                 source,
@@ -120,8 +108,10 @@ pub fn read_run_trace(
             Ok(RunTrace::Three { header, records })
         }
         Some(2) => {
-            let header: TraceHeader2 = serde_json::from_value(header)
-                .map_err(|e| format!("{source}:1: bad 2D trace header: {e}"))?;
+            let header: TraceHeader2 = serde_json::from_value(header).map_err(|e| {
+                let why = crate::common::trace::json_problem(&e);
+                format!("{source}:1: bad 2D trace header: {why}")
+            })?;
             let records = read_records(
                 &rest,
                 source,
@@ -164,7 +154,16 @@ fn read_records<T: DeserializeOwned>(
                     records.len()
                 ));
             }
-            Err(e) => return Err(format!("{source}:{}: {e}", i + 1)),
+            Err(_) if crate::common::trace::is_header_line(line) => {
+                return Err(crate::common::trace::repeated_header(source, i + 1));
+            }
+            Err(e) => {
+                return Err(format!(
+                    "{source}:{}: not a record: {}",
+                    i + 1,
+                    crate::common::trace::json_problem(&e)
+                ));
+            }
         }
     }
     if records.is_empty() {

@@ -838,8 +838,8 @@ fn turn_body(record: &mut serde_json::Value, i: usize, turn: &nalgebra::Matrix3<
     );
 }
 
-/// A reflection for R is refused as not a rotation (exit 1, its own verdict), bodies of other
-/// masses matched by place are unreadable (exit 2); a blank line at the end is not an error; a
+/// A reflection for R is refused as not a rotation (exit 1, its own verdict), and so are bodies
+/// of other masses (exit 1, `wrong bodies`); a blank line at the end is not an error; a
 /// body resting turned by one of its mesh's symmetries rests in the same orientation (a cube by
 /// 90°, the icosphere ball by 180°).
 #[test]
@@ -870,10 +870,12 @@ fn compare_refuses_what_is_not_a_trace_and_respects_symmetries() {
             .code(),
         Some(0)
     );
-    // Another scene's body, renamed, matched by place: refused.
+    // Another scene's body, renamed: no body of its mass, refused (exit 1, its own verdict;
+    // issue 47: it was exit 2, "unreadable", which a grader reads as a broken file, not as
+    // another scene's trace).
     run(dir, "sphere_drop.json", "1", "ball.jsonl", &[]);
     let o = rigidref(&["compare", "a.jsonl", "ball.jsonl"], dir);
-    assert_eq!(o.status.code(), Some(2), "{}", common::stderr(&o));
+    assert_eq!(o.status.code(), Some(1), "{}", common::stderr(&o));
     assert!(
         common::stderr(&o).contains("not the same scene"),
         "{}",

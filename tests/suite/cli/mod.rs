@@ -3,5 +3,9 @@
 mod bad_input;
 mod commands;
 mod grading;
+mod grading_checks;
+mod grading_problems;
+mod grading_shards;
+mod grading_untrusted;
 mod problem_library;
 mod viewing;

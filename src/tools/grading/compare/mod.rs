@@ -6,17 +6,19 @@
 //! This file holds what both modes share: the reports' types, the bodies' matching and the
 //! interpolation of a trace between its records.
 
+mod motion;
 mod outcome;
+mod read;
 mod refusal;
 mod trajectory;
 mod two;
 mod two_outcome;
 
+pub use motion::ALLOWANCE_STEPS;
 pub use outcome::{OutcomeTolerances, compare_outcomes, outcome_scene};
+pub use read::{AnyTrace, read_trace_any, read_trace_of, read_trace2_file, read_trace3_file};
 pub use trajectory::compare_trajectories;
-pub use two::{
-    Trace2, compare_trajectories_2d, match_bodies_2d, read_trace2_file, trace_dimension,
-};
+pub use two::{Trace2, compare_trajectories_2d, match_bodies_2d};
 pub use two_outcome::{
     OutcomeTolerances2, angle_after_symmetries, compare_outcomes_2d, outcome_scene_2d,
     quarter_turn_symmetries,
@@ -100,16 +102,20 @@ pub struct Comparison {
     pub mode: &'static str,
     /// The times compared, s: from the later start to the earlier end of the two traces.
     pub span: (f64, f64),
-    /// How the bodies were matched: `name` or `index` (3D), `image` (2D).
+    /// How the bodies were matched: `name` or `body` (3D: mass and first position), `image`
+    /// (2D).
     pub matched_by: &'static str,
-    /// 2D traces: the other trace's body matched to each reference body (entry i is the other
-    /// trace's index of reference body i); absent from the JSON report in 3D.
+    /// The other trace's body matched to each reference body (entry i is the other trace's
+    /// index of reference body i); empty when the candidate was refused.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub matching: Vec<usize>,
     /// Trajectory mode: the errors, in body order then system quantities.
     pub errors: Vec<QuantityError>,
     /// Outcome mode: the observables.
     pub outcomes: Vec<Outcome>,
+    /// Both modes: the checks of the candidate against itself, on every record: its positions
+    /// follow its velocities (docs/grading.md §"Positions follow velocities").
+    pub checks: Vec<Outcome>,
     /// True when nothing exceeds its tolerance (false when the candidate was refused).
     pub agree: bool,
     /// Why the candidate trace was not compared at all, when it was refused (a trace that stops
@@ -121,8 +127,8 @@ pub struct Comparison {
 /// Why a candidate trace is refused before any comparison: its own verdict.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct Refusal {
-    /// `empty`, `wrong bodies`, `not finite`, `not a rotation`, `repeated times`,
-    /// `times out of order`, `late start`, `incomplete` or `too sparse`.
+    /// `bad header`, `empty`, `wrong bodies`, `not finite`, `not a rotation`, `repeated
+    /// times`, `times out of order`, `late start`, `incomplete` or `too sparse`.
     pub kind: &'static str,
     /// What is wrong, in one line, e.g. "ends at 0.5 s of 2 s".
     pub message: String,
@@ -142,6 +148,7 @@ impl Comparison {
             matching: Vec::new(),
             errors: Vec::new(),
             outcomes: Vec::new(),
+            checks: Vec::new(),
             agree: false,
             refused: Some(refusal),
         }
@@ -169,12 +176,16 @@ impl Comparison {
                 time_text(e.at)
             ));
         }
-        self.outcomes.iter().find(|o| !o.passed).map(|o| {
-            format!(
-                "{}: reference {}, other {} (tolerance {})",
-                o.name, o.reference, o.other, o.tolerance
-            )
-        })
+        self.outcomes
+            .iter()
+            .chain(&self.checks)
+            .find(|o| !o.passed)
+            .map(|o| {
+                format!(
+                    "{}: reference {}, other {} (tolerance {})",
+                    o.name, o.reference, o.other, o.tolerance
+                )
+            })
     }
 }
 
@@ -356,45 +367,6 @@ fn system_at(records: &[TraceRecord], t: f64) -> [f64; 13] {
     std::array::from_fn(|k| lerp(p[k], q[k], s))
 }
 
-/// How bodies of `other` map onto the reference's: by name when both traces name the same set
-/// of bodies, else by index when they have as many. `map[i]` is the other's index of reference
-/// body i.
-pub fn match_bodies(
-    reference: &Trace,
-    other: &Trace,
-) -> Result<(Vec<usize>, &'static str), String> {
-    let (r, o) = (&reference.header.bodies, &other.header.bodies);
-    let by_name: Option<Vec<usize>> = r
-        .iter()
-        .map(|b| o.iter().position(|c| c.name == b.name))
-        .collect();
-    let names_unique = {
-        let mut names: Vec<&str> = r.iter().map(|b| b.name.as_str()).collect();
-        names.sort_unstable();
-        names.windows(2).all(|w| w[0] != w[1])
-    };
-    match by_name {
-        Some(map) if r.len() == o.len() && names_unique => Ok((map, "name")),
-        _ if r.len() == o.len() => {
-            // Matched by place: the masses must agree, or these are not the same scene's bodies.
-            if let Some(i) = (0..r.len()).find(|&i| {
-                (r[i].mass - o[i].mass).abs() > 1e-6 * r[i].mass.abs().max(o[i].mass.abs())
-            }) {
-                return Err(format!(
-                    "the bodies' names differ and body {i} has mass {} kg in one trace and {} kg in the other: not the same scene",
-                    r[i].mass, o[i].mass
-                ));
-            }
-            Ok(((0..r.len()).collect(), "index"))
-        }
-        _ => Err(format!(
-            "the traces have {} and {} bodies, and their names do not match",
-            r.len(),
-            o.len()
-        )),
-    }
-}
-
 /// The energy scale of a trace, J: the largest of its largest kinetic energy, the range of its
 /// potential energy (not |E|, which depends on where the potential is zero) and the energy of
 /// lifting every body by 1 cm against gravity (|g| taken as at least 1 m/s²), so that a scene at
@@ -420,4 +392,39 @@ fn energy_scale(trace: &Trace) -> f64 {
 
 fn body_label(trace: &Trace, i: usize) -> String {
     format!("body {i} ({:?})", trace.header.bodies[i].name)
+}
+
+/// The bodies of two traces of the same system matched as the comparisons match them: `map[i]`
+/// is `other`'s body of reference body i, and how (`name`, `body`, `image`). An error says why
+/// they cannot be matched (other systems, no records, a body without a partner). What
+/// `compare-problem --traces` and `grade` match problem files' bodies with.
+pub fn match_traces(
+    reference: &AnyTrace,
+    other: &AnyTrace,
+) -> Result<(Vec<usize>, &'static str), String> {
+    match (reference, other) {
+        (AnyTrace::Three(r), AnyTrace::Three(o)) => {
+            if r.records.is_empty() || o.records.is_empty() {
+                return Err("a trace has no records".into());
+            }
+            if r.records[0].bodies.len() != r.header.bodies.len()
+                || o.records[0].bodies.len() != o.header.bodies.len()
+            {
+                return Err("a trace's first record has other bodies than its header".into());
+            }
+            refusal::match_bodies(r, o).map_err(|e| e.message)
+        }
+        (AnyTrace::Two(r), AnyTrace::Two(o)) => {
+            if r.records.is_empty() || o.records.is_empty() {
+                return Err("a trace has no records".into());
+            }
+            if r.records[0].bodies.len() != r.header.bodies.len()
+                || o.records[0].bodies.len() != o.header.bodies.len()
+            {
+                return Err("a trace's first record has other bodies than its header".into());
+            }
+            match_bodies_2d(r, o).map(|m| (m, "image"))
+        }
+        _ => Err("the traces are of different systems (2D and 3D)".into()),
+    }
 }

@@ -1,14 +1,52 @@
 //! Outcome mode: what happened in a trace against what happened in the reference's
 //! (docs/grading.md §"Outcome mode").
 
-use super::refusal::check_traces;
+use super::refusal::{check_traces, motion_check};
 use super::*;
 use crate::rigid3d::diagnostics::sign_changes;
 use crate::rigid3d::scene::Scene;
 
-/// A body is at rest when |v| < 0.05 m/s and |ω| < 0.1 rad/s (the rapier comparison's rule).
-fn at_rest(b: &BodyState) -> bool {
-    v3(&b.v).norm() < 0.05 && v3(&b.omega).norm() < 0.1
+/// A body is at rest when |v| < `tol.rest_speed` and |ω| < `tol.rest_omega` (0.05 m/s and
+/// 0.1 rad/s by default: the rapier comparison's rule).
+fn at_rest(b: &BodyState, tol: &OutcomeTolerances) -> bool {
+    v3(&b.v).norm() < tol.rest_speed && v3(&b.omega).norm() < tol.rest_omega
+}
+
+/// A body is moving when |v| or |ω| is above `tol.settle_factor` times its rest threshold;
+/// between the two it is settling, which either verdict accepts.
+fn moving(b: &BodyState, tol: &OutcomeTolerances) -> bool {
+    v3(&b.v).norm() > tol.settle_factor * tol.rest_speed
+        || v3(&b.omega).norm() > tol.settle_factor * tol.rest_omega
+}
+
+/// A body's state at the end: at rest from a time, settling, or moving (see [`moving`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum End {
+    Rest(f64),
+    Settling,
+    Moving,
+}
+
+fn end_of(trace: &Trace, i: usize, tol: &OutcomeTolerances) -> End {
+    match (rest_time(trace, i, tol), trace.records.last()) {
+        (Some(t), _) => End::Rest(t),
+        (None, Some(r)) if !moving(&r.bodies[i], tol) => End::Settling,
+        _ => End::Moving,
+    }
+}
+
+/// An end state with the speeds judged: `2.1400 (|v| 1.2e-3 m/s, |ω| 3.0e-3 rad/s at the end)`.
+fn end_text(end: End, b: &BodyState) -> String {
+    let speeds = format!(
+        "|v| {:.3e} m/s, |ω| {:.3e} rad/s at the end",
+        v3(&b.v).norm(),
+        v3(&b.omega).norm()
+    );
+    match end {
+        End::Rest(t) => format!("{t:.4} ({speeds})"),
+        End::Settling => format!("never: settling ({speeds})"),
+        End::Moving => format!("never: moving ({speeds})"),
+    }
 }
 
 /// The rotations mapping a mesh onto itself among the 24 that permute and flip the axes of a
@@ -67,12 +105,12 @@ fn symmetries(scene: Option<&Scene>, i: usize) -> Vec<Matrix3<f64>> {
 }
 
 /// The first time after which the body stays at rest to the end, if it is at rest at the end.
-fn rest_time(trace: &Trace, i: usize) -> Option<f64> {
+fn rest_time(trace: &Trace, i: usize, tol: &OutcomeTolerances) -> Option<f64> {
     let records = &trace.records;
-    if !at_rest(&records.last()?.bodies[i]) {
+    if !at_rest(&records.last()?.bodies[i], tol) {
         return None;
     }
-    let k = records.iter().rposition(|r| !at_rest(&r.bodies[i]));
+    let k = records.iter().rposition(|r| !at_rest(&r.bodies[i], tol));
     Some(k.map_or(records[0].t, |k| records[(k + 1).min(records.len() - 1)].t))
 }
 
@@ -89,11 +127,19 @@ pub struct OutcomeTolerances {
     pub energy: f64,
     /// Dzhanibekov flip times, relative to the reference's flip period.
     pub flip: f64,
+    /// At rest below this speed, m/s (and below `rest_omega`).
+    pub rest_speed: f64,
+    /// At rest below this angular speed, rad/s (and below `rest_speed`).
+    pub rest_omega: f64,
+    /// Moving above this many times the rest thresholds; settling in between, which agrees
+    /// with either (docs/grading.md §"Outcome mode": a margin, not a cut).
+    pub settle_factor: f64,
 }
 
 impl Default for OutcomeTolerances {
     /// Five frames of 0.01 s (0.25 s for coming to rest, which a threshold decides), 5% of the
-    /// radius, 0.1 rad, 5% in energy, 5% of a flip period.
+    /// radius, 0.1 rad, 5% in energy, 5% of a flip period; at rest below 0.05 m/s and
+    /// 0.1 rad/s, moving above twice that.
     fn default() -> Self {
         OutcomeTolerances {
             time: 0.05,
@@ -101,6 +147,9 @@ impl Default for OutcomeTolerances {
             angle: 0.1,
             energy: 0.05,
             flip: 0.05,
+            rest_speed: 0.05,
+            rest_omega: 0.1,
+            settle_factor: 2.0,
         }
     }
 }
@@ -151,11 +200,13 @@ pub fn compare_outcomes(
     scene: Option<&Scene>,
     tol: &OutcomeTolerances,
 ) -> Result<Comparison, String> {
-    let span = match check_traces(reference, other)? {
-        Ok(span) => span,
+    let prepared = match check_traces(reference, other)? {
+        Ok(prepared) => prepared,
         Err(refusal) => return Ok(Comparison::refused("outcome", refusal)),
     };
-    let (map, matched_by) = match_bodies(reference, other)?;
+    let (span, map, matched_by) = (prepared.span, prepared.map, prepared.matched_by);
+    // Every record of the candidate, not only the span or the end.
+    let checks = vec![motion_check(reference, other, &map)];
     // Only what both traces cover: a trace that runs longer must not count flips, contacts or
     // rest the other could not show.
     let within = |t: &Trace| Trace {
@@ -259,22 +310,27 @@ pub fn compare_outcomes(
     let end_o = other.records.iter().rev().find(|r| r.t <= span.1).unwrap();
     for (i, &j) in map.iter().enumerate() {
         let label = body_label(reference, i);
-        let (ra, rb) = (rest_time(reference, i), rest_time(other, j));
-        let d = match (ra, rb) {
-            (Some(a), Some(b)) => (a - b).abs(),
-            (None, None) => 0.0,
-            _ => f64::INFINITY,
+        let (ea, eb) = (end_of(reference, i, tol), end_of(other, j, tol));
+        // At rest against moving differs; settling (between the rest threshold and twice it)
+        // agrees with either; two rest times must agree to the tolerance.
+        let d = match (ea, eb) {
+            (End::Rest(a), End::Rest(b)) => (a - b).abs(),
+            (End::Rest(_), End::Moving) | (End::Moving, End::Rest(_)) => f64::INFINITY,
+            _ => 0.0,
         };
         let rest_tol = 5.0 * tol.time;
         push(
             format!("{label} comes to rest at"),
-            number(ra),
-            number(rb),
+            end_text(ea, &end_r.bodies[i]),
+            end_text(eb, &end_o.bodies[j]),
             d,
-            format!("{rest_tol} s"),
+            format!(
+                "{rest_tol} s; at rest below {} m/s and {} rad/s, moving above {} times that",
+                tol.rest_speed, tol.rest_omega, tol.settle_factor
+            ),
             d <= rest_tol,
         );
-        if ra.is_some() && rb.is_some() {
+        if ea != End::Moving && eb != End::Moving {
             let scale = scene
                 .and_then(|s| s.bodies.get(i))
                 .map_or(1.0, |b| b.mesh.bounding_radius());
@@ -366,14 +422,15 @@ pub fn compare_outcomes(
             }
         }
     }
-    let agree = outcomes.iter().all(|o| o.passed);
+    let agree = outcomes.iter().chain(&checks).all(|o| o.passed);
     Ok(Comparison {
         mode: "outcome",
         span,
         matched_by,
-        matching: Vec::new(),
+        matching: map,
         errors: Vec::new(),
         outcomes,
+        checks,
         agree,
         refused: None,
     })

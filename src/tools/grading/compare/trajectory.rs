@@ -1,7 +1,7 @@
 //! Trajectory mode: every quantity of a trace against the reference's over time
 //! (docs/grading.md §"Trajectory mode").
 
-use super::refusal::check_traces;
+use super::refusal::{check_traces, motion_check};
 use super::*;
 
 /// Trajectory mode: every quantity of `other` against `reference` at the record times of the
@@ -12,11 +12,11 @@ pub fn compare_trajectories(
     other: &Trace,
     tol: &TrajectoryTolerances,
 ) -> Result<Comparison, String> {
-    let span = match check_traces(reference, other)? {
-        Ok(span) => span,
+    let prepared = match check_traces(reference, other)? {
+        Ok(prepared) => prepared,
         Err(refusal) => return Ok(Comparison::refused("trajectory", refusal)),
     };
-    let (map, matched_by) = match_bodies(reference, other)?;
+    let (span, map, matched_by) = (prepared.span, prepared.map, prepared.matched_by);
     // Sample at the record times of the sparser trace (within the common span) and interpolate
     // the denser one, so that a trace recorded every K frames is compared where it has data.
     let in_span = |t: &Trace| -> Vec<f64> {
@@ -128,14 +128,17 @@ pub fn compare_trajectories(
             (part(&s.system.0) - part(&s.system.1)).norm()
         });
     }
-    let agree = errors.iter().all(|e| e.first_exceeded.is_none());
+    let checks = vec![motion_check(reference, other, &map)];
+    let agree =
+        errors.iter().all(|e| e.first_exceeded.is_none()) && checks.iter().all(|c| c.passed);
     Ok(Comparison {
         mode: "trajectory",
         span,
         matched_by,
-        matching: Vec::new(),
+        matching: map,
         errors,
         outcomes: Vec::new(),
+        checks,
         agree,
         refused: None,
     })

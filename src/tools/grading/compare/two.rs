@@ -19,42 +19,19 @@ pub struct Trace2 {
     pub records: Vec<Record2>,
 }
 
-/// The `dimension` a trace file's header line gives (2 or 3), when it can be read: how
-/// `compare` (the command and the Python function) picks the 3D or the 2D comparison.
-pub fn trace_dimension(path: &std::path::Path) -> Option<u64> {
-    use std::io::BufRead;
-    let file = crate::common::input::open(path).ok()?;
-    let mut first = String::new();
-    std::io::BufReader::new(file).read_line(&mut first).ok()?;
-    serde_json::from_str::<serde_json::Value>(&first)
-        .ok()?
-        .get("dimension")?
-        .as_u64()
-}
-
-/// Reads a 2D trace; a 3D one, a malformed one or one cut off anywhere but in its last line is
-/// an error naming the file (a cut last line is dropped, as the viewer does).
-pub fn read_trace2_file(path: &std::path::Path) -> Result<Trace2, String> {
-    let name = path.display().to_string();
-    crate::common::input::check_size(path).map_err(|e| format!("{name}: {e}"))?;
-    let text = crate::common::input::read_text(path).map_err(|e| format!("{name}: {e}"))?;
-    let mut warnings = Vec::new();
-    match crate::tools::viewing::view::read_run_trace(&text, &name, &mut warnings)? {
-        crate::tools::viewing::view::RunTrace::Two { header, records } => {
-            Ok(Trace2 { header, records })
-        }
-        crate::tools::viewing::view::RunTrace::Three { .. } => {
-            Err(format!("{name}: a 3D trace where a 2D one is compared"))
-        }
-    }
-}
-
 /// Why a 2D trace cannot be compared with the reference, in the order of the 3D checks
 /// (docs/grading.md §"Refused traces"): records at all, the reference's number of bodies, finite
 /// numbers, strictly increasing times, the reference's span covered to one step at each end,
 /// records at most max(the reference's spacing, [`MAX_GAP_STEPS`] steps) apart.
 fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
     let refuse = |kind: &'static str, message: String| Some(Refusal { kind, message });
+    let masses: Vec<(usize, f64)> = (other.header.bodies.iter().enumerate())
+        .filter(|(_, b)| !b.pinned)
+        .map(|(i, b)| (i, b.mass))
+        .collect();
+    if let Some(r) = super::refusal::header_defect(other.header.dt, &masses, "") {
+        return Some(r);
+    }
     if other.records.is_empty() {
         return refuse("empty", "the trace has no records".into());
     }
@@ -101,7 +78,8 @@ fn defect(reference: &Trace2, other: &Trace2) -> Option<Refusal> {
 }
 
 /// `map[i]`: the other trace's body that is the reference's body `i`, matched by block count,
-/// mass and first centre (module documentation); an error names a body with no partner.
+/// mass and first centre (module documentation); an error names a body with no partner (a
+/// refusal, `wrong bodies`, in the comparisons).
 pub fn match_bodies_2d(reference: &Trace2, other: &Trace2) -> Result<Vec<usize>, String> {
     let (r, o) = (&reference.header.bodies, &other.header.bodies);
     let (r0, o0) = (&reference.records[0], &other.records[0]);
@@ -189,7 +167,15 @@ pub(super) fn prepare(
     if let Some(r) = defect(reference, other) {
         return Ok(Err(r));
     }
-    let map = match_bodies_2d(reference, other)?;
+    let map = match match_bodies_2d(reference, other) {
+        Ok(map) => map,
+        Err(message) => {
+            return Ok(Err(Refusal {
+                kind: "wrong bodies",
+                message,
+            }));
+        }
+    };
     let start = reference.records[0].t.max(other.records[0].t);
     let end = (reference.records.last().map(|r| r.t))
         .unwrap_or(start)
@@ -311,7 +297,9 @@ pub fn compare_trajectories_2d(
             (p[5] - q[5]).abs()
         },
     );
-    let agree = errors.iter().all(|e| e.first_exceeded.is_none());
+    let checks = vec![motion_check_2d(reference, other, &map)];
+    let agree =
+        errors.iter().all(|e| e.first_exceeded.is_none()) && checks.iter().all(|c| c.passed);
     Ok(Comparison {
         mode: "trajectory",
         span: (start, end),
@@ -319,6 +307,7 @@ pub fn compare_trajectories_2d(
         matching: map,
         errors,
         outcomes: Vec::new(),
+        checks,
         agree,
         refused: None,
     })
@@ -345,4 +334,55 @@ pub(super) fn energy_scale_2d(reference: &Trace2) -> f64 {
         .max(high - low)
         .max(total_mass * g * 0.01)
         .max(f64::MIN_POSITIVE)
+}
+
+/// The candidate's positions and angles against its own velocities, record by record
+/// ([`super::motion`]), for the bodies that are not pinned, with the reference's step and top
+/// speed; bodies named by the reference's numbers (`map[i]`: the other's body of reference
+/// body i).
+pub(super) fn motion_check_2d(reference: &Trace2, other: &Trace2, map: &[usize]) -> Outcome {
+    let g = reference.header.gravity;
+    let pinned: Vec<bool> = reference.header.bodies.iter().map(|b| b.pinned).collect();
+    let scale = super::motion::speed_scale(
+        reference.records.iter().flat_map(|r| {
+            (r.bodies.iter().zip(&pinned))
+                .filter(|(_, p)| !**p)
+                .map(|(b, _)| (b.v[0].hypot(b.v[1]), b.omega.abs()))
+        }),
+        g[0].hypot(g[1]),
+        reference.header.dt,
+    );
+    let times: Vec<f64> = other.records.iter().map(|r| r.t).collect();
+    let bodies: Vec<usize> = (0..other.header.bodies.len())
+        .filter(|&j| !other.header.bodies[j].pinned)
+        .collect();
+    let state = |k: usize, j: usize| {
+        let b = &other.records[k].bodies[j];
+        super::motion::Moving {
+            x: [b.x[0], b.x[1], 0.0],
+            v: [b.v[0], b.v[1], 0.0],
+            omega: [b.omega, 0.0, 0.0],
+        }
+    };
+    let turned = |k: usize, j: usize| {
+        let d = other.records[k].bodies[j].theta - other.records[k - 1].bodies[j].theta;
+        [d, 0.0, 0.0]
+    };
+    let label = |j: usize| match map.iter().position(|&m| m == j) {
+        Some(i) => format!("body {i} ({:?})", reference.header.bodies[i].name),
+        None => format!("the trace's body {j}"),
+    };
+    super::motion::motion_row(
+        &times,
+        &bodies,
+        &state,
+        &turned,
+        &label,
+        super::motion::Scale {
+            unit: "block",
+            speed_unit: "block/t",
+            dt: reference.header.dt,
+            speed: scale,
+        },
+    )
 }

@@ -29,18 +29,23 @@ pub struct OutcomeTolerances2 {
     pub angle: f64,
     /// Total energy at the end, relative to the reference's energy scale (as for trajectories).
     pub energy: f64,
+    /// Moving above this many times `rest_speed`; settling in between, which agrees with either
+    /// verdict (docs/grading.md §"2D outcome mode": a margin, not a cut).
+    pub settle_factor: f64,
 }
 
 impl Default for OutcomeTolerances2 {
     /// At rest below 0.05 block per time unit (1 % of the speed a body reaches after 5 time
-    /// units of free fall under the default gravity of 1 block/t²); a tenth of a block (the
-    /// image's resolution is one block); 0.1 rad; 5 % in energy (as in 3D).
+    /// units of free fall under the default gravity of 1 block/t²), moving above twice that; a
+    /// tenth of a block (the image's resolution is one block); 0.1 rad; 5 % in energy (as in
+    /// 3D).
     fn default() -> Self {
         OutcomeTolerances2 {
             rest_speed: 0.05,
             position: 0.1,
             angle: 0.1,
             energy: 0.05,
+            settle_factor: 2.0,
         }
     }
 }
@@ -84,9 +89,14 @@ fn reach(body: &Body2) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Whether a body in state `s` is at rest: |v| + |ω| `reach` below `rest_speed`.
+/// The speed of a body's fastest point in state `s`: |v| + |ω| `reach`, blocks per time unit.
+fn speed(s: &State2, reach: f64) -> f64 {
+    s.v[0].hypot(s.v[1]) + s.omega.abs() * reach
+}
+
+/// Whether a body in state `s` is at rest: its fastest point below `rest_speed`.
 fn at_rest(s: &State2, reach: f64, rest_speed: f64) -> bool {
-    s.v[0].hypot(s.v[1]) + s.omega.abs() * reach < rest_speed
+    speed(s, reach) < rest_speed
 }
 
 /// The first time after which body `i` stays at rest to the end of `records`, if it is at rest
@@ -151,6 +161,8 @@ pub fn compare_outcomes_2d(
         Ok(prepared) => prepared,
         Err(refusal) => return Ok(Comparison::refused("outcome", refusal)),
     };
+    // Every record of the candidate, not only the span or the end.
+    let checks = vec![super::two::motion_check_2d(reference, other, &map)];
     // Only what both traces cover: a trace that runs longer is judged at the common end.
     let within = |t: &Trace2| Trace2 {
         header: t.header.clone(),
@@ -188,22 +200,35 @@ pub fn compare_outcomes_2d(
             rest_time(reference, i, reach, tol.rest_speed),
             rest_time(other, j, reach, tol.rest_speed),
         );
-        let rest =
-            |t: Option<f64>| t.map_or("moving".to_string(), |t| format!("at rest from t = {t:.4}"));
+        let (sa, sb) = (&end_r.bodies[i], &end_o.bodies[j]);
+        let moving_speed = tol.settle_factor * tol.rest_speed;
+        // At rest (below rest_speed), settling (up to settle_factor times that: either verdict
+        // agrees with it) or moving; the speeds judged are shown.
+        let end = |t: Option<f64>, s: &State2| {
+            let v = speed(s, reach);
+            match t {
+                Some(t) => (
+                    0,
+                    format!("at rest from t = {t:.4} (speed {v:.3e} block/t)"),
+                ),
+                None if v <= moving_speed => (1, format!("settling (speed {v:.3e} block/t)")),
+                None => (2, format!("moving (speed {v:.3e} block/t)")),
+            }
+        };
+        let ((ka, ta), (kb, tb)) = (end(ra, sa), end(rb, sb));
+        let differ = (ka == 0 && kb == 2) || (ka == 2 && kb == 0);
         push(
             format!("{label} at rest at the end"),
-            rest(ra),
-            rest(rb),
-            if ra.is_some() == rb.is_some() {
-                0.0
-            } else {
-                1.0
-            },
-            format!("speed < {} block/t", tol.rest_speed),
-            ra.is_some() == rb.is_some(),
+            ta,
+            tb,
+            if differ { 1.0 } else { 0.0 },
+            format!(
+                "at rest below {} block/t, moving above {moving_speed} block/t (fastest point)",
+                tol.rest_speed
+            ),
+            !differ,
         );
-        let (sa, sb) = (&end_r.bodies[i], &end_o.bodies[j]);
-        if ra.is_some() && rb.is_some() {
+        if ka < 2 && kb < 2 {
             let d = (sa.x[0] - sb.x[0]).hypot(sa.x[1] - sb.x[1]);
             push(
                 format!("{label} rest position"),
@@ -255,7 +280,7 @@ pub fn compare_outcomes_2d(
         format!("{:.3e} mass·block²/t²", tol.energy * scale),
         d <= tol.energy * scale,
     );
-    let agree = outcomes.iter().all(|o| o.passed);
+    let agree = outcomes.iter().chain(&checks).all(|o| o.passed);
     Ok(Comparison {
         mode: "outcome",
         span: (start, end),
@@ -263,6 +288,7 @@ pub fn compare_outcomes_2d(
         matching: map,
         errors: Vec::new(),
         outcomes,
+        checks,
         agree,
         refused: None,
     })

@@ -10,6 +10,15 @@
 //! row and a, b_n, λn exactly; TᵀT (the tangent-plane projector with its lever arms), |c|,
 //! trace B and (3D) det B, |b_t| and |λ_t|.
 
+//!
+//! The bodies and contacts of the two files are matched first ([`matching`]): by the traces'
+//! matching when given, else from the contacts' points; a contact listed with its bodies the
+//! other way round is compared with its normal flipped and its Jacobian blocks swapped.
+
+mod matching;
+
+pub use matching::{BodyMatching, Partner, match_problem_bodies};
+
 use crate::problem::json::{ContactJson, ProblemFile};
 use nalgebra::{DMatrix, DVector};
 
@@ -96,25 +105,29 @@ fn own_residual(file: &ProblemFile, lambda: &[Vec<f64>]) -> Option<f64> {
     }
 }
 
-/// A contact's R × 2D Jacobian [J₁ | J₂] (a side whose body is −1 zeroed).
-fn jacobian(p: &ProblemFile, c: &ContactJson) -> DMatrix<f64> {
+/// A contact's R × 2D Jacobian [J₁ | J₂] (a side whose body is −1 zeroed); with `swapped`,
+/// [J₂ | J₁]: the contact as a file listing its bodies the other way round would have it.
+fn jacobian(p: &ProblemFile, c: &ContactJson, swapped: bool) -> DMatrix<f64> {
     let (d, r) = (p.dof_per_body, p.rows_per_contact);
+    let sides = matching::sides(c, swapped);
     DMatrix::from_fn(r, 2 * d, |row, k| {
-        let side = k / d;
-        if c.bodies[side] < 0 {
+        let (body, source) = sides[k / d];
+        if body < 0 {
             0.0
         } else {
-            c.jacobian[side][row][k % d]
+            c.jacobian[source][row][k % d]
         }
     })
 }
 
-/// The 2D × 2D inverse mass of a contact's two bodies.
-fn inverse_mass(p: &ProblemFile, c: &ContactJson) -> DMatrix<f64> {
+/// The 2D × 2D inverse mass of a contact's two bodies (in the order of `jacobian` with the same
+/// `swapped`).
+fn inverse_mass(p: &ProblemFile, c: &ContactJson, swapped: bool) -> DMatrix<f64> {
     let d = p.dof_per_body;
+    let sides = matching::sides(c, swapped);
     DMatrix::from_fn(2 * d, 2 * d, |r, k| {
         let (side_r, side_k) = (r / d, k / d);
-        let body = c.bodies[side_r];
+        let body = sides[side_r].0;
         if side_r != side_k || body < 0 {
             0.0
         } else {
@@ -158,51 +171,70 @@ fn tangential(v: &[f64]) -> f64 {
     v[1..].iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Which contact of `other` each contact of `reference` is: among the other's contacts with
-/// the same [body 1, body 2] not yet taken, the nearest by contact point (when both have
-/// geometry) or else by normal Jacobian row; in reference order. Two simulators may list a
-/// state's contacts in different orders.
-fn match_contacts(reference: &ProblemFile, other: &ProblemFile) -> Vec<Option<usize>> {
-    let mut taken = vec![false; other.contacts.len()];
-    reference
-        .contacts
-        .iter()
-        .map(|ca| {
-            let ja = jacobian(reference, ca);
-            let distance = |cb: &ContactJson| match (&ca.geometry, &cb.geometry) {
-                (Some(ga), Some(gb)) if ga.p.len() == gb.p.len() => {
-                    ga.p.iter()
-                        .zip(&gb.p)
-                        .map(|(a, b)| (a - b).powi(2))
-                        .sum::<f64>()
-                }
-                _ => (ja.row(0) - jacobian(other, cb).row(0)).norm_squared(),
-            };
-            let best = other
-                .contacts
-                .iter()
-                .enumerate()
-                .filter(|(m, cb)| !taken[*m] && cb.bodies == ca.bodies)
-                .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
-                .map(|(m, _)| m);
-            if let Some(m) = best {
-                taken[m] = true;
-            }
-            best
-        })
-        .collect()
+/// What [`compare_problems_matched`] found: every difference beyond the tolerance, how many
+/// values were compared, and how bodies and contacts were matched.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProblemReport {
+    /// The differences, in the reference's body and contact numbers; empty when they agree.
+    pub differences: Vec<ProblemDifference>,
+    /// How many values were compared.
+    pub compared: usize,
+    /// How the bodies were matched, and the other file's body of each reference body.
+    pub bodies: BodyMatching,
+    /// What the reader should know of the matching: bodies found under other numbers, contacts
+    /// listed with their bodies the other way round.
+    pub notes: Vec<String>,
 }
 
 /// Every difference between the two problems beyond `tol`, up to each contact's tangent basis;
-/// empty when they agree. Also returns how many values were compared. Contacts are matched by
-/// nearest point (or normal row) within the same body pair (see `match_contacts`); names use
-/// the reference's contact numbers.
+/// empty when they agree. Also returns how many values were compared. Bodies and contacts are
+/// matched as [`compare_problems_matched`] does without a given matching.
 pub fn compare_problems(
     reference: &ProblemFile,
     other: &ProblemFile,
     tol: ProblemTolerance,
 ) -> Result<(Vec<ProblemDifference>, usize), String> {
+    let report = compare_problems_matched(reference, other, None, tol)?;
+    Ok((report.differences, report.compared))
+}
+
+/// Every difference between the two problems beyond `tol`, up to each contact's tangent basis
+/// and the order the files list bodies, contacts and a contact's two bodies in ([`matching`]):
+/// `bodies[i]`, when given, is the other file's body of reference body i (the traces'
+/// matching, as `grade` uses); else the bodies are matched from the files. Names use the
+/// reference's body and contact numbers. An error when a file is not a problem of the same
+/// system, or a body's inverse mass makes no sense.
+pub fn compare_problems_matched(
+    reference: &ProblemFile,
+    other: &ProblemFile,
+    bodies: Option<&[usize]>,
+    tol: ProblemTolerance,
+) -> Result<ProblemReport, String> {
     check_shapes(reference, other)?;
+    let matched = match bodies {
+        Some(map) => BodyMatching {
+            map: (0..reference.bodies.len())
+                .map(|i| map.get(i).copied().filter(|&j| j < other.bodies.len()))
+                .collect(),
+            by: "given",
+        },
+        None => match_problem_bodies(reference, other),
+    };
+    let mut notes = Vec::new();
+    let moved: Vec<String> = (matched.map.iter().enumerate())
+        .filter_map(|(i, j)| j.filter(|&j| j != i).map(|j| format!("{i} = {j}")))
+        .collect();
+    if !moved.is_empty() {
+        notes.push(format!(
+            "bodies matched by {}: reference body = other file's body: {}",
+            match matched.by {
+                "given" => "the traces",
+                "contacts" => "their contacts' points",
+                _ => "likeness",
+            },
+            moved.join(", ")
+        ));
+    }
     let (dof, rows) = (reference.dof_per_body, reference.rows_per_contact);
     let names = entry_names(dof);
     let mut c = Checker {
@@ -222,7 +254,16 @@ pub fn compare_problems(
         other.contacts.len() as f64,
         0.0,
     );
-    for (i, (a, b)) in reference.bodies.iter().zip(&other.bodies).enumerate() {
+    for (i, a) in reference.bodies.iter().enumerate() {
+        let Some(b) = matched.map[i].map(|j| &other.bodies[j]) else {
+            c.compared += 1;
+            c.out.push(ProblemDifference {
+                quantity: format!("body {i}: no body of the other file matches it"),
+                reference: 1.0,
+                other: 0.0,
+            });
+            continue;
+        };
         let scale = a.velocity.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         for (k, entry) in names.iter().enumerate() {
             c.check(
@@ -251,9 +292,33 @@ pub fn compare_problems(
         )),
         0.0,
     );
-    let matching = match_contacts(reference, other);
+    let row = |p: &ProblemFile, k: usize, swapped: bool| -> Vec<f64> {
+        jacobian(p, &p.contacts[k], swapped)
+            .row(0)
+            .iter()
+            .copied()
+            .collect()
+    };
+    let matching = matching::match_contacts(reference, other, &matched.map, &row);
+    let swapped: Vec<String> = (matching.iter().enumerate())
+        .filter_map(|(k, m)| {
+            m.filter(|m| m.swapped)
+                .map(|m| format!("{k} (= {})", m.contact))
+        })
+        .collect();
+    if !swapped.is_empty() {
+        notes.push(format!(
+            "contacts the other file lists with their two bodies the other way round, compared \
+             with the normal flipped and the Jacobian blocks swapped: {}",
+            swapped.join(", ")
+        ));
+    }
     for (k, ca) in reference.contacts.iter().enumerate() {
-        let Some(m) = matching[k] else {
+        let Some(Partner {
+            contact: m,
+            swapped,
+        }) = matching[k]
+        else {
             c.compared += 1;
             c.out.push(ProblemDifference {
                 quantity: format!(
@@ -270,6 +335,7 @@ pub fn compare_problems(
             && ga.p.len() == gb.p.len()
             && ga.n.len() == gb.n.len()
         {
+            let flip = if swapped { -1.0 } else { 1.0 };
             for d in 0..ga.p.len().min(ga.n.len()) {
                 c.check(
                     || format!("contact {k}: point p[{d}]"),
@@ -280,7 +346,7 @@ pub fn compare_problems(
                 c.check(
                     || format!("contact {k}: normal n[{d}]"),
                     ga.n[d],
-                    gb.n[d],
+                    flip * gb.n[d],
                     1.0,
                 );
             }
@@ -298,7 +364,7 @@ pub fn compare_problems(
             cb.compliance,
             0.0,
         );
-        let (ja, jb) = (jacobian(reference, ca), jacobian(other, cb));
+        let (ja, jb) = (jacobian(reference, ca, false), jacobian(other, cb, swapped));
         let scale = ja.abs().max().max(1.0);
         let columns = 2 * dof;
         for e in 0..columns {
@@ -340,10 +406,13 @@ pub fn compare_problems(
             }
         }
         // The Delassus block's invariants.
-        let delassus = |p: &ProblemFile, cj: &ContactJson, j: &DMatrix<f64>| {
-            j * inverse_mass(p, cj) * j.transpose()
+        let delassus = |p: &ProblemFile, cj: &ContactJson, j: &DMatrix<f64>, swapped: bool| {
+            j * inverse_mass(p, cj, swapped) * j.transpose()
         };
-        let (aa, ab) = (delassus(reference, ca, &ja), delassus(other, cb, &jb));
+        let (aa, ab) = (
+            delassus(reference, ca, &ja, false),
+            delassus(other, cb, &jb, swapped),
+        );
         let scale_a = aa.abs().max();
         let coupling = |m: &DMatrix<f64>| (1..rows).map(|r| m[(r, 0)].powi(2)).sum::<f64>().sqrt();
         let tangent_trace = |m: &DMatrix<f64>| (1..rows).map(|r| m[(r, r)]).sum::<f64>();
@@ -397,11 +466,16 @@ pub fn compare_problems(
                 .fold(0.0_f64, |m, x| m.max(x.abs()));
             if r <= c.tol.absolute + c.tol.relative * b_scale {
                 c.compared += 1;
-                return Ok((c.out, c.compared));
+                return Ok(ProblemReport {
+                    differences: c.out,
+                    compared: c.compared,
+                    bodies: matched,
+                    notes,
+                });
             }
         }
         for (k, la) in sa.lambda.iter().enumerate() {
-            let Some(lb) = matching[k].and_then(|m| sb.lambda.get(m)) else {
+            let Some(lb) = matching[k].and_then(|m| sb.lambda.get(m.contact)) else {
                 continue;
             };
             if la.len() != rows || lb.len() != rows {
@@ -427,5 +501,10 @@ pub fn compare_problems(
             );
         }
     }
-    Ok((c.out, c.compared))
+    Ok(ProblemReport {
+        differences: c.out,
+        compared: c.compared,
+        bodies: matched,
+        notes,
+    })
 }
