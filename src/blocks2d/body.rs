@@ -18,6 +18,7 @@ use nalgebra::{Matrix2, Vector2};
     clap::ValueEnum,
 )]
 #[serde(rename_all = "snake_case")]
+#[value(rename_all = "snake_case")]
 pub enum InertiaRule {
     /// Each block a unit square of uniform density: I = Σ mᵢ (|rᵢ|² + 1/6) (the default).
     #[default]
