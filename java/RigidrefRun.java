@@ -26,13 +26,16 @@
 //      gravity to the force accumulator, and the solve works on the velocity it would give;
 //      it never stores that velocity), each contact's bodies, point and normal as found at the
 //      start of the call, and the Jacobian rows at the centres of mass of that moment
-//      (RigidrefTrace.jacobianRows). The starter's Contact normal points from body 1 towards
-//      body 2; rigidref's from body 2 into body 1, so the normal is written negated, with the
-//      bodies in the same order: the same constraint rows, not a flipped problem.
+//      (RigidrefTrace.jacobianRows), or with --jacobian NORMAL,TANGENT the student's own rows
+//      from those two double[6] fields of Contact ([vx1, vy1, ω1, vx2, vy2, ω2]). The
+//      starter's Contact normal points from body 1 towards body 2; rigidref's from body 2 into
+//      body 1, so the normal is written negated, with the bodies in the same order: the same
+//      constraint rows (a student's rows for body 2's velocity relative to body 1's along n and
+//      t = (−n_y, n_x) are exactly rigidref's for −n), not a flipped problem.
 //
 // Usage: java -cp build:jars/* comp559.lcp.RigidrefRun IMAGE.png [--time T] [--out FILE]
-//          [--problem FILE | --no-problem] [--step H] [--substeps N] [--white EPS]
-//          [--set FIELD=VALUE]...
+//          [--problem FILE | --no-problem] [--jacobian NORMAL,TANGENT] [--step H]
+//          [--substeps N] [--white EPS] [--set FIELD=VALUE]...
 // Exit status 0 when the trace is written; 1 when the student's code fails or its state is not
 // finite (the trace so far is kept); 2 for a bad command line.
 
@@ -56,6 +59,7 @@ public final class RigidrefRun {
     private String out;
     private String problem;
     private boolean writeProblem = true;
+    private String[] jacobian;
     private double step = 0.05;
     private int substeps = 1;
     private double white = 0.05;
@@ -68,7 +72,8 @@ public final class RigidrefRun {
         } catch (IllegalArgumentException e) {
             System.err.println("rigidref-run: " + e.getMessage());
             System.err.println("usage: java -cp build:jars/* comp559.lcp.RigidrefRun IMAGE.png [--time T]"
-                    + " [--out FILE] [--problem FILE | --no-problem] [--step H] [--substeps N]"
+                    + " [--out FILE] [--problem FILE | --no-problem] [--jacobian NORMAL,TANGENT]"
+                    + " [--step H] [--substeps N]"
                     + " [--white EPS] [--set FIELD=VALUE]...");
             System.exit(2);
         }
@@ -106,6 +111,13 @@ public final class RigidrefRun {
                 case "--time": time = positive(a, v); break;
                 case "--out": out = v; break;
                 case "--problem": problem = v; break;
+                case "--jacobian":
+                    jacobian = v.split(",");
+                    if (jacobian.length != 2) {
+                        throw new IllegalArgumentException("--jacobian takes the two fields of Contact holding"
+                                + " the normal and the tangent row, NORMAL,TANGENT; got " + v);
+                    }
+                    break;
                 case "--step": step = positive(a, v); break;
                 case "--substeps":
                     try {
@@ -370,13 +382,32 @@ public final class RigidrefRun {
         for (Contact c : contacts) {
             int i = bodies.indexOf(c.body1), j = bodies.indexOf(c.body2);
             double nx = -c.normal.x, ny = -c.normal.y; // rigidref's: from body 2 into body 1
-            double[][] rows = RigidrefTrace.jacobianRows(c.contactW.x, c.contactW.y, nx, ny,
-                    before[0][i], before[1][i], before[0][j], before[1][j]);
+            double[][] rows = jacobian == null
+                    ? RigidrefTrace.jacobianRows(c.contactW.x, c.contactW.y, nx, ny,
+                            before[0][i], before[1][i], before[0][j], before[1][j])
+                    : new double[][] {row(c, jacobian[0]), row(c, jacobian[1])};
             p.contact(i, j, c.contactW.x, c.contactW.y, nx, ny, depth(c, before, i), mu, rows);
         }
         p.write(problem);
         System.err.println("rigidref-run: first contact problem (" + contacts.size() + " contacts) "
                 + problem);
+    }
+
+    /** The student's Jacobian row in field `name` of the contact: six numbers. */
+    private static double[] row(Contact c, String name) {
+        Object value;
+        try {
+            Field f = Contact.class.getDeclaredField(name);
+            f.setAccessible(true);
+            value = f.get(c);
+        } catch (NoSuchFieldException | IllegalAccessException e) {
+            throw new IllegalArgumentException("--jacobian: Contact has no field " + name);
+        }
+        if (!(value instanceof double[]) || ((double[]) value).length != 6) {
+            throw new IllegalArgumentException("--jacobian: Contact." + name + " is not six numbers"
+                    + " (double[6]: body 1's vx, vy, omega, body 2's vx, vy, omega)");
+        }
+        return ((double[]) value).clone();
     }
 
     /**
