@@ -159,13 +159,47 @@ pub fn blocks_from_pixels(
 ) -> Vec<BlockGroup> {
     match settings.reader {
         ImageReader::Rigidref => rigidref_blocks(width, height, pixels, settings),
-        ImageReader::Starter => super::starter_image::starter_blocks(
-            width,
-            height,
-            pixels,
-            settings.white_threshold,
-        ),
+        ImageReader::Starter => starter_blocks(width, height, pixels, settings.white_threshold),
     }
+}
+
+/// The starter's reader ([`super::starter_image`]): its components in its order, each block's
+/// colour the starter's float channels, its mass from them, pinned when every block is blue.
+fn starter_blocks(
+    width: usize,
+    height: usize,
+    pixels: &[[u8; 4]],
+    white_threshold: f64,
+) -> Vec<BlockGroup> {
+    use super::starter_image::{channels, starter_components};
+    starter_components(width, height, pixels, white_threshold)
+        .into_iter()
+        .map(|component| {
+            let byte = |&(x, y): &(usize, usize)| pixels[y * width + x];
+            let blocks = component
+                .cells
+                .iter()
+                .map(|cell| {
+                    let colour = channels(&byte(cell));
+                    Block {
+                        pixel: Vector2::new(cell.0 as f64, cell.1 as f64),
+                        colour,
+                        mass: block_mass(colour),
+                    }
+                })
+                .collect();
+            // r = g < b on the starter's float channels is the same test as on the bytes.
+            let pinned = component.cells.iter().all(|cell| {
+                let p = byte(cell);
+                is_blue([p[0], p[1], p[2]])
+            });
+            BlockGroup {
+                blocks,
+                pinned,
+                boundary: Some(component.boundary),
+            }
+        })
+        .collect()
 }
 
 /// rigidref's reader: components in the order of their first pixel in row-major order.

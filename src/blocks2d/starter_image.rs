@@ -19,27 +19,41 @@
 //!   offsets (i, j) with i ≠ j is white: the loop skips i = j, meaning to skip the block itself,
 //!   and so also skips the diagonals (−1, −1) and (+1, +1).
 
-use super::image::{Block, BlockGroup, block_mass};
-use nalgebra::Vector2;
 use std::collections::VecDeque;
 
-/// The starter's colour of a pixel: each 8-bit channel as the float k / 255f.
-fn channels(p: &[u8; 4]) -> [f32; 3] {
+/// The starter's colour channels of a pixel: each 8-bit channel as the float k / 255f.
+fn float_channels(p: &[u8; 4]) -> [f32; 3] {
     [0, 1, 2].map(|c| f32::from(p[c]) / 255.0f32)
 }
 
+/// The starter's colour of a pixel, channels in [0, 1]: the floats k / 255f, widened.
+pub fn channels(p: &[u8; 4]) -> [f64; 3] {
+    float_channels(p).map(f64::from)
+}
+
+/// One body as the starter's reader finds it: its pixels (x, y), in the order its
+/// breadth-first search reaches them, and which of them are on its boundary (indices into
+/// `cells`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Component {
+    /// Pixels (column, row).
+    pub cells: Vec<(usize, usize)>,
+    /// Indices into `cells` of the boundary blocks.
+    pub boundary: Vec<usize>,
+}
+
 /// Splits an RGBA pixel grid (row-major) into bodies as the starter's `ImageBlocker` does
-/// (module documentation), with near-white threshold `white_threshold`.
-pub fn starter_blocks(
+/// (module documentation), with near-white threshold `white_threshold`, in its order.
+pub fn starter_components(
     width: usize,
     height: usize,
     pixels: &[[u8; 4]],
     white_threshold: f64,
-) -> Vec<BlockGroup> {
+) -> Vec<Component> {
     // The starter's epsilon is a float, compared with float differences from 1.
     let epsilon = white_threshold as f32;
     let white = |x: usize, y: usize| {
-        channels(&pixels[y * width + x])
+        float_channels(&pixels[y * width + x])
             .iter()
             .all(|&c| (c - 1.0f32).abs() <= epsilon)
     };
@@ -64,22 +78,16 @@ pub fn starter_blocks(
             if white(x, y) {
                 continue;
             }
-            let (mut blocks, mut edge) = (Vec::new(), Vec::new());
+            let (mut cells, mut edge) = (Vec::new(), Vec::new());
             let mut queue = VecDeque::from([(x, y)]);
             while let Some((px, py)) = queue.pop_front() {
                 if white(px, py) {
                     continue;
                 }
-                let c = channels(&pixels[py * width + px]);
-                let colour = c.map(f64::from);
                 if boundary(px, py) {
-                    edge.push(blocks.len());
+                    edge.push(cells.len());
                 }
-                blocks.push(Block {
-                    pixel: Vector2::new(px as f64, py as f64),
-                    colour,
-                    mass: block_mass(colour),
-                });
+                cells.push((px, py));
                 for i in -1i64..=1 {
                     for j in -1i64..=1 {
                         let (nx, ny) = (px as i64 + i, py as i64 + j);
@@ -94,14 +102,9 @@ pub fn starter_blocks(
                     }
                 }
             }
-            // The starter's test: r = g < b on the float channels (the same as on the bytes).
-            let pinned = blocks
-                .iter()
-                .all(|b| b.colour[0] == b.colour[1] && b.colour[0] < b.colour[2]);
-            groups.push(BlockGroup {
-                blocks,
-                pinned,
-                boundary: Some(edge),
+            groups.push(Component {
+                cells,
+                boundary: edge,
             });
         }
     }
@@ -130,11 +133,10 @@ mod tests {
         // A bar on the right, high up, and a blue ground on the left, lower: row by row the bar
         // comes first, column by column the ground.
         let rows = ["....###", "b......", "b......"];
-        let groups = starter_blocks(7, 3, &grid(7, &rows), 0.05);
+        let groups = starter_components(7, 3, &grid(7, &rows), 0.05);
         assert_eq!(groups.len(), 2);
-        assert!(groups[0].pinned && !groups[1].pinned);
-        let pixels: Vec<(f64, f64)> = groups[1].blocks.iter().map(|b| (b.pixel.x, b.pixel.y)).collect();
-        assert_eq!(pixels, [(4.0, 0.0), (5.0, 0.0), (6.0, 0.0)]);
+        assert_eq!(groups[0].cells, [(0, 1), (0, 2)]);
+        assert_eq!(groups[1].cells, [(4, 0), (5, 0), (6, 0)]);
     }
 
     #[test]
@@ -142,15 +144,10 @@ mod tests {
         // A 3 × 3 square with its top-left corner missing: the centre block's only white
         // neighbour is (−1, −1), which the starter's loop never looks at.
         let rows = [".....", "..##.", ".###.", ".###.", "....."];
-        let groups = starter_blocks(5, 5, &grid(5, &rows), 0.05);
+        let groups = starter_components(5, 5, &grid(5, &rows), 0.05);
         let g = &groups[0];
-        let centre = g
-            .blocks
-            .iter()
-            .position(|b| b.pixel == Vector2::new(2.0, 2.0))
-            .unwrap();
-        let boundary = g.boundary.as_ref().unwrap();
-        assert!(!boundary.contains(&centre));
-        assert_eq!(boundary.len(), g.blocks.len() - 1);
+        let centre = g.cells.iter().position(|&c| c == (2, 2)).unwrap();
+        assert!(!g.boundary.contains(&centre));
+        assert_eq!(g.boundary.len(), g.cells.len() - 1);
     }
 }
