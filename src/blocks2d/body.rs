@@ -133,7 +133,9 @@ impl Body2 {
             // The starter's rule for one block, m (1 + 1)/12, keeps a lone block's inertia from
             // being zero; it is the unit square's, as for the other rule.
             InertiaRule::BlockCentres if blocks.len() == 1 => blocks[0].mass * (1.0 + 1.0) / 12.0,
-            InertiaRule::BlockCentres => blocks.iter().map(|b| b.mass * b.local.norm_squared()).sum(),
+            InertiaRule::BlockCentres => {
+                blocks.iter().map(|b| b.mass * b.local.norm_squared()).sum()
+            }
         };
         let boundary = match &group.boundary {
             Some(decided) => decided.clone(),

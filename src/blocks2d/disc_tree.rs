@@ -233,7 +233,8 @@ mod tests {
         let pixels: Vec<Vector2<f64>> = [(4.0, 7.0), (5.0, 7.0), (6.0, 7.0)]
             .map(|(x, y)| Vector2::new(x, y))
             .to_vec();
-        let centres: Vec<Vector2<f64>> = pixels.iter().map(|p| p - Vector2::new(5.0, 7.0)).collect();
+        let centres: Vec<Vector2<f64>> =
+            pixels.iter().map(|p| p - Vector2::new(5.0, 7.0)).collect();
         let tree = DiscTree::build_starter(&centres, &pixels, &[0, 1, 2]);
         let NodeKind::Inner(l, r) = tree.nodes[0].kind else {
             panic!("the root of three blocks is inner")

@@ -59,7 +59,7 @@ pub enum ImageReader {
     #[default]
     Rigidref,
     /// The Java starter's `ImageBlocker`: bodies numbered by their first pixel column by
-    /// column** (x outer, y inner, as its sweep runs), blocks in the order its breadth-first
+    /// column (x outer, y inner, as its sweep runs), blocks in the order its breadth-first
     /// search from that pixel reaches them, colour channels as 32-bit floats (k / 255f: a
     /// block's mass agrees with rigidref's to about 6e-8 relative), alpha ignored, and a block
     /// on the boundary when it is on the image's edge or one of six neighbours is white (the

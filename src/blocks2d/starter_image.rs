@@ -62,9 +62,7 @@ pub fn starter_components(
             return true;
         }
         (-1i64..=1).any(|i| {
-            (-1i64..=1).any(|j| {
-                i != j && white((x as i64 + i) as usize, (y as i64 + j) as usize)
-            })
+            (-1i64..=1).any(|j| i != j && white((x as i64 + i) as usize, (y as i64 + j) as usize))
         })
     };
     let mut visited = vec![false; width * height];

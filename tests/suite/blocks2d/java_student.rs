@@ -82,25 +82,48 @@ fn build(dir: &Path) -> PathBuf {
     let stubs = dir.join("stubs");
     let mut args = vec!["-d".to_string(), stubs.display().to_string()];
     args.extend(java_files(&fixture.join("stubs")));
-    check(dir, "javac", &args.iter().map(String::as_str).collect::<Vec<_>>());
+    check(
+        dir,
+        "javac",
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
     std::fs::create_dir_all(dir.join("jars")).unwrap();
-    check(dir, "jar", &["cf", "jars/mintools.jar", "-C", "stubs", "mintools"]);
-    check(dir, "jar", &["cf", "jars/vecmath.jar", "-C", "stubs", "javax"]);
+    check(
+        dir,
+        "jar",
+        &["cf", "jars/mintools.jar", "-C", "stubs", "mintools"],
+    );
+    check(
+        dir,
+        "jar",
+        &["cf", "jars/vecmath.jar", "-C", "stubs", "javax"],
+    );
     // java/README.md: the grader's two files beside the student's, in their package.
     let grader = dir.join("grader/comp559/lcp");
     std::fs::create_dir_all(&grader).unwrap();
     let java = common::project_root().join("java");
-    std::fs::copy(java.join("RigidrefRun.java"), grader.join("RigidrefRun.java")).unwrap();
+    std::fs::copy(
+        java.join("RigidrefRun.java"),
+        grader.join("RigidrefRun.java"),
+    )
+    .unwrap();
     let trace = std::fs::read_to_string(java.join("RigidrefTrace.java")).unwrap();
     std::fs::write(
         grader.join("RigidrefTrace.java"),
         format!("package comp559.lcp;\n{trace}"),
     )
     .unwrap();
-    let mut args = vec!["-d", "build", "-cp", "jars/*"].iter().map(|s| s.to_string()).collect::<Vec<_>>();
+    let mut args = vec!["-d", "build", "-cp", "jars/*"]
+        .iter()
+        .map(|s| s.to_string())
+        .collect::<Vec<_>>();
     args.extend(java_files(&dir.join("src")));
     args.extend(java_files(&dir.join("grader")));
-    check(dir, "javac", &args.iter().map(String::as_str).collect::<Vec<_>>());
+    check(
+        dir,
+        "javac",
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
     dir.to_path_buf()
 }
 
@@ -147,7 +170,15 @@ fn run_student(build: &Path, image: &Path, bug: &str, time: &str, folder: &Path)
 fn run_reference(dir: &Path, image: &Path, time: &str, options: &[&str], name: &str) {
     let dumps = dir.join(format!("{name}-problems"));
     let trace = format!("{name}.jsonl");
-    let mut args = vec!["run", image.to_str().unwrap(), "--time", time, "-q", "--out", &trace];
+    let mut args = vec![
+        "run",
+        image.to_str().unwrap(),
+        "--time",
+        time,
+        "-q",
+        "--out",
+        &trace,
+    ];
     let dumps_arg = dumps.display().to_string();
     args.extend(["--dump-problems", &dumps_arg]);
     args.extend_from_slice(options);
@@ -163,7 +194,11 @@ fn run_reference(dir: &Path, image: &Path, time: &str, options: &[&str], name: &
 /// `rigidref compare` (with `extra` options) as (exit status, stdout + stderr).
 fn compare(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
     let o = common::rigidref(args, dir);
-    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), common::stderr(&o));
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        common::stderr(&o)
+    );
     (o.status.code(), text)
 }
 
@@ -200,7 +235,13 @@ fn the_java_student_agrees_with_the_starter_preset_to_round_off_on_the_simple_im
     let dir = tmp.path();
     for name in ["simple1", "simple2", "simple"] {
         let image = assignment.join(format!("{name}.png"));
-        run_reference(dir, &image, "8", &["--preset", "starter"], &format!("ref_{name}"));
+        run_reference(
+            dir,
+            &image,
+            "8",
+            &["--preset", "starter"],
+            &format!("ref_{name}"),
+        );
         run_student(build, &image, "correct", "8", &dir.join("correct"));
         let (reference, mine) = (format!("ref_{name}.jsonl"), format!("correct/{name}.jsonl"));
         let (code, text) = compare(dir, &["compare", &reference, &mine, "--tolerance", "1e-9"]);
@@ -209,30 +250,52 @@ fn the_java_student_agrees_with_the_starter_preset_to_round_off_on_the_simple_im
             "{name}: the Java student against --preset starter: largest state error {:.1e}",
             largest_state_error(dir, &reference, &mine)
         );
-        let problems = [format!("ref_{name}.problem.json"), format!("correct/{name}.problem.json")];
+        let problems = [
+            format!("ref_{name}.problem.json"),
+            format!("correct/{name}.problem.json"),
+        ];
         let (code, text) = compare(dir, &["compare-problem", &problems[0], &problems[1]]);
         assert_eq!(code, Some(0), "{name}: {text}");
 
         // rigidref's inertia: the same physics as the preset with --inertia blocks ...
         run_student(build, &image, "rigidref_inertia", "8", &dir.join("inertia"));
         let blocks = format!("blocks_{name}");
-        run_reference(dir, &image, "8", &["--preset", "starter", "--inertia", "blocks"], &blocks);
+        run_reference(
+            dir,
+            &image,
+            "8",
+            &["--preset", "starter", "--inertia", "blocks"],
+            &blocks,
+        );
         let mine = format!("inertia/{name}.jsonl");
         let (code, text) = compare(
             dir,
-            &["compare", &format!("{blocks}.jsonl"), &mine, "--tolerance", "1e-9"],
+            &[
+                "compare",
+                &format!("{blocks}.jsonl"),
+                &mine,
+                "--tolerance",
+                "1e-9",
+            ],
         );
         assert_eq!(code, Some(0), "{name}: {text}");
         // ... and flagged by it against the starter's, where a body has more than one block.
         let (code, text) = compare(
             dir,
-            &["compare-problem", &problems[0], &format!("inertia/{name}.problem.json")],
+            &[
+                "compare-problem",
+                &problems[0],
+                &format!("inertia/{name}.problem.json"),
+            ],
         );
         if name == "simple1" {
             assert_eq!(code, Some(0), "one block: m/6 either way: {text}");
         } else {
             assert_eq!(code, Some(1), "{name}: {text}");
-            assert!(text.contains("body 0 inverse mass [2][2]"), "{name}: {text}");
+            assert!(
+                text.contains("body 0 inverse mass [2][2]"),
+                "{name}: {text}"
+            );
             let (code, text) = compare(dir, &["compare", &reference, &mine]);
             assert_eq!(code, Some(1), "{name}: {text}");
         }
@@ -254,7 +317,13 @@ fn the_java_student_agrees_on_tower10_in_trajectory_mode_and_tower25_in_outcome_
     let dir = tmp.path();
     for (name, mode) in [("tower10", None), ("tower25", Some("--outcome"))] {
         let image = assignment.join(format!("{name}.png"));
-        run_reference(dir, &image, "8", &["--preset", "starter"], &format!("ref_{name}"));
+        run_reference(
+            dir,
+            &image,
+            "8",
+            &["--preset", "starter"],
+            &format!("ref_{name}"),
+        );
         run_student(build, &image, "correct", "8", &dir.join("correct"));
         let (reference, mine) = (format!("ref_{name}.jsonl"), format!("correct/{name}.jsonl"));
         let mut args = vec!["compare", reference.as_str(), mine.as_str()];
@@ -331,13 +400,25 @@ fn grade_passes_the_java_student_and_names_each_of_its_mistakes() {
     );
     for (bug, named) in [
         ("normal_sign", &["normal n[1]", "position"][..]),
-        ("rigidref_inertia", &["inverse mass [2][2]", "angular velocity"][..]),
-        ("friction_bound", &["simple2,\"body 0 (\"\"body0\"\") position"][..]),
-        ("jacobian_entry", &["normal row, body 1 entry 2 (ω)", "angle"][..]),
+        (
+            "rigidref_inertia",
+            &["inverse mass [2][2]", "angular velocity"][..],
+        ),
+        (
+            "friction_bound",
+            &["simple2,\"body 0 (\"\"body0\"\") position"][..],
+        ),
+        (
+            "jacobian_entry",
+            &["normal row, body 1 entry 2 (ω)", "angle"][..],
+        ),
     ] {
         let fails = failing(bug).join("\n");
         for quantity in named {
-            assert!(fails.contains(quantity), "{bug}: no failing row names {quantity}:\n{fails}");
+            assert!(
+                fails.contains(quantity),
+                "{bug}: no failing row names {quantity}:\n{fails}"
+            );
         }
     }
     // Friction's bound is not part of the contact problem: its problem rows pass.

@@ -149,8 +149,19 @@ fn in_trace_order(bodies: Vec<Body2>, trace: &Trace2) -> Option<Vec<Body2>> {
     for (info, state) in header.iter().zip(&first.bodies) {
         let centre = Vector2::from(state.x);
         let best = (0..slots.len())
-            .filter(|&k| slots[k].as_ref().is_some_and(|b| b.blocks.len() == info.blocks))
-            .map(|k| (k, (slots[k].as_ref().map_or(f64::INFINITY, |b| (b.x - centre).norm()))))
+            .filter(|&k| {
+                slots[k]
+                    .as_ref()
+                    .is_some_and(|b| b.blocks.len() == info.blocks)
+            })
+            .map(|k| {
+                (
+                    k,
+                    (slots[k]
+                        .as_ref()
+                        .map_or(f64::INFINITY, |b| (b.x - centre).norm())),
+                )
+            })
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .filter(|&(_, d)| d <= 0.5)?;
         ordered.push(slots[best.0].take()?);
