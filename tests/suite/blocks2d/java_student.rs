@@ -113,10 +113,10 @@ fn build(dir: &Path) -> PathBuf {
         format!("package comp559.lcp;\n{trace}"),
     )
     .unwrap();
-    let mut args = vec!["-d", "build", "-cp", "jars/*"]
+    let mut args: Vec<String> = ["-d", "build", "-cp", "jars/*"]
         .iter()
         .map(|s| s.to_string())
-        .collect::<Vec<_>>();
+        .collect();
     args.extend(java_files(&dir.join("src")));
     args.extend(java_files(&dir.join("grader")));
     check(
