@@ -54,6 +54,13 @@ import java.util.Map;
 import mintools.parameters.Parameter;
 
 public final class RigidrefRun {
+    /** A bad command line (exit status 2), told apart from anything the student's code throws. */
+    static final class Usage extends RuntimeException {
+        Usage(String message) {
+            super(message);
+        }
+    }
+
     private String image;
     private double time = 5;
     private String out;
@@ -69,7 +76,7 @@ public final class RigidrefRun {
         RigidrefRun run = new RigidrefRun();
         try {
             run.parse(args);
-        } catch (IllegalArgumentException e) {
+        } catch (Usage e) {
             System.err.println("rigidref-run: " + e.getMessage());
             System.err.println("usage: java -cp build:jars/* comp559.lcp.RigidrefRun IMAGE.png [--time T]"
                     + " [--out FILE] [--problem FILE | --no-problem] [--jacobian NORMAL,TANGENT]"
@@ -79,7 +86,7 @@ public final class RigidrefRun {
         }
         try {
             run.run();
-        } catch (IllegalArgumentException e) {
+        } catch (Usage e) {
             System.err.println("rigidref-run: " + e.getMessage());
             System.exit(2);
         } catch (Exception e) {
@@ -94,7 +101,7 @@ public final class RigidrefRun {
             String a = args[k];
             if (!a.startsWith("--")) {
                 if (image != null) {
-                    throw new IllegalArgumentException("one image only, got " + image + " and " + a);
+                    throw new Usage("one image only, got " + image + " and " + a);
                 }
                 image = a;
                 continue;
@@ -104,7 +111,7 @@ public final class RigidrefRun {
                 continue;
             }
             if (k + 1 >= args.length) {
-                throw new IllegalArgumentException(a + " needs a value");
+                throw new Usage(a + " needs a value");
             }
             String v = args[++k];
             switch (a) {
@@ -114,7 +121,7 @@ public final class RigidrefRun {
                 case "--jacobian":
                     jacobian = v.split(",");
                     if (jacobian.length != 2) {
-                        throw new IllegalArgumentException("--jacobian takes the two fields of Contact holding"
+                        throw new Usage("--jacobian takes the two fields of Contact holding"
                                 + " the normal and the tangent row, NORMAL,TANGENT; got " + v);
                     }
                     break;
@@ -126,23 +133,32 @@ public final class RigidrefRun {
                         substeps = 0;
                     }
                     if (substeps < 1) {
-                        throw new IllegalArgumentException("--substeps must be a whole number >= 1, got " + v);
+                        throw new Usage("--substeps must be a whole number >= 1, got " + v);
                     }
                     break;
-                case "--white": white = Double.parseDouble(v); break;
+                case "--white":
+                    try {
+                        white = Double.parseDouble(v);
+                    } catch (NumberFormatException e) {
+                        white = Double.NaN;
+                    }
+                    if (!(white >= 0 && white < 1)) {
+                        throw new Usage("--white must be a number in [0, 1), got " + v);
+                    }
+                    break;
                 case "--set": {
                     int eq = v.indexOf('=');
                     if (eq <= 0) {
-                        throw new IllegalArgumentException("--set takes FIELD=VALUE, got " + v);
+                        throw new Usage("--set takes FIELD=VALUE, got " + v);
                     }
                     sets.put(v.substring(0, eq), v.substring(eq + 1));
                     break;
                 }
-                default: throw new IllegalArgumentException("unknown option " + a);
+                default: throw new Usage("unknown option " + a);
             }
         }
         if (image == null) {
-            throw new IllegalArgumentException("no image given");
+            throw new Usage("no image given");
         }
         String name = Paths.get(image).getFileName().toString().replaceFirst("\\.[^.]*$", "");
         if (out == null) {
@@ -161,18 +177,32 @@ public final class RigidrefRun {
             x = Double.NaN;
         }
         if (!(x > 0) || Double.isInfinite(x)) {
-            throw new IllegalArgumentException(option + " must be a positive number, got " + v);
+            throw new Usage(option + " must be a positive number, got " + v);
         }
         return x;
     }
 
     private void run() throws Exception {
+        if (jacobian != null) {
+            for (String name : jacobian) {
+                Field f;
+                try {
+                    f = Contact.class.getDeclaredField(name);
+                } catch (NoSuchFieldException e) {
+                    throw new Usage("--jacobian: Contact has no field " + name);
+                }
+                if (f.getType() != double[].class) {
+                    throw new Usage("--jacobian: Contact." + name + " is a " + f.getType().getSimpleName()
+                            + ", not six numbers (double[6]: body 1's vx, vy, omega, body 2's vx, vy, omega)");
+                }
+            }
+        }
         RigidBodySystem system = new RigidBodySystem();
         system.clear();
         giveMouseSpring(system);
         ImageBlocker blocker = new ImageBlocker(image, (float) white);
         if (blocker.bodies.isEmpty()) {
-            throw new IllegalArgumentException(image + ": the starter's ImageBlocker found no bodies in it"
+            throw new Usage(image + ": the starter's ImageBlocker found no bodies in it"
                     + " (a missing or unreadable file prints its error above)");
         }
         system.name = image;
@@ -285,7 +315,7 @@ public final class RigidrefRun {
             throws IllegalAccessException {
         Field f = parameters.get(name);
         if (f == null) {
-            throw new IllegalArgumentException("--set " + name + ": no such parameter; the parameters are "
+            throw new Usage("--set " + name + ": no such parameter; the parameters are "
                     + String.join(", ", parameters.keySet()));
         }
         Parameter<Object> p = (Parameter<Object>) f.get(owner(owners, f));
@@ -302,16 +332,16 @@ public final class RigidrefRun {
             } else if (now instanceof Double) {
                 value = Double.valueOf(text);
             } else {
-                throw new IllegalArgumentException("--set " + name + ": a " + now.getClass().getSimpleName()
+                throw new Usage("--set " + name + ": a " + now.getClass().getSimpleName()
                         + " parameter cannot be set from the command line");
             }
         } catch (NumberFormatException e) {
-            throw new IllegalArgumentException("--set " + name + "=" + text + ": not a "
+            throw new Usage("--set " + name + "=" + text + ": not a "
                     + now.getClass().getSimpleName().toLowerCase());
         }
         p.setValue(value);
         if (!p.getValue().equals(value)) {
-            throw new IllegalArgumentException("--set " + name + "=" + text + ": the parameter keeps "
+            throw new Usage("--set " + name + "=" + text + ": the parameter keeps "
                     + p.getValue() + " (outside its range)");
         }
     }
@@ -401,10 +431,10 @@ public final class RigidrefRun {
             f.setAccessible(true);
             value = f.get(c);
         } catch (NoSuchFieldException | IllegalAccessException e) {
-            throw new IllegalArgumentException("--jacobian: Contact has no field " + name);
+            throw new Usage("--jacobian: Contact has no field " + name);
         }
         if (!(value instanceof double[]) || ((double[]) value).length != 6) {
-            throw new IllegalArgumentException("--jacobian: Contact." + name + " is not six numbers"
+            throw new Usage("--jacobian: Contact." + name + " is not six numbers"
                     + " (double[6]: body 1's vx, vy, omega, body 2's vx, vy, omega)");
         }
         return ((double[]) value).clone();

@@ -431,3 +431,60 @@ fn grade_passes_the_java_student_and_names_each_of_its_mistakes() {
         "{problems:?}"
     );
 }
+
+/// The runner's command line: a parameter the student's classes do not have, a value outside a
+/// parameter's range and a Jacobian field that does not exist are each refused with exit status 2
+/// and a line naming what is wrong (the first listing the parameters there are), before any
+/// trace is written.
+#[test]
+fn the_runner_refuses_a_bad_command_line_naming_what_is_wrong() {
+    let Some(assignment) = common::blocks2d_assignment() else {
+        return;
+    };
+    let Some(build) = compiled() else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let image = assignment.join("simple1.png").display().to_string();
+    let classpath = format!("{0}/build:{0}/jars/*", build.display());
+    for (extra, says) in [
+        (
+            &["--set", "noSuchField=1"][..],
+            "--set noSuchField: no such parameter; the parameters are useGravity",
+        ),
+        (
+            &["--set", "iterations=1000"][..],
+            "--set iterations=1000: the parameter keeps 500 (outside its range)",
+        ),
+        (
+            &["--set", "doLCP=yes"][..],
+            "--set doLCP=yes: not a boolean",
+        ),
+        (
+            &["--jacobian", "nope,nope"][..],
+            "--jacobian: Contact has no field nope",
+        ),
+        (
+            &["--white", "2"][..],
+            "--white must be a number in [0, 1), got 2",
+        ),
+    ] {
+        let mut args = vec![
+            "-cp",
+            &classpath,
+            "comp559.lcp.RigidrefRun",
+            &image,
+            "--time",
+            "1",
+        ];
+        args.extend_from_slice(extra);
+        let o = Command::new("java")
+            .args(&args)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert!(stderr.contains(says), "{extra:?}: {stderr}");
+    }
+}
