@@ -1,8 +1,32 @@
 //! A 2D rigid body made of unit blocks. docs/blocks2d.md §"Bodies from pixels", §"Dynamics".
 
-use super::disc_tree::DiscTree;
+use super::disc_tree::{DiscTree, DiscTreeRule};
 use super::image::BlockGroup;
 use nalgebra::{Matrix2, Vector2};
+
+/// How a body's rotational inertia about its centre of mass comes from its blocks (scene key
+/// `inertia`). docs/blocks2d.md §"Bodies from pixels".
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+#[value(rename_all = "snake_case")]
+pub enum InertiaRule {
+    /// Each block a unit square of uniform density: I = Σ mᵢ (|rᵢ|² + 1/6) (the default).
+    #[default]
+    Blocks,
+    /// Each block a point mass at its centre, I = Σ mᵢ |rᵢ|², and a body of one block
+    /// m (1 + 1)/12 = m/6: the Java starter's `RigidBody` (its own code, not the student's).
+    BlockCentres,
+}
 
 /// A block of a body, in the body frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -27,8 +51,8 @@ pub struct Body2 {
     pub tree: DiscTree,
     /// Mass Σ mᵢ, mass units (a black block is 1).
     pub mass: f64,
-    /// Rotational inertia about the centre of mass, Σ mᵢ (|rᵢ|² + 1/6) (each block a unit
-    /// square), mass units · blocks².
+    /// Rotational inertia about the centre of mass, mass units · blocks²: Σ mᵢ (|rᵢ|² + 1/6)
+    /// (each block a unit square), or as [`InertiaRule::BlockCentres`] says.
     pub inertia: f64,
     /// Pinned: infinite mass and inertia (inverse 0); its motion, if any, is prescribed.
     pub pinned: bool,
@@ -55,9 +79,36 @@ pub fn cross(a: &Vector2<f64>, b: &Vector2<f64>) -> f64 {
     a.x * b.y - a.y * b.x
 }
 
+/// The blocks of a group with a neighbour (of 8) not in the group: rigidref's boundary.
+fn occupied_boundary(group: &BlockGroup) -> Vec<usize> {
+    let occupied: std::collections::HashSet<(i64, i64)> = group
+        .blocks
+        .iter()
+        .map(|b| (b.pixel.x as i64, b.pixel.y as i64))
+        .collect();
+    group
+        .blocks
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| {
+            let (j, i) = (b.pixel.x as i64, b.pixel.y as i64);
+            (-1..=1).any(|di| (-1..=1).any(|dj| !occupied.contains(&(j + dj, i + di))))
+        })
+        .map(|(k, _)| k)
+        .collect()
+}
+
 impl Body2 {
-    /// The body of a group of image blocks, at rest where the image puts it.
+    /// The body of a group of image blocks, at rest where the image puts it, with rigidref's
+    /// inertia and disc tree ([`InertiaRule::Blocks`], [`DiscTreeRule::Median`]).
     pub fn from_group(group: &BlockGroup) -> Body2 {
+        Body2::from_group_with(group, InertiaRule::Blocks, DiscTreeRule::Median)
+    }
+
+    /// The body of a group of image blocks, at rest where the image puts it, its inertia by
+    /// `inertia` and its disc tree by `tree`. The boundary blocks are the group's own when its
+    /// reader decided them, else those with a neighbour (of 8) not in the body.
+    pub fn from_group_with(group: &BlockGroup, inertia: InertiaRule, tree: DiscTreeRule) -> Body2 {
         let mass: f64 = group.blocks.iter().map(|b| b.mass).sum();
         let com = group
             .blocks
@@ -74,27 +125,30 @@ impl Body2 {
                 mass: b.mass,
             })
             .collect();
-        let inertia: f64 = blocks
-            .iter()
-            .map(|b| b.mass * (b.local.norm_squared() + 1.0 / 6.0))
-            .sum();
-        let occupied: std::collections::HashSet<(i64, i64)> = group
-            .blocks
-            .iter()
-            .map(|b| (b.pixel.x as i64, b.pixel.y as i64))
-            .collect();
-        let boundary: Vec<usize> = group
-            .blocks
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| {
-                let (j, i) = (b.pixel.x as i64, b.pixel.y as i64);
-                (-1..=1).any(|di| (-1..=1).any(|dj| !occupied.contains(&(j + dj, i + di))))
-            })
-            .map(|(k, _)| k)
-            .collect();
+        let inertia: f64 = match inertia {
+            InertiaRule::Blocks => blocks
+                .iter()
+                .map(|b| b.mass * (b.local.norm_squared() + 1.0 / 6.0))
+                .sum(),
+            // The starter's rule for one block, m (1 + 1)/12, keeps a lone block's inertia from
+            // being zero; it is the unit square's, as for the other rule.
+            InertiaRule::BlockCentres if blocks.len() == 1 => blocks[0].mass * (1.0 + 1.0) / 12.0,
+            InertiaRule::BlockCentres => {
+                blocks.iter().map(|b| b.mass * b.local.norm_squared()).sum()
+            }
+        };
+        let boundary = match &group.boundary {
+            Some(decided) => decided.clone(),
+            None => occupied_boundary(group),
+        };
         let centres: Vec<Vector2<f64>> = blocks.iter().map(|b| b.local).collect();
-        let tree = DiscTree::build(&centres, &boundary);
+        let tree = match tree {
+            DiscTreeRule::Median => DiscTree::build(&centres, &boundary),
+            DiscTreeRule::Starter => {
+                let pixels: Vec<Vector2<f64>> = group.blocks.iter().map(|b| b.pixel).collect();
+                DiscTree::build_starter(&centres, &pixels, &boundary)
+            }
+        };
         let pinned = group.pinned;
         Body2 {
             blocks,
@@ -113,7 +167,6 @@ impl Body2 {
             torque: 0.0,
         }
     }
-
     /// The rotation matrix of θ.
     pub fn rotation(&self) -> Matrix2<f64> {
         let (s, c) = self.theta.sin_cos();

@@ -2,7 +2,7 @@
 //! docs/blocks2d.md §"Collision".
 
 use super::body::Body2;
-use super::disc_tree::{BLOCK_RADIUS, NodeKind};
+use super::disc_tree::{BLOCK_RADIUS, DiscTreeRule, NodeKind};
 use crate::common::broad::{Aabb, overlapping_pairs};
 use nalgebra::{Vector2, Vector3};
 
@@ -119,7 +119,7 @@ pub fn tree_contacts(
 /// The descent of two bodies' trees together: from the roots, a pair of nodes whose discs,
 /// grown by `grow` (blocks), overlap is split (the larger disc first) until both are leaves, and
 /// `leaf(block of i, block of j)` is called for each pair of leaves reached. Which node is split
-/// depends only on the radii, so growing the discs prunes less and keeps the order of the leaves
+/// depends only on the radii (and, for equal ones, on body i's tree's [`DiscTreeRule`]), so growing the discs prunes less and keeps the order of the leaves
 /// reached ([`super::coherence`] relies on it).
 pub(super) fn descend(
     bi: &Placed,
@@ -152,7 +152,13 @@ pub(super) fn descend(
                 stack.push((a, l));
             }
             (NodeKind::Inner(al, ar), NodeKind::Inner(bl, br)) => {
-                if na.radius >= nb.radius {
+                // The larger disc is split first; equal discs split body 1's node (rigidref's)
+                // or body 2's (the starter's descent, DiscTreeRule::Starter).
+                let first = match ti.rule {
+                    DiscTreeRule::Median => na.radius >= nb.radius,
+                    DiscTreeRule::Starter => na.radius > nb.radius,
+                };
+                if first {
                     stack.push((ar, b));
                     stack.push((al, b));
                 } else {

@@ -27,18 +27,52 @@ pub enum NodeKind {
     Leaf(usize),
 }
 
+/// How a body's disc tree is built and how two trees are descended (scene key `disc_tree`).
+/// Both descents find the same contacts; the order they list them in differs, and with a fixed
+/// number of Gauss–Seidel sweeps in that order the answer depends on it.
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum DiscTreeRule {
+    /// rigidref's: a node's blocks sorted along the longer side of their bounding box (ties by
+    /// block index) and split at the median (a balanced tree); two inner nodes of equal discs
+    /// descend body 1's.
+    #[default]
+    Median,
+    /// The Java starter's `BVNode`: a node's blocks split at the middle of their bounding box,
+    /// across y when it is strictly taller than wide and across x otherwise, the blocks below the
+    /// middle (in the body frame) the first child, in list order; and the descent the students
+    /// write on it (the larger disc split first, children in order), which on equal discs splits
+    /// body 2's node (`r1 > r2` splits body 1's, else body 2's, in the filled-in submissions read).
+    Starter,
+}
+
 /// The tree; node 0 is the root.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DiscTree {
     /// The nodes.
     pub nodes: Vec<DiscNode>,
+    /// How it was built, and how it is descended.
+    pub rule: DiscTreeRule,
 }
 
 impl DiscTree {
     /// Builds the tree over the blocks `indices` with body-frame centres `centres[i]`: each node
     /// is split at the median along the longer side of its blocks' bounding box.
     pub fn build(centres: &[Vector2<f64>], indices: &[usize]) -> DiscTree {
-        let mut tree = DiscTree { nodes: Vec::new() };
+        let mut tree = DiscTree {
+            nodes: Vec::new(),
+            rule: DiscTreeRule::Median,
+        };
         if !indices.is_empty() {
             let mut work = indices.to_vec();
             tree.build_node(centres, &mut work);
@@ -46,16 +80,69 @@ impl DiscTree {
         tree
     }
 
-    fn build_node(&mut self, centres: &[Vector2<f64>], blocks: &mut [usize]) -> usize {
+    /// The Java starter's tree ([`DiscTreeRule::Starter`]) over the blocks `indices`, with
+    /// body-frame centres `centres[i]` for the discs and image positions `pixels[i]` (whole
+    /// numbers) for the splits: a node's blocks go to the first child when 2 p < min + max along
+    /// the split axis, which is exact in whole numbers. (The starter compares body-frame
+    /// positions with the box's middle in floating point; for a block exactly at the middle both
+    /// sides are the same difference from the centre of mass, so it agrees except where the
+    /// centre of mass is so far from the blocks that the subtraction rounds.)
+    pub fn build_starter(
+        centres: &[Vector2<f64>],
+        pixels: &[Vector2<f64>],
+        indices: &[usize],
+    ) -> DiscTree {
+        let mut tree = DiscTree {
+            nodes: Vec::new(),
+            rule: DiscTreeRule::Starter,
+        };
+        if !indices.is_empty() {
+            tree.build_starter_node(centres, pixels, indices);
+        }
+        tree
+    }
+
+    /// A node's disc: the minimum enclosing circle of its blocks' centres, plus a block's radius;
+    /// pushed as a leaf of its first block (an inner node's children are set by the caller).
+    fn push_node(&mut self, centres: &[Vector2<f64>], blocks: &[usize]) -> usize {
         let points: Vec<Vector2<f64>> = blocks.iter().map(|&b| centres[b]).collect();
         let circle = min_enclosing_circle(&points).expect("non-empty");
-        let id = self.nodes.len();
         self.nodes.push(DiscNode {
             centre: circle.centre,
             radius: circle.radius + BLOCK_RADIUS,
             kind: NodeKind::Leaf(blocks[0]),
         });
+        self.nodes.len() - 1
+    }
+
+    fn build_starter_node(
+        &mut self,
+        centres: &[Vector2<f64>],
+        pixels: &[Vector2<f64>],
+        blocks: &[usize],
+    ) -> usize {
+        let id = self.push_node(centres, blocks);
         if blocks.len() > 1 {
+            let (mut lo, mut hi) = (pixels[blocks[0]], pixels[blocks[0]]);
+            for &b in blocks {
+                lo = lo.inf(&pixels[b]);
+                hi = hi.sup(&pixels[b]);
+            }
+            let axis = if hi.y - lo.y > hi.x - lo.x { 1 } else { 0 };
+            let (first, second): (Vec<usize>, Vec<usize>) = blocks
+                .iter()
+                .partition(|&&b| 2.0 * pixels[b][axis] < lo[axis] + hi[axis]);
+            let l = self.build_starter_node(centres, pixels, &first);
+            let r = self.build_starter_node(centres, pixels, &second);
+            self.nodes[id].kind = NodeKind::Inner(l, r);
+        }
+        id
+    }
+
+    fn build_node(&mut self, centres: &[Vector2<f64>], blocks: &mut [usize]) -> usize {
+        let id = self.push_node(centres, blocks);
+        if blocks.len() > 1 {
+            let points: Vec<Vector2<f64>> = blocks.iter().map(|&b| centres[b]).collect();
             let (mut lo, mut hi) = (points[0], points[0]);
             for p in &points {
                 lo = lo.inf(p);
@@ -137,5 +224,31 @@ mod tests {
         assert_eq!(found, indices);
         // A full binary tree over n leaves has 2n − 1 nodes.
         assert_eq!(tree.nodes.len(), 2 * centres.len() - 1);
+    }
+
+    #[test]
+    fn the_starter_tree_splits_at_the_middle_of_the_box_below_it_first() {
+        // A bar of 3 blocks: the middle block is at the box's middle, not below it, so it goes
+        // with the right one; a 2 × 2 square is as tall as wide, so split across x.
+        let pixels: Vec<Vector2<f64>> = [(4.0, 7.0), (5.0, 7.0), (6.0, 7.0)]
+            .map(|(x, y)| Vector2::new(x, y))
+            .to_vec();
+        let centres: Vec<Vector2<f64>> =
+            pixels.iter().map(|p| p - Vector2::new(5.0, 7.0)).collect();
+        let tree = DiscTree::build_starter(&centres, &pixels, &[0, 1, 2]);
+        let NodeKind::Inner(l, r) = tree.nodes[0].kind else {
+            panic!("the root of three blocks is inner")
+        };
+        assert_eq!(leaves(&tree, &centres, l), [0]);
+        assert_eq!(leaves(&tree, &centres, r), [1, 2]);
+        assert_eq!(tree.rule, DiscTreeRule::Starter);
+        let square: Vec<Vector2<f64>> = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+            .map(|(x, y)| Vector2::new(x, y))
+            .to_vec();
+        let tree = DiscTree::build_starter(&square, &square, &[0, 1, 2, 3]);
+        let NodeKind::Inner(l, _) = tree.nodes[0].kind else {
+            panic!("inner")
+        };
+        assert_eq!(leaves(&tree, &square, l), [0, 2]);
     }
 }

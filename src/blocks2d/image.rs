@@ -5,6 +5,10 @@
 //! one block is one unit of length, the block of pixel (row i, column j) has its centre at
 //! (j, i). Angles are measured from +x toward +y (clockwise on screen). Gravity defaults to +y,
 //! toward increasing row, so images stand the right way up.
+//!
+//! Two readers ([`ImageReader`]): rigidref's (bodies numbered row by row) and the Java starter's
+//! `ImageBlocker` (bodies numbered column by column, and its other conventions), for comparing
+//! with student code built on the starter. docs/blocks2d.md §"Bodies from pixels".
 
 use nalgebra::Vector2;
 use std::path::Path;
@@ -23,10 +27,63 @@ pub struct Block {
 /// The blocks of one connected component.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BlockGroup {
-    /// The blocks, in row-major pixel order.
+    /// The blocks: in row-major pixel order (rigidref's reader), or in the order the starter's
+    /// breadth-first search reaches them ([`ImageReader::Starter`]).
     pub blocks: Vec<Block>,
     /// Every block is a shade of blue (r = g < b): the body is pinned.
     pub pinned: bool,
+    /// The indices of the blocks on the body's boundary, the only ones in its collision tree,
+    /// as the reader decided them; `None`: the blocks with a neighbour (of 8) not in the body,
+    /// decided by [`crate::blocks2d::body::Body2::from_group`].
+    pub boundary: Option<Vec<usize>>,
+}
+
+/// How an image is read into bodies (scene key `image_reader`).
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    Default,
+    PartialEq,
+    Eq,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "snake_case")]
+pub enum ImageReader {
+    /// rigidref's: bodies numbered by their first pixel row by row (body 0 nearest the top
+    /// left), blocks in row-major order, colour channels as 64-bit numbers, a fully
+    /// transparent pixel empty, a block on the boundary when one of its 8 neighbours is not in
+    /// the body.
+    #[default]
+    Rigidref,
+    /// The Java starter's `ImageBlocker`: bodies numbered by their first pixel column by
+    /// column (x outer, y inner, as its sweep runs), blocks in the order its breadth-first
+    /// search from that pixel reaches them, colour channels as 32-bit floats (k / 255f: a
+    /// block's mass agrees with rigidref's to about 6e-8 relative), alpha ignored, and a block
+    /// on the boundary when it is on the image's edge or one of six neighbours is white (the
+    /// starter's loop skips i = j, so the diagonal neighbours (−1, −1) and (+1, +1) are never
+    /// looked at).
+    Starter,
+}
+
+impl ImageReader {
+    /// The name a scene file gives it (`rigidref`, `starter`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ImageReader::Rigidref => "rigidref",
+            ImageReader::Starter => "starter",
+        }
+    }
+
+    /// How it numbers the bodies.
+    pub fn numbering(self) -> &'static str {
+        match self {
+            ImageReader::Rigidref => "row by row",
+            ImageReader::Starter => "column by column",
+        }
+    }
 }
 
 /// Loading settings.
@@ -35,12 +92,15 @@ pub struct ImageSettings {
     /// A pixel is empty when every channel is at least 1 − this (near-white), or it is fully
     /// transparent. Default 0.05, the assignment's starter's.
     pub white_threshold: f64,
+    /// Which reader numbers the bodies and decides their blocks (default rigidref's).
+    pub reader: ImageReader,
 }
 
 impl Default for ImageSettings {
     fn default() -> Self {
         ImageSettings {
             white_threshold: 0.05,
+            reader: ImageReader::Rigidref,
         }
     }
 }
@@ -90,8 +150,60 @@ pub fn load_image(path: &Path, settings: &ImageSettings) -> Result<Vec<BlockGrou
 }
 
 /// Splits an RGBA pixel grid (row-major) into bodies: 8-neighbour connected components of
-/// non-empty pixels, in the order of their first pixel in row-major order.
+/// non-empty pixels, numbered as `settings.reader` numbers them.
 pub fn blocks_from_pixels(
+    width: usize,
+    height: usize,
+    pixels: &[[u8; 4]],
+    settings: &ImageSettings,
+) -> Vec<BlockGroup> {
+    match settings.reader {
+        ImageReader::Rigidref => rigidref_blocks(width, height, pixels, settings),
+        ImageReader::Starter => starter_blocks(width, height, pixels, settings.white_threshold),
+    }
+}
+
+/// The starter's reader ([`super::starter_image`]): its components in its order, each block's
+/// colour the starter's float channels, its mass from them, pinned when every block is blue.
+fn starter_blocks(
+    width: usize,
+    height: usize,
+    pixels: &[[u8; 4]],
+    white_threshold: f64,
+) -> Vec<BlockGroup> {
+    use super::starter_image::{channels, starter_components};
+    starter_components(width, height, pixels, white_threshold)
+        .into_iter()
+        .map(|component| {
+            let byte = |&(x, y): &(usize, usize)| pixels[y * width + x];
+            let blocks = component
+                .cells
+                .iter()
+                .map(|cell| {
+                    let colour = channels(&byte(cell));
+                    Block {
+                        pixel: Vector2::new(cell.0 as f64, cell.1 as f64),
+                        colour,
+                        mass: block_mass(colour),
+                    }
+                })
+                .collect();
+            // r = g < b on the starter's float channels is the same test as on the bytes.
+            let pinned = component.cells.iter().all(|cell| {
+                let p = byte(cell);
+                is_blue([p[0], p[1], p[2]])
+            });
+            BlockGroup {
+                blocks,
+                pinned,
+                boundary: Some(component.boundary),
+            }
+        })
+        .collect()
+}
+
+/// rigidref's reader: components in the order of their first pixel in row-major order.
+fn rigidref_blocks(
     width: usize,
     height: usize,
     pixels: &[[u8; 4]],
@@ -144,7 +256,11 @@ pub fn blocks_from_pixels(
                 }
             })
             .collect();
-        groups.push(BlockGroup { blocks, pinned });
+        groups.push(BlockGroup {
+            blocks,
+            pinned,
+            boundary: None,
+        });
     }
     groups
 }

@@ -2,7 +2,8 @@
 //! image, bounding-disc trees for collision, and the same contact problem and PGS solver as 3D
 //! (docs/blocks2d.md; how the two share one solver: docs/one-solver.md).
 //!
-//! - [`image`]: connected components of non-white pixels → bodies;
+//! - [`image`]: connected components of non-white pixels → bodies; [`starter_image`]: the same
+//!   as the Java starter's reader numbers and decides them;
 //! - [`body`]: a 2D rigid body and its integrator;
 //! - [`mec`], [`disc_tree`]: minimum enclosing circles and bounding-disc trees;
 //! - [`collide`]: block-disc contacts, tree against tree, sweep-and-prune between bodies;
@@ -25,5 +26,6 @@ pub mod joints;
 pub mod mec;
 pub mod params;
 pub mod scene;
+pub mod starter_image;
 pub mod trace;
 pub mod world;

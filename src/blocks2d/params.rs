@@ -1,6 +1,10 @@
-//! The 2D system's parameters and their defaults (the Java starter's where it has one).
-//! docs/blocks2d.md §"Demonstration settings".
+//! The 2D system's parameters: the defaults (the demonstration settings) and the Java
+//! starter's, `--preset starter`. docs/blocks2d.md §"Demonstration settings", §"The starter
+//! preset".
 
+use super::body::InertiaRule;
+use super::disc_tree::DiscTreeRule;
+use super::image::ImageReader;
 use crate::solve::{ContactOrder, LocalSolve};
 use nalgebra::Vector2;
 
@@ -52,9 +56,9 @@ pub struct Params2 {
     /// How a PGS visit updates its contact (scene key `pgs_local_solve`; default rows, the
     /// starter's; docs/contact.md §"Exact local solve").
     pub local_solve: LocalSolve,
-    /// Warm start (default true).
+    /// Warm start (default true; the starter's false).
     pub warm_start: bool,
-    /// Post-stabilisation of penetration (default true).
+    /// Post-stabilisation of penetration (default true; the starter's false).
     pub post_stabilization: bool,
     /// Penetration left alone by post-stabilisation, blocks (default 0.01).
     pub slop: f64,
@@ -85,34 +89,26 @@ pub struct Params2 {
     /// Run fresh detection beside the cached one every substep and count any difference (scene
     /// key `check_detection`; default false): the cache's debug check.
     pub check_detection: bool,
+    /// How a body's rotational inertia comes from its blocks (scene key `inertia`; default
+    /// `blocks`, unit squares; the starter's `block_centres`, point masses).
+    pub inertia: InertiaRule,
+    /// How the bodies' disc trees are built and descended (scene key `disc_tree`; default
+    /// `median`; the starter's `starter`): the order contacts are found in.
+    pub disc_tree: DiscTreeRule,
+    /// How the image was read into bodies (scene key `image_reader`; default `rigidref`, bodies
+    /// numbered row by row; the starter's `starter`, column by column). Used when loading.
+    pub image_reader: ImageReader,
+    /// The preset these parameters started from (the run's summary names it and what it set).
+    pub preset: Preset,
 }
 
 /// The most substeps one step takes with adaptive substeps: a body faster than
 /// `max_travel · 4096 / step` is stepped at that cap (and the run says so).
 pub const MAX_ADAPTIVE_SUBSTEPS: u32 = 4096;
 
-/// A named set of 2D parameters to start from (`--preset`, or `"preset"` in a scene file's
-/// parameters); single options override it.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "snake_case")]
-pub enum Preset {
-    /// The project's defaults, [`Params2::default`]: the demonstration settings under which the
-    /// assignment's four demonstration images come to rest.
-    #[default]
-    Default,
-    /// The Java starter code's values, [`Params2::starter`], for comparison with student code.
-    Starter,
-}
+/// The named starting points of the parameters (`--preset`, or `"preset"` in a scene file's
+/// parameters): [`Params2::default`] or [`Params2::starter`].
+pub use crate::common::preset::Preset;
 
 impl Preset {
     /// The parameters of the preset.
@@ -132,21 +128,45 @@ impl Default for Params2 {
 }
 
 impl Params2 {
-    /// The Java starter code's values: step 0.05, 1 substep, 10 PGS sweeps in order, μ 0.33, no
-    /// restitution, warm start and post-stabilisation on (slop 0.01). The assignment says they
-    /// are not enough for its delicate systems: with them tower100 collapses (docs/blocks2d.md
-    /// §"Demonstration settings"). `--preset starter` restores them.
+    /// The Java starter code's values, everything its provided code does (docs/blocks2d.md
+    /// §"The starter preset" says where each was read): step 0.05, 1 substep, gravity 1 at 90°,
+    /// μ 0.33, restitution 0, 10 Gauss–Seidel sweeps over the contacts in the order found, each
+    /// solve from zero (no warm start), no post-stabilisation (the assignment lists both under
+    /// "other things to try"), the inertia of point-mass blocks (`RigidBody`'s), the starter's
+    /// disc trees (`BVNode`) and its image reader's body numbering (`ImageBlocker`). With them
+    /// tower100 collapses (docs/blocks2d.md §"Demonstration settings").
     pub fn starter() -> Params2 {
         Params2 {
-            dt: 0.05,
             substeps: 1,
+            iterations: 10,
+            order: ContactOrder::Sequential,
+            warm_start: false,
+            post_stabilization: false,
+            inertia: InertiaRule::BlockCentres,
+            disc_tree: DiscTreeRule::Starter,
+            image_reader: ImageReader::Starter,
+            preset: Preset::Starter,
+            ..Params2::demonstration()
+        }
+    }
+
+    /// The settings under which the assignment's four demonstration images (delicate, tower100,
+    /// wallWideSparseHigh, wallWideDenseHigh) come to rest and stay at rest, and the defaults:
+    /// the starter's step 0.05 in 4 substeps, 200 PGS sweeps in seeded random order, warm start
+    /// and post-stabilisation (slop 0.01), each block a unit square, rigidref's disc trees.
+    /// Why these and not the starter's 10 sweeps in order: docs/blocks2d.md §"Demonstration
+    /// settings".
+    pub fn demonstration() -> Params2 {
+        Params2 {
+            dt: 0.05,
+            substeps: 4,
             gravity: 1.0,
             gravity_angle: 90.0,
             mu: 0.33,
             restitution: 0.0,
-            iterations: 10,
+            iterations: 200,
             tolerance: None,
-            order: ContactOrder::Sequential,
+            order: ContactOrder::Random,
             seed: 0,
             local_solve: LocalSolve::Rows,
             warm_start: true,
@@ -161,20 +181,10 @@ impl Params2 {
             threads: 1,
             detection_cache: true,
             check_detection: false,
-        }
-    }
-
-    /// The settings under which the assignment's four demonstration images (delicate, tower100,
-    /// wallWideSparseHigh, wallWideDenseHigh) come to rest and stay at rest, and the defaults:
-    /// 4 substeps of the starter's 0.05 step, 200 PGS sweeps in seeded random order, the rest as
-    /// the starter's. Why these and not the starter's 10 sweeps in order: docs/blocks2d.md
-    /// §"Demonstration settings".
-    pub fn demonstration() -> Params2 {
-        Params2 {
-            substeps: 4,
-            iterations: 200,
-            order: ContactOrder::Random,
-            ..Params2::starter()
+            inertia: InertiaRule::Blocks,
+            disc_tree: DiscTreeRule::Median,
+            image_reader: ImageReader::Rigidref,
+            preset: Preset::Default,
         }
     }
 
@@ -189,5 +199,19 @@ impl Params2 {
         let a = self.gravity_angle.to_radians();
         let snap = |c: f64| if c.abs() < 1e-15 { 0.0 } else { c };
         Vector2::new(snap(a.cos()), snap(a.sin())) * self.gravity
+    }
+}
+
+/// What a preset sets, for the run's summary (`None` for the defaults): each value it gives
+/// that differs from the defaults, as the scene keys spell them.
+pub fn preset_summary(preset: Preset) -> Option<String> {
+    match preset {
+        Preset::Default => None,
+        Preset::Starter => Some(
+            "starter (the Java starter's code, docs/blocks2d.md §\"The starter preset\"): substeps 1, \
+             iterations 10, order sequential (as found), warm_start false, post_stabilization false, \
+             inertia block_centres, image_reader starter, disc_tree starter; options given override it"
+                .to_string(),
+        ),
     }
 }

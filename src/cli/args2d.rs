@@ -13,8 +13,10 @@ use rigidref::blocks2d::world::{ScriptedImpulse, Shake};
 #[command(next_help_heading = HEADING_2D)]
 pub struct Blocks2dOptions {
     /// 2D: the parameters to start from: `default` (the demonstration settings: 4 substeps, 200
-    /// sweeps, random order) or `starter` (the Java starter's: 1 substep, 10 sweeps in order);
-    /// the options below override it [default: default].
+    /// sweeps in random order, warm start, post-stabilisation) or `starter` (everything the Java
+    /// starter's code does: 1 substep, 10 sweeps in the order found, no warm start, no
+    /// post-stabilisation, point-mass inertia, its body numbering and disc trees;
+    /// docs/blocks2d.md §"The starter preset"); the options below override it [default: default].
     #[arg(long, value_enum)]
     pub preset: Option<rigidref::blocks2d::params::Preset>,
     /// 2D: step size [default: 0.05, the starter's].
@@ -53,10 +55,10 @@ pub struct Blocks2dOptions {
     /// (the contact's 2 × 2 problem solved exactly) [default: rows].
     #[arg(long, value_enum)]
     pub pgs_local_solve: Option<rigidref::solve::LocalSolve>,
-    /// 2D: start each solve cold.
+    /// 2D: start each solve cold (the starter preset does; `--set warm_start=true` turns it on).
     #[arg(long)]
     pub no_warm_start: bool,
-    /// 2D: no post-stabilisation of penetration.
+    /// 2D: no post-stabilisation of penetration (the starter preset has none).
     #[arg(long)]
     pub no_post_stabilization: bool,
     /// 2D: penetration left alone by post-stabilisation, blocks [default: 0.01].
@@ -68,6 +70,19 @@ pub struct Blocks2dOptions {
     /// 2D: near-white threshold: a pixel is empty when every channel is ≥ 1 − this [default: 0.05].
     #[arg(long, allow_negative_numbers = true)]
     pub white_threshold: Option<f64>,
+    /// 2D: a body's inertia: `blocks` (Σ m (r² + 1/6), each block a unit square) or
+    /// `block_centres` (Σ m r², point masses, one block m/6: the starter's) [default: blocks;
+    /// starter: block_centres].
+    #[arg(long, value_enum)]
+    pub inertia: Option<rigidref::blocks2d::body::InertiaRule>,
+    /// 2D: how bodies are numbered and their blocks read: `rigidref` (row by row) or `starter`
+    /// (column by column, as the starter's ImageBlocker) [default: rigidref; starter: starter].
+    #[arg(long, value_enum)]
+    pub image_reader: Option<rigidref::blocks2d::image::ImageReader>,
+    /// 2D: disc trees, and so the order contacts are found in: `median` (rigidref's) or
+    /// `starter` (the starter's BVNode and descent) [default: median; starter: starter].
+    #[arg(long, value_enum)]
+    pub disc_tree: Option<rigidref::blocks2d::disc_tree::DiscTreeRule>,
     /// 2D: adaptive substeps: take enough substeps each step that no block moves more than this
     /// many blocks per substep (fast bodies then cannot pass through a one-block wall; at most
     /// 4096 substeps) [default: off, the fixed --substeps].
@@ -150,6 +165,9 @@ impl Blocks2dOptions {
             threads: None,
             detection_cache: None,
             check_detection: None,
+            inertia: self.inertia,
+            disc_tree: self.disc_tree,
+            image_reader: self.image_reader,
         }
     }
 }

@@ -90,6 +90,11 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     let wall = progress.elapsed();
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);
+        if world.params.preset == rigidref::common::preset::Preset::Starter {
+            eprintln!(
+                "preset         starter (the Python starter's, docs/scene-format.md §\"The starter preset\"): warm_start false, stabilization 0; keys given override it"
+            );
+        }
         if !scene.overrides.is_empty() {
             eprintln!("overrides      {}", scene.overrides.join(", "));
         }

@@ -18,6 +18,8 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     damping           only 0 is accepted (the assignment defines no damping model)
     show_contacts, is_running   user-interface keys; no effect here
   Keys this project adds (docs/scene-format.md, docs/contact.md):
+    preset            \"default\" or \"starter\" (the Python starter's: warm_start false,
+                      stabilization 0); the keys given override it     default
     integrator        angular velocity update: \"spatial\" (the assignment's explicit
                       spatial-frame scheme; default), \"body\" (the same equations in
                       the body frame), \"implicit_gyroscopic\" (implicit Euler on the
@@ -31,9 +33,9 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     compliance        c ≥ 0 added to each normal row's diagonal, kg⁻¹ (constraint
                       force mixing: w_n = … + c λn); 0 = rigid          0
     stabilization     Baumgarte β in [0, 1]: fraction of the penetration beyond the
-                      slop pushed out per step                         0.2
+                      slop pushed out per step                         0.2 (starter: 0)
     stabilization_slop  penetration left alone, m                      0.005
-    warm_start        start PGS from the previous substep's impulses   true
+    warm_start        start PGS from the previous substep's impulses   true (starter: false)
     pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
     pgs_order         \"sequential\" (problem order; also \"found\"), \"random\" (seeded
                       shuffle each sweep) or \"coloured\" (contacts grouped so no two

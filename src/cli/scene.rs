@@ -22,6 +22,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     let scene = super::common::load_scene_or_default(args.scene.as_deref(), &args.sets)?;
     let p = &scene.params;
     println!("scene            {} ({})", p.name, scene.source);
+    println!("preset           {:?}", p.preset);
     println!(
         "dt               {} s ({} substeps, h = {} s)",
         p.dt,
@@ -122,6 +123,14 @@ fn scene2(path: &std::path::Path, sets: &super::args::SceneSets) -> anyhow::Resu
         p.post_stabilization, p.slop
     );
     println!("contact_model    {:?}", p.contact_model);
+    println!("preset           {:?}", p.preset);
+    println!(
+        "image_reader     {} (bodies numbered {})",
+        p.image_reader.name(),
+        p.image_reader.numbering()
+    );
+    println!("inertia          {:?}", p.inertia);
+    println!("disc_tree        {:?}", p.disc_tree);
     for (i, b) in world.bodies.iter().enumerate() {
         println!(
             "body {i}: {} blocks, mass {:.4}, inertia {:.4}, centre [{}, {}]{}",

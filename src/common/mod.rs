@@ -8,6 +8,7 @@
 //! - [`input`]: the limits on what outside input may make the program allocate;
 //! - [`values`]: scene values that check themselves while they are read (positive, fraction, …);
 //! - [`scene_json`]: the JSON reader with `file:line:column` errors, and [`scene_json::SceneError`];
+//! - [`preset`]: the named starting points of a scene's parameters (`--preset starter`);
 //! - [`stats`]: the median;
 //! - [`timing`]: wall and thread CPU time of a piece of work;
 //! - [`writer`]: a writer thread, so that formatting a trace is not in the simulation loop;
@@ -18,6 +19,7 @@ pub mod faults;
 pub mod hash;
 pub mod input;
 pub mod pair_cache;
+pub mod preset;
 pub mod scene_json;
 pub mod stats;
 pub mod timing;

@@ -329,7 +329,24 @@ pub mod blocks {
                 mass: block_mass(colour),
             })
             .collect();
-        Body2::from_group(&BlockGroup { blocks, pinned })
+        Body2::from_group(&BlockGroup {
+            blocks,
+            pinned,
+            boundary: None,
+        })
+    }
+}
+
+/// The starter's step, sweeps and order (1 substep, 10 sweeps in the order found) with the
+/// project's warm start, post-stabilisation, inertia, disc trees and body numbering: what
+/// `Params2::starter` was before issue 47 (since then the starter's own values, no warm start
+/// and no post-stabilisation), which the tests that start from it were measured with.
+pub fn one_substep_ten_sweeps_in_order() -> rigidref::blocks2d::params::Params2 {
+    rigidref::blocks2d::params::Params2 {
+        substeps: 1,
+        iterations: 10,
+        order: rigidref::solve::ContactOrder::Sequential,
+        ..rigidref::blocks2d::params::Params2::demonstration()
     }
 }
 

@@ -12,6 +12,12 @@ pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, Sc
     let mut warnings = Vec::new();
     let mut file: SceneFile2 = crate::common::scene_json::from_str(&text, &source, &mut warnings)?;
     if !overrides.is_empty() {
+        let numbered = |file: &SceneFile2| {
+            let p = &file.parameters;
+            p.image_reader
+                .unwrap_or_else(|| p.preset.unwrap_or_default().params().image_reader)
+        };
+        let before = numbered(&file);
         overrides.check::<ParametersFile2>("a 2D scene's parameters")?;
         // The file is valid and so is each override: set them in its parameters and read again.
         let mut value: serde_json::Value =
@@ -25,6 +31,22 @@ pub fn load_scene2_with(path: &Path, overrides: &Overrides) -> Result<Scene2, Sc
             }
         }
         file = serde_json::from_value(value).map_err(|e| SceneError(format!("{source}: {e}")))?;
+        // The file's body indices are in its own numbering: an override that renumbers the
+        // image would make them name other bodies, silently.
+        let indexed = !(file.impulses.is_empty()
+            && file.shakes.is_empty()
+            && file.pins.is_empty()
+            && file.springs.is_empty());
+        if indexed && numbered(&file) != before {
+            return Err(SceneError(format!(
+                "{source}: --set {}: the image's bodies would be numbered {} (image_reader {}), not {} as the file numbers them, so its impulses, shakes, pins and springs would name other bodies; add --set image_reader={} to keep the file's numbering",
+                overrides.describe().join(" --set "),
+                numbered(&file).numbering(),
+                numbered(&file).name(),
+                before.numbering(),
+                before.name()
+            )));
+        }
     }
     let (params, settings) = file
         .parameters

@@ -60,6 +60,9 @@ pub(super) struct ParametersFile2 {
     pub(super) threads: Option<Count>,
     pub(super) detection_cache: Option<bool>,
     pub(super) check_detection: Option<bool>,
+    pub(super) inertia: Option<InertiaRule>,
+    pub(super) disc_tree: Option<DiscTreeRule>,
+    pub(super) image_reader: Option<ImageReader>,
 }
 
 #[derive(Deserialize)]
@@ -107,6 +110,9 @@ impl ParametersFile2 {
             threads: p.threads.map(|x| x.0),
             detection_cache: p.detection_cache,
             check_detection: p.check_detection,
+            inertia: p.inertia,
+            disc_tree: p.disc_tree,
+            image_reader: p.image_reader,
         }
     }
 }

@@ -22,7 +22,9 @@ pub use build::*;
 use json::*;
 pub use params::*;
 
-use super::image::{ImageSettings, load_image};
+use super::body::InertiaRule;
+use super::disc_tree::DiscTreeRule;
+use super::image::{ImageReader, ImageSettings, load_image};
 use super::joints::{Anchor, Pin2, Spring2};
 use super::params::{ContactModel, Params2, Preset};
 use super::world::{ScriptedImpulse, Shake, World2};

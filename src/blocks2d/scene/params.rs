@@ -53,6 +53,12 @@ pub struct ParamOverrides2 {
     pub detection_cache: Option<bool>,
     /// Compare cached with fresh detection every substep.
     pub check_detection: Option<bool>,
+    /// How bodies' inertia comes from their blocks.
+    pub inertia: Option<InertiaRule>,
+    /// How disc trees are built and descended.
+    pub disc_tree: Option<DiscTreeRule>,
+    /// How the image is read into bodies (their numbering).
+    pub image_reader: Option<ImageReader>,
 }
 
 /// A parameter out of its range: the key (as in a scene file) and what is wrong.
@@ -91,6 +97,9 @@ impl ParamOverrides2 {
             ("threads", self.threads.is_some()),
             ("detection_cache", self.detection_cache.is_some()),
             ("check_detection", self.check_detection.is_some()),
+            ("inertia", self.inertia.is_some()),
+            ("disc_tree", self.disc_tree.is_some()),
+            ("image_reader", self.image_reader.is_some()),
         ]
         .into_iter()
         .filter_map(|(key, set)| set.then_some(key))
@@ -124,6 +133,9 @@ impl ParamOverrides2 {
             threads: self.threads.unwrap_or(d.threads),
             detection_cache: self.detection_cache.unwrap_or(d.detection_cache),
             check_detection: self.check_detection.unwrap_or(d.check_detection),
+            inertia: self.inertia.unwrap_or(d.inertia),
+            disc_tree: self.disc_tree.unwrap_or(d.disc_tree),
+            image_reader: self.image_reader.unwrap_or(d.image_reader),
             ..d
         };
         let white_threshold = self
@@ -185,7 +197,11 @@ impl ParamOverrides2 {
                 format!("must be in [0, 1), got {white_threshold}"),
             );
         }
-        Ok((p, ImageSettings { white_threshold }))
+        let settings = ImageSettings {
+            white_threshold,
+            reader: p.image_reader,
+        };
+        Ok((p, settings))
     }
 }
 
@@ -216,6 +232,9 @@ impl ParamOverrides2 {
             solver: self.solver.or(other.solver),
             detection_cache: self.detection_cache.or(other.detection_cache),
             check_detection: self.check_detection.or(other.check_detection),
+            inertia: self.inertia.or(other.inertia),
+            disc_tree: self.disc_tree.or(other.disc_tree),
+            image_reader: self.image_reader.or(other.image_reader),
         }
     }
 }

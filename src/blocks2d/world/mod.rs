@@ -129,10 +129,13 @@ pub struct World2 {
 }
 
 impl World2 {
-    /// A world of the bodies of `groups`, at rest.
+    /// A world of the bodies of `groups`, at rest, their inertia and disc trees as `params` say.
     pub fn new(groups: &[BlockGroup], params: Params2) -> World2 {
         World2 {
-            bodies: groups.iter().map(Body2::from_group).collect(),
+            bodies: groups
+                .iter()
+                .map(|g| Body2::from_group_with(g, params.inertia, params.disc_tree))
+                .collect(),
             step: 0,
             contacts: Vec::new(),
             solves: Vec::new(),

@@ -194,6 +194,15 @@ impl Summary2<'_> {
                 ""
             }
         );
+        eprintln!(
+            "bodies         numbered by the {} image reader, inertia {}, disc tree {}",
+            describe(p.image_reader),
+            describe(p.inertia),
+            describe(p.disc_tree)
+        );
+        if let Some(set) = rigidref::blocks2d::params::preset_summary(p.preset) {
+            eprintln!("preset         {set}");
+        }
         if !self.overrides.is_empty() {
             eprintln!("overrides      {}", self.overrides.join(", "));
         }
@@ -232,4 +241,12 @@ impl Summary2<'_> {
             eprintln!("criteria       {line}");
         }
     }
+}
+
+/// A value as the scene key spells it (`block_centres`).
+fn describe<T: serde::Serialize>(value: T) -> String {
+    serde_json::to_value(value)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_string))
+        .unwrap_or_default()
 }

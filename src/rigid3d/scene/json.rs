@@ -3,6 +3,7 @@
 
 use super::params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
 use super::values::{Inertia, Orientation, Vec3, ZeroDamping};
+use crate::common::preset::Preset;
 use crate::common::scene_json::SceneError;
 use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
@@ -21,6 +22,7 @@ pub(super) struct SceneJson {
 
 #[derive(Deserialize)]
 pub(super) struct SimParametersJson {
+    preset: Option<Preset>,
     name: Option<String>,
     dt: Option<Positive>,
     gravity: Option<Vec3>,
@@ -54,9 +56,15 @@ pub(super) struct SimParametersJson {
 }
 
 impl SimParametersJson {
-    /// Applies the starter's defaults (docs/scene-format.md §"Simulation parameters").
+    /// Applies the starter's defaults (docs/scene-format.md §"Simulation parameters"); with
+    /// `"preset": "starter"` also the starter's own behaviour where the project's defaults add
+    /// to it: no warm start, no Baumgarte stabilisation (docs/scene-format.md §"The starter
+    /// preset").
     pub fn resolve(&self, default_name: &str) -> SimParameters {
+        let preset = self.preset.unwrap_or_default();
+        let starter = preset == Preset::Starter;
         SimParameters {
+            preset,
             name: self
                 .name
                 .clone()
@@ -71,9 +79,11 @@ impl SimParametersJson {
             integrator: self.integrator.unwrap_or_default(),
             friction_model: self.friction_model.unwrap_or_default(),
             compliance: self.compliance.map_or(0.0, |x| x.0),
-            stabilization: self.stabilization.map_or(DEFAULT_STABILIZATION, |x| x.0),
+            stabilization: self
+                .stabilization
+                .map_or(if starter { 0.0 } else { DEFAULT_STABILIZATION }, |x| x.0),
             stabilization_slop: self.stabilization_slop.map_or(DEFAULT_SLOP, |x| x.0),
-            warm_start: self.warm_start.unwrap_or(true),
+            warm_start: self.warm_start.unwrap_or(!starter),
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
             pgs_order: self.pgs_order.unwrap_or_default(),
             pgs_seed: self.pgs_seed.unwrap_or(0),

@@ -10,6 +10,9 @@ use nalgebra::Vector3;
 /// defaults for missing keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimParameters {
+    /// `preset`: `default` or `starter` (no warm start, no Baumgarte stabilisation: the Python
+    /// starter's own behaviour), what the other keys override (default `default`).
+    pub preset: crate::common::preset::Preset,
     /// Scene name (`name`; default: the file's stem).
     pub name: String,
     /// Frame step `dt`, s (default 0.01). One trace step is one frame.
@@ -33,12 +36,13 @@ pub struct SimParameters {
     /// `compliance` c ≥ 0 on each contact's normal row, kg⁻¹ (default 0: rigid contacts).
     pub compliance: f64,
     /// `stabilization`: Baumgarte factor β ∈ [0, 1], the fraction of the penetration beyond the
-    /// slop pushed out per step (default [`DEFAULT_STABILIZATION`]).
+    /// slop pushed out per step (default [`DEFAULT_STABILIZATION`]; the starter preset's 0).
     pub stabilization: f64,
     /// `stabilization_slop`: penetration left alone by stabilisation, m (default
     /// [`DEFAULT_SLOP`]).
     pub stabilization_slop: f64,
-    /// `warm_start`: start each solve from the previous substep's impulses (default true).
+    /// `warm_start`: start each solve from the previous substep's impulses (default true; the
+    /// starter preset's false).
     pub warm_start: bool,
     /// `pgs_tolerance`: stop PGS once its residual is at or below this, m/s (default none: run
     /// all `pgs_iterations`).

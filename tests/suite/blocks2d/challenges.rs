@@ -65,7 +65,7 @@ fn penalty_contact_option_holds_the_stack_up() {
     let params = Params2 {
         contact_model: rigidref::blocks2d::params::ContactModel::Penalty,
         substeps: 10,
-        ..Params2::starter()
+        ..common::one_substep_ten_sweeps_in_order()
     };
     let mut world = World2::new(&groups, params);
     common::run(&mut world, 400, |_, _| {});

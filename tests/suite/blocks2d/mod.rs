@@ -5,6 +5,7 @@ mod coherence;
 mod commands;
 mod demonstrations;
 mod grading;
+mod java_student;
 mod java_writer;
 mod joints;
 mod options;

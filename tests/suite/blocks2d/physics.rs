@@ -26,7 +26,7 @@ fn momentum_is_conserved_through_contacts_without_gravity_or_pins() {
         mu in 0.0..1.0f64,
         restitution in 0.0..1.0f64,
     )| {
-        let mut world = World2::new(&[], Params2 { gravity: 0.0, mu, restitution, iterations: 20, post_stabilization: false, ..Params2::starter() });
+        let mut world = World2::new(&[], Params2 { gravity: 0.0, mu, restitution, iterations: 20, post_stabilization: false, ..common::one_substep_ten_sweeps_in_order() });
         let middle = (shapes.len() - 1) as f64 / 2.0;
         for (k, (cells, vy, omega)) in shapes.iter().enumerate() {
             let mut b = body_of(cells, false);
@@ -69,7 +69,7 @@ fn restitution_scales_bounce_heights_by_e_squared_and_repeats_them_at_e_one() {
             &[],
             Params2 {
                 restitution: e,
-                ..Params2::starter()
+                ..common::one_substep_ten_sweeps_in_order()
             },
         );
         let mut block = body_of(&[(0, 0)], false);
@@ -131,7 +131,7 @@ fn post_stabilisation_removes_penetration_by_moving_positions_alone() {
                 gravity: 0.0,
                 iterations: 50,
                 post_stabilization,
-                ..Params2::starter()
+                ..common::one_substep_ten_sweeps_in_order()
             },
         );
         for (k, x) in [0.0, 1.5].into_iter().enumerate() {
@@ -192,7 +192,7 @@ fn post_stabilisation_changes_angular_momentum_by_h_sum_m_dv_cross_v() {
             mu: 0.0,
             iterations: 50,
             post_stabilization: true,
-            ..Params2::starter()
+            ..common::one_substep_ten_sweeps_in_order()
         },
     );
     for (k, (x, vy)) in [(0.0, 1.0), (1.5, -1.0)].into_iter().enumerate() {
@@ -284,6 +284,7 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
                 })
                 .collect(),
             pinned: true,
+            boundary: None,
         },
         BlockGroup {
             blocks: (3..6)
@@ -294,13 +295,14 @@ fn the_2d_and_3d_systems_call_the_same_pgs() {
                 })
                 .collect(),
             pinned: false,
+            boundary: None,
         },
     ];
     let mut world = World2::new(
         &groups,
         Params2 {
             warm_start: false,
-            ..Params2::starter()
+            ..common::one_substep_ten_sweeps_in_order()
         },
     );
     common::run(&mut world, 1, |_, _| {});
@@ -334,7 +336,7 @@ fn clarabel_crosscheck_runs_on_2d_contact_problems() {
             substeps: 4,
             iterations: 50,
             order: ContactOrder::Random,
-            ..Params2::starter()
+            ..common::one_substep_ten_sweeps_in_order()
         },
     );
     let tmp = tempfile::tempdir().unwrap();
@@ -419,7 +421,7 @@ fn two_moving_bodies_part_at_e_times_their_closing_speed() {
                 restitution: e,
                 iterations: 50,
                 post_stabilization: false,
-                ..Params2::starter()
+                ..common::one_substep_ten_sweeps_in_order()
             },
         );
         for (x, v) in [(0.0, 1.0), (3.0, -1.0)] {

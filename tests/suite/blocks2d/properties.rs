@@ -110,6 +110,7 @@ fn one_block_body_has_the_unit_square_inertia() {
             mass: 1.0,
         }],
         pinned: false,
+        boundary: None,
     };
     let b = Body2::from_group(&g);
     assert_eq!(b.mass, 1.0);

@@ -476,9 +476,9 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
         ),
         (
             &scene2,
-            ["iterations=7", "preset=starter"],
-            "iterations",
-            "7",
+            ["preset=starter", "image_reader=rigidref"],
+            "preset",
+            "starter",
         ),
         (&image, ["iterations=7", "mu=0.5"], "mu", "0.5"),
     ] {
@@ -507,6 +507,27 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
         assert_eq!(h["overrides"], serde_json::json!(sets), "{h}");
         assert!(sets.contains(&format!("{key}={expect}").as_str()));
     }
+    // An override that renumbers the image's bodies is refused on a scene file that names
+    // bodies by index (stack.json strikes body 0): it would strike another body, silently.
+    let out = rigidref(
+        &[
+            "run",
+            scene2.to_str().unwrap(),
+            "--steps",
+            "3",
+            "--out",
+            "t.jsonl",
+            "--set",
+            "preset=starter",
+        ],
+        tmp.path(),
+    );
+    let stderr = common::stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("would name other bodies") && stderr.contains("image_reader=rigidref"),
+        "{stderr}"
+    );
     // The override takes effect: the summary of a 3D run shows the integrator and the sweeps.
     let out = rigidref(
         &[
@@ -650,6 +671,9 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
             (_, "--format") => &["jsonl"],
             (_, "--dump-problems") => &["problems"],
             (_, "--preset") => &["starter"],
+            (_, "--inertia") => &["block_centres"],
+            (_, "--image-reader") => &["starter"],
+            (_, "--disc-tree") => &["starter"],
             (_, "--step") => &["0.05"],
             (_, "--substeps") => &["2"],
             (_, "--gravity") => &["1"],

@@ -150,5 +150,6 @@ pub fn container(width: usize, depth: usize) -> BlockGroup {
     BlockGroup {
         blocks,
         pinned: true,
+        boundary: None,
     }
 }

@@ -122,6 +122,7 @@ impl Factory {
         let mut body = Body2::from_group(&BlockGroup {
             blocks,
             pinned: false,
+            boundary: None,
         });
         body.x = at;
         body

@@ -121,31 +121,62 @@ pub fn outcome_scene_2d(
     reference_path: &std::path::Path,
     given: Option<&std::path::Path>,
 ) -> Result<Option<(Vec<Body2>, std::path::PathBuf)>, String> {
+    // The scene's bodies in the trace's order: the trace may number them otherwise than the
+    // file loads them (a run with `--preset starter` numbers an image column by column).
     let load = |path: &std::path::Path| {
         crate::blocks2d::scene::load_2d(path, &Default::default())
-            .map(|s| s.world.bodies)
+            .map(|s| in_trace_order(s.world.bodies, reference))
             .map_err(|e| e.0)
     };
     if let Some(path) = given {
-        let bodies = load(path)?;
-        if bodies.len() != reference.header.bodies.len() {
+        let Some(bodies) = load(path)? else {
             return Err(format!(
-                "{}: {} bodies, the reference trace {}: not its scene",
+                "{}: its bodies are not the reference trace's (another number, or blocks not \
+                 where the trace's bodies start): not its scene",
                 path.display(),
-                bodies.len(),
-                reference.header.bodies.len()
             ));
-        }
+        };
         return Ok(Some((bodies, path.to_path_buf())));
     }
     Ok(
-        super::outcome::source_candidates(&reference.header.source, reference_path).find_map(|p| {
-            load(&p)
-                .ok()
-                .filter(|b| b.len() == reference.header.bodies.len())
-                .map(|b| (b, p))
-        }),
+        super::outcome::source_candidates(&reference.header.source, reference_path)
+            .find_map(|p| load(&p).ok().flatten().map(|b| (b, p))),
     )
+}
+
+/// `bodies` in the order of the trace's bodies, `None` when they are not the same bodies: each
+/// trace body takes the unmatched body with its block count whose centre of mass is nearest the
+/// trace's first recorded centre, within half a block (the masses are not compared: the
+/// starter's image reader computes them from 32-bit colours).
+fn in_trace_order(bodies: Vec<Body2>, trace: &Trace2) -> Option<Vec<Body2>> {
+    let header = &trace.header.bodies;
+    let first = trace.records.first()?;
+    if bodies.len() != header.len() || first.bodies.len() != header.len() {
+        return None;
+    }
+    let mut slots: Vec<Option<Body2>> = bodies.into_iter().map(Some).collect();
+    let mut ordered = Vec::with_capacity(header.len());
+    for (info, state) in header.iter().zip(&first.bodies) {
+        let centre = Vector2::from(state.x);
+        let best = (0..slots.len())
+            .filter(|&k| {
+                slots[k]
+                    .as_ref()
+                    .is_some_and(|b| b.blocks.len() == info.blocks)
+            })
+            .map(|k| {
+                (
+                    k,
+                    (slots[k]
+                        .as_ref()
+                        .map_or(f64::INFINITY, |b| (b.x - centre).norm())),
+                )
+            })
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .filter(|&(_, d)| d <= 0.5)?;
+        ordered.push(slots[best.0].take()?);
+    }
+    Some(ordered)
 }
 
 /// Outcome mode for 2D traces (module documentation). `shapes`, the reference scene's bodies in
