@@ -99,6 +99,12 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
             eprintln!("overrides      {}", scene.overrides.join(", "));
         }
         print_summary(&world, ran, wall, start, &stats);
+        if watch.warnings > 0 {
+            eprintln!(
+                "watch          {} warnings about interpenetration or detection, printed above as they happened (docs/contact.md §\"Never silent\")",
+                watch.warnings
+            );
+        }
         if let Some(line) = check {
             eprintln!("{line}");
         }

@@ -35,6 +35,8 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     stabilization     Baumgarte β in [0, 1]: fraction of the penetration beyond the
                       slop pushed out per step                         0.2 (starter: 0)
     stabilization_slop  penetration left alone, m                      0.005
+    stabilization_max_speed  the largest push-out velocity, m/s: bodies
+                      written overlapping are pushed apart, not launched  1
     warm_start        start PGS from the previous substep's impulses   true (starter: false)
     pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
     pgs_order         \"sequential\" (problem order; also \"found\"), \"random\" (seeded

@@ -42,6 +42,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     println!("compliance       {} kg⁻¹", p.compliance);
     println!("stabilization    {}", p.stabilization);
     println!("stabilization_slop {} m", p.stabilization_slop);
+    println!("stabilization_max_speed {} m/s", p.stabilization_max_speed);
     println!("warm_start       {}", p.warm_start);
     match p.pgs_tolerance {
         Some(t) => println!("pgs_tolerance    {t} m/s"),

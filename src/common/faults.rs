@@ -28,6 +28,9 @@ pub struct Faults {
     /// Detection keeps every pair's candidate list however far the pair has moved
     /// (docs/contact.md §"Temporal coherence").
     pub stale_detection_cache: bool,
+    /// `collision: complete` takes the face axis of greatest penetration instead of least: a
+    /// normal in the contact plane, as deep as a body's width (the GJK/EPA failure of issue 46).
+    pub deepest_face_axis: bool,
 }
 
 #[cfg(feature = "fault-injection")]
@@ -39,6 +42,7 @@ impl Faults {
         no_gyroscopic_term: false,
         transposed_world_inertia: false,
         stale_detection_cache: false,
+        deepest_face_axis: false,
     };
 }
 

@@ -24,11 +24,13 @@ pub struct ProblemSettings {
     pub stabilization: f64,
     /// Penetration left alone by stabilisation, m.
     pub slop: f64,
+    /// The largest push-out velocity β e / h of one contact, m/s.
+    pub max_push_speed: f64,
 }
 
 /// The contact problem of the current substep: every body (its world M⁻¹ and velocity after the
 /// velocity step), and per contact J₁ = [dᵀ (r₁×d)ᵀ] and J₂ = −[dᵀ (r₂×d)ᵀ] for d = n, t1, t2,
-/// rᵢ = p − xᵢ, b = J₁u₁ + J₂u₂ − (β/h) max(depth − slop, 0) e_n + (gap/h) e_n with
+/// rᵢ = p − xᵢ, b = J₁u₁ + J₂u₂ − min((β/h) max(depth − slop, 0), v_max) e_n + (gap/h) e_n with
 /// gap = max(−depth, 0) (a speculative contact), and λ₀ from `warm`.
 pub fn assemble_problem(
     bodies: &[RigidBody],
@@ -78,7 +80,8 @@ pub fn assemble_problem_into(
             if let Some(body2) = c.body2 {
                 b += j2 * problem_bodies[body2].velocity;
             }
-            b[0] -= settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
+            let push = settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
+            b[0] -= push.min(settings.max_push_speed);
             // A speculative contact (`collision: complete`, a gap of −depth): the bodies may
             // close the gap within the step, no more (docs/contact.md §"Speculative contacts").
             if c.depth < 0.0 {

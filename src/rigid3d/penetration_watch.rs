@@ -1,8 +1,12 @@
 //! Watching the penetration measure during a run: the deepest interpenetration seen, and one
-//! warning per pair of bodies (or body and ground) the first time it exceeds its bound.
-//! docs/contact.md §"Penetration measure".
+//! warning per pair of bodies (or body and ground) the first time it exceeds its bound, the
+//! first time a contact found between them is deeper than the bound, and the first time a
+//! contact is deeper than the bodies overlap by the measure (which reads the separating-axis
+//! oracle, not the contacts). docs/contact.md §"Penetration measure", §"Never silent".
 
 use crate::rigid3d::collide::CollisionMethod;
+use crate::rigid3d::collide::audit::preferred_depth_bound;
+use crate::rigid3d::collide::penetration::PENETRATION_BOUND;
 use crate::rigid3d::world::World;
 use std::collections::HashSet;
 
@@ -16,6 +20,12 @@ pub struct InterpenetrationWatch {
     warned: HashSet<(usize, Option<usize>)>,
     /// Pairs already warned about resting deep in each other.
     warned_resting: HashSet<(usize, Option<usize>)>,
+    /// Pairs already warned about a contact deeper than the bound.
+    warned_deep_contact: HashSet<(usize, usize)>,
+    /// Pairs already warned about a contact deeper than the measured overlap.
+    warned_disagreeing: HashSet<(usize, usize)>,
+    /// Warnings given so far (every kind), for the run's summary.
+    pub warnings: usize,
 }
 
 /// A pair at rest deeper than this fraction of the smaller body's size gets a warning
@@ -30,7 +40,7 @@ impl InterpenetrationWatch {
     /// that exceeds its bound for the first time in this run. A run without collision checking
     /// (`check_collisions: false`) asked for bodies to pass through each other: it gets none.
     pub fn observe(&mut self, world: &World) -> Vec<String> {
-        let mut warnings = Vec::new();
+        let mut warnings = self.contacts_against_measure(world);
         let at_rest = |i: usize| {
             let b = &world.bodies[i];
             let radius = crate::rigid3d::collide::penetration::mesh_size(&b.mesh);
@@ -79,6 +89,20 @@ impl InterpenetrationWatch {
                 Some(j) => format!("{} and {}", name(p.body1), name(j)),
                 None => format!("{} and the ground", name(p.body1)),
             };
+            let found = match p.body2 {
+                Some(j) => {
+                    let between = world
+                        .solves
+                        .last()
+                        .map_or(0, |s| s.contacts.iter().filter(|c| pair_of(c) == Some((p.body1, j))).count());
+                    if between == 0 {
+                        "; no contact between them was found".to_string()
+                    } else {
+                        format!("; {between} contacts between them were found")
+                    }
+                }
+                None => String::new(),
+            };
             let advice = match (world.params.collision, p.body2) {
                 (CollisionMethod::Vertices, Some(_)) => {
                     "the vertex rule missed their contacts; `collision: complete` (or --set collision=complete) finds them"
@@ -88,13 +112,80 @@ impl InterpenetrationWatch {
                 }
             };
             warnings.push(format!(
-                "warning: step {} (t = {} s): {pair} interpenetrate by {:.4} m, more than the bound {:.4} m (a quarter of the smaller body's size): {advice}",
+                "warning: step {} (t = {} s): {pair} interpenetrate by {:.4} m, more than the bound {:.4} m (a quarter of the smaller body's size){found}: {advice}",
                 world.step,
                 world.time(),
                 p.depth,
                 p.bound
             ));
         }
+        self.warnings += warnings.len();
         warnings
     }
+
+    /// The warnings about the last substep's contacts between bodies: one deeper than the
+    /// bound, or one deeper than the bodies overlap by the measure (convex bodies; the measure
+    /// is taken after the step, so it is allowed the bodies' motion since detection).
+    fn contacts_against_measure(&mut self, world: &World) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let Some(solve) = world.solves.last() else {
+            return warnings;
+        };
+        let colliders = world.colliders();
+        let name = |i: usize| format!("body {i} ({:?})", world.bodies[i].name);
+        // The last substep's deepest contact of each body pair, in the order first found.
+        let mut deepest: Vec<((usize, usize), f64)> = Vec::new();
+        for c in &solve.contacts {
+            let Some(pair) = pair_of(c) else { continue };
+            match deepest.iter_mut().find(|(p, _)| *p == pair) {
+                Some((_, d)) => *d = d.max(c.depth),
+                None => deepest.push((pair, c.depth)),
+            }
+        }
+        let motion_steps = f64::from(world.params.substeps - solve.substep);
+        let h = world.params.h();
+        for ((i, j), depth) in deepest {
+            let bound = PENETRATION_BOUND * colliders[i].size().min(colliders[j].size());
+            if depth > bound && self.warned_deep_contact.insert((i, j)) {
+                warnings.push(format!(
+                    "warning: step {} (t = {} s): a contact between {} and {} is {depth:.4} m deep, more than the bound {bound:.4} m (a quarter of the smaller body's size): the step let them pass far into each other (too fast for the step), or detection is wrong there",
+                    world.step,
+                    world.time(),
+                    name(i),
+                    name(j)
+                ));
+            }
+            let convex = |k: usize| colliders[k].pieces.convex && world.bodies[k].ellipsoid.is_none();
+            if !(convex(i) && convex(j)) {
+                continue;
+            }
+            let measured = world
+                .penetrations
+                .iter()
+                .find(|p| p.body1 == i && p.body2 == Some(j))
+                .map_or(0.0, |p| p.depth);
+            let speed = |k: usize| {
+                let b = &world.bodies[k];
+                b.v.norm() + b.omega.norm() * colliders[k].radius()
+            };
+            let motion = motion_steps * h * (speed(i) + speed(j));
+            let radius = colliders[i].radius().max(colliders[j].radius());
+            let allowed = preferred_depth_bound(measured + motion, radius);
+            if depth > allowed && self.warned_disagreeing.insert((i, j)) {
+                warnings.push(format!(
+                    "warning: step {} (t = {} s): a contact between {} and {} is {depth:.4} m deep, but the bodies overlap by {measured:.4} m (measured by separating axes, independently of the contacts; {allowed:.4} m allowed for the motion since): detection found a contact that is not there",
+                    world.step,
+                    world.time(),
+                    name(i),
+                    name(j)
+                ));
+            }
+        }
+        warnings
+    }
+}
+
+/// A contact's body pair, lower index first; `None` for a ground contact.
+fn pair_of(c: &crate::rigid3d::collide::Contact) -> Option<(usize, usize)> {
+    c.body2.map(|j| (c.body1.min(j), c.body1.max(j)))
 }

@@ -17,6 +17,7 @@
 
 use crate::rigid3d::assemble::{ProblemSettings, assemble_problem_into};
 use crate::rigid3d::body::RigidBody;
+use crate::rigid3d::collide::audit::DetectionAudit;
 use crate::rigid3d::collide::detect::Detector;
 use crate::rigid3d::collide::penetration::Penetration;
 use crate::rigid3d::collide::pieces::ConvexPieces;
@@ -57,6 +58,9 @@ pub struct World {
     contact_buffer: Vec<Contact>,
     /// Wall time spent in each phase of the step since the world was made (`rigidref bench`).
     pub phase_times: PhaseTimes,
+    /// Detection held against the oracle on every substep, when switched on
+    /// ([`World::audit_detection`]; `rigidref crosscheck`).
+    audit: Option<Box<DetectionAudit>>,
 }
 
 impl World {
@@ -136,6 +140,7 @@ impl World {
             workspace: SolverWorkspace::with_threads(scene.params.pgs_seed, scene.params.threads),
             contact_buffer: Vec::new(),
             phase_times: PhaseTimes::default(),
+            audit: None,
         };
         world.measure_penetration();
         Ok(world)
@@ -150,6 +155,17 @@ impl World {
     /// (`check_detection`). docs/contact.md §"Temporal coherence".
     pub fn detection_stats(&self) -> crate::common::pair_cache::CacheStats {
         self.detector.stats()
+    }
+
+    /// From now on, hold detection against the separating-axis oracle on every substep
+    /// (docs/contact.md §"The oracle campaign"); the totals are [`World::detection_audit`].
+    pub fn audit_detection(&mut self) {
+        self.audit.get_or_insert_with(Default::default);
+    }
+
+    /// The detection audit's totals, when switched on.
+    pub fn detection_audit(&self) -> Option<&DetectionAudit> {
+        self.audit.as_deref()
     }
 
     /// Re-measures [`World::penetrations`] for the current state.
@@ -176,6 +192,7 @@ impl World {
             compliance: p.compliance,
             stabilization: p.stabilization,
             slop: p.stabilization_slop,
+            max_push_speed: p.stabilization_max_speed,
         }
     }
 
@@ -211,6 +228,15 @@ impl World {
             &mut contacts,
         );
         self.phase_times.detect += clock.elapsed().as_secs_f64();
+        if let Some(audit) = &mut self.audit {
+            audit.check(
+                &self.bodies,
+                &self.colliders,
+                &contacts,
+                self.params.collision == crate::rigid3d::collide::CollisionMethod::Complete,
+                (self.step + 1, substep),
+            );
+        }
         if contacts.is_empty() {
             self.warm_start.clear();
             self.contact_buffer = contacts;

@@ -6,101 +6,14 @@
 //! nudged by a few ulps. docs/contact.md §"The oracle campaign"; docs/verification.md.
 
 use crate::rigid3d::body::RigidBody;
+pub use crate::rigid3d::collide::audit::{AUDIT_TOLERANCE, PairCheck, check_pair, preferred_depth_bound};
 use crate::rigid3d::collide::sat::OracleBuffers;
-use crate::rigid3d::collide::separating_axes::{AXIS_TIE_TOLERANCE, EDGE_PREFERENCE, FACE_B_PREFERENCE};
-use crate::rigid3d::collide::{CollisionMethod, Contact, Feature, MeshCollider, detect_contacts};
+use crate::rigid3d::collide::{CollisionMethod, Contact, MeshCollider, detect_contacts};
 use crate::rigid3d::mesh::TriMesh;
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
-
-/// The comparison's round-off allowance, as a fraction of the larger body's bounding radius:
-/// detection works in one body's frame and the oracle in the world's, so their projections
-/// differ by round-off of the coordinates (about 1e-16 of the farthest coordinate; the campaign
-/// places bodies up to 1 km from the origin, where that is 1e-13 m against radii of 0.1 m).
-pub const CAMPAIGN_TOLERANCE: f64 = 1e-9;
-
-/// What one pair's check found.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PairCheck {
-    /// The oracle's penetration depth (minimum translation distance), m.
-    pub depth: f64,
-    /// Contacts detection found between the pair.
-    pub contacts: usize,
-    /// The deepest of them, m.
-    pub deepest: f64,
-    /// The largest overlap of the pair along a manifold contact's normal, m.
-    pub normal_overlap: f64,
-    /// What disagrees with the oracle beyond the stated bounds (empty when all agree).
-    pub disagreements: Vec<String>,
-}
-
-/// The largest depth a manifold contact may report for an exact penetration depth `depth`, m:
-/// the face preferences' bound (docs/contact.md §"Exact convex contact") plus round-off.
-pub fn preferred_depth_bound(depth: f64, radius: f64) -> f64 {
-    let tie = AXIS_TIE_TOLERANCE * radius;
-    (depth + 2.0 * tie) / (EDGE_PREFERENCE * FACE_B_PREFERENCE) + CAMPAIGN_TOLERANCE * radius
-}
-
-/// Checks the contacts `found` between bodies 0 and 1 (each one convex piece) against the
-/// oracle: an overlap beyond the tolerance has a contact at least that deep (none missed); no
-/// contact is deeper than the bound (vertex-rule contacts: than the overlap itself, since a
-/// vertex inside a convex body is at most the overlap from its surface); and along every
-/// manifold contact's normal the bodies overlap by at most the bound (the normal is an axis of
-/// least penetration, up to the face preferences), so a contact along the wrong axis, deep by a
-/// body's width, disagrees.
-pub fn check_pair(
-    bodies: [&RigidBody; 2],
-    colliders: [&MeshCollider; 2],
-    found: &[Contact],
-    oracle: &mut OracleBuffers,
-) -> PairCheck {
-    let pieces = [&colliders[0].pieces.pieces[0], &colliders[1].pieces.pieces[0]];
-    let placed = |k: usize| (pieces[k], &bodies[k].rotation, &bodies[k].x);
-    let radius = colliders[0].radius().max(colliders[1].radius());
-    let tolerance = CAMPAIGN_TOLERANCE * radius;
-    let depth = oracle.depth(placed(0), placed(1), false);
-    let bound = preferred_depth_bound(depth, radius);
-    let mut check = PairCheck {
-        depth,
-        ..PairCheck::default()
-    };
-    for c in found.iter().filter(|c| c.body2.is_some()) {
-        check.contacts += 1;
-        check.deepest = check.deepest.max(c.depth);
-        let manifold = matches!(c.feature, Feature::Manifold { .. });
-        let limit = if manifold { bound } else { depth + tolerance };
-        if c.depth > limit {
-            check.disagreements.push(format!(
-                "contact {:?} at {:?} is {:e} m deep, more than the bodies overlap ({depth:e} m; allowed {limit:e})",
-                c.feature,
-                c.point.as_slice(),
-                c.depth
-            ));
-        }
-        if manifold {
-            let along = oracle.overlap_along(placed(0), placed(1), &c.frame.n);
-            check.normal_overlap = check.normal_overlap.max(along);
-            if along > bound {
-                check.disagreements.push(format!(
-                    "contact {:?} has normal {:?}, along which the bodies overlap by {along:e} m, not an axis of least penetration ({depth:e} m; allowed {bound:e})",
-                    c.feature,
-                    c.frame.n.as_slice()
-                ));
-            }
-        }
-    }
-    // The deepest contact reaches the overlap, up to the face preference's allowance.
-    let shortfall = (1.0 - EDGE_PREFERENCE) * depth + AXIS_TIE_TOLERANCE * radius + tolerance;
-    if depth > tolerance && check.deepest < depth - shortfall {
-        check.disagreements.push(format!(
-            "the bodies overlap by {depth:e} m but the deepest contact between them is {:e} m ({} contacts)",
-            check.deepest, check.contacts
-        ));
-    }
-    check
-}
 
 /// How a campaign pose was made.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -169,8 +82,11 @@ pub struct CampaignReport {
     pub disagreements: u64,
     /// The first few disagreements, with the pose that gave them.
     pub examples: Vec<String>,
-    /// The largest deepest-contact / oracle depth over overlapping pairs.
+    /// The largest deepest-contact / oracle depth over pairs overlapping by more than 1e-6 of
+    /// the radius.
     pub worst_depth_ratio: f64,
+    /// The smallest, over the same pairs.
+    pub least_depth_ratio: f64,
 }
 
 impl DetectionCampaign {
@@ -239,7 +155,10 @@ impl DetectionCampaign {
     /// Runs `pairs` poses from `seed`, cycling through [`POSE_KINDS`].
     pub fn run(&mut self, pairs: u64, seed: u64) -> CampaignReport {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut report = CampaignReport::default();
+        let mut report = CampaignReport {
+            least_depth_ratio: f64::INFINITY,
+            ..CampaignReport::default()
+        };
         for k in 0..pairs {
             let kind = POSE_KINDS[(k % POSE_KINDS.len() as u64) as usize];
             let case_seed: u64 = rng.random();
@@ -248,27 +167,60 @@ impl DetectionCampaign {
         report
     }
 
-    /// One pose of `kind` from `seed`, checked, its counts added to `report`.
-    pub fn check_case(&mut self, kind: PoseKind, seed: u64, report: &mut CampaignReport) {
-        let (a, b, bodies) = self.pose(kind, seed);
+    /// Meshes in the campaign.
+    pub fn mesh_count(&self) -> usize {
+        self.meshes.len()
+    }
+
+    /// Mesh `a` at (x_a, R_a) and mesh `b` at (x_b, R_b) as bodies.
+    pub fn bodies(
+        &self,
+        (a, x_a, r_a): (usize, Vector3<f64>, Matrix3<f64>),
+        (b, x_b, r_b): (usize, Vector3<f64>, Matrix3<f64>),
+    ) -> [RigidBody; 2] {
+        let body = |mesh: usize, x: Vector3<f64>, r: Matrix3<f64>| {
+            let mut body =
+                RigidBody::new("campaign", 1.0, Matrix3::identity(), self.meshes[mesh].clone());
+            body.x = x;
+            body.rotation = r;
+            body
+        };
+        [body(a, x_a, r_a), body(b, x_b, r_b)]
+    }
+
+    /// `collision: complete`'s contacts between two bodies of meshes `a` and `b`, checked
+    /// against the oracle.
+    pub fn check_bodies(&mut self, (a, b): (usize, usize), bodies: &[RigidBody; 2]) -> PairCheck {
         detect_contacts(
-            &bodies,
+            bodies,
             &[self.colliders[a].clone(), self.colliders[b].clone()],
             CollisionMethod::Complete,
             &mut self.contacts,
         );
-        let check = check_pair(
+        self.contacts.retain(|c| c.body2.is_some());
+        check_pair(
             [&bodies[0], &bodies[1]],
             [&self.colliders[a], &self.colliders[b]],
             &self.contacts,
+            true,
             &mut self.oracle,
-        );
+        )
+    }
+
+    /// One pose of `kind` from `seed`, checked, its counts added to `report`.
+    pub fn check_case(&mut self, kind: PoseKind, seed: u64, report: &mut CampaignReport) {
+        let (a, b, bodies) = self.pose(kind, seed);
+        let check = self.check_bodies((a, b), &bodies);
         let radius = self.colliders[a].radius().max(self.colliders[b].radius());
         report.pairs += 1;
         report.contacts += check.contacts as u64;
-        if check.depth > CAMPAIGN_TOLERANCE * radius {
+        if check.depth > AUDIT_TOLERANCE * radius {
             report.overlapping += 1;
-            report.worst_depth_ratio = report.worst_depth_ratio.max(check.deepest / check.depth);
+            // The ratio says something only where the depth is above round-off.
+            if check.depth > 1e-6 * radius {
+                report.worst_depth_ratio = report.worst_depth_ratio.max(check.deepest / check.depth);
+                report.least_depth_ratio = report.least_depth_ratio.min(check.deepest / check.depth);
+            }
         } else {
             let boxes = [
                 self.colliders[a].world_aabb(&bodies[0]),
@@ -306,10 +258,7 @@ impl DetectionCampaign {
             _ => Vector3::new(1000.0, 0.3, -1000.0),
         };
         let body = |mesh: usize, x: Vector3<f64>, r: Matrix3<f64>| {
-            let mut body =
-                RigidBody::new("campaign", 1.0, Matrix3::identity(), self.meshes[mesh].clone());
-            body.x = x;
-            body.rotation = r;
+            let [body, _] = self.bodies((mesh, x, r), (mesh, x, r));
             body
         };
         let random_rotation = |rng: &mut ChaCha8Rng| {

@@ -250,6 +250,7 @@ pub mod problems {
             compliance,
             stabilization: 0.0,
             slop: 0.0,
+            max_push_speed: f64::INFINITY,
         };
         let mut problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         for (c, s) in problem.contacts.iter_mut().zip(&spec.contacts) {

@@ -11,6 +11,7 @@ use print::{describe_verdict, print_summary, print_table};
 pub use report::Unverified;
 use report::{Limits, Row, summarise};
 use rigidref::problem::local_json::AnyProblemFile;
+use rigidref::rigid3d::collide::audit::DetectionAudit;
 use rigidref::rigid3d::penetration_watch::InterpenetrationWatch;
 use rigidref::rigid3d::world::World;
 use rigidref::sim::{Flow, Simulation, drive, steps_in};
@@ -44,7 +45,13 @@ the exact solver's own answers instead. For cone friction the exact Coulomb law'
 the answers is reported too. The verdict is one of three: agree (every problem verified within
 tolerance; exit status 0), unverified (none disagrees, but some could not be checked; exit status
 3), disagree (some comparison exceeds its tolerance or clarabel fails; exit status 1). With
---strict, unverified problems count as disagreeing. Formulations: docs/contact.md §\"Convex formulations\".")]
+--strict, unverified problems count as disagreeing.
+
+A 3D scene's detection is checked too: on every substep, each pair of convex bodies within
+reach has its contacts held against the separating-axis oracle (which shares no code with
+detection): an overlap with no contact as deep, a contact deeper than the bodies overlap, or a
+manifold normal along which they overlap by more than the least-penetration depth (up to the face
+preferences' 11 %) is a disagreement (docs/contact.md §\"The oracle campaign\"). Formulations: docs/contact.md §\"Convex formulations\".")]
 pub struct CrosscheckArgs {
     /// A scene file (3D, or 2D: an image or a 2D scene file), a contact-problem file (from
     /// `run --dump-problems`), or a folder of them. Without one, the built-in default scene.
@@ -90,7 +97,8 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     let mut settings = CrosscheckSettings::default();
     settings.pgs.local = args.pgs_local_solve.unwrap_or_default();
     let mut penetration = None;
-    let (input, rows) = rows_of(&args, &mut settings, &mut penetration)?;
+    let mut detection = None;
+    let (input, rows) = rows_of(&args, &mut settings, (&mut penetration, &mut detection))?;
     let limits = Limits {
         tolerance: args.tolerance,
         objective_tolerance: args.objective_tolerance,
@@ -99,6 +107,11 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     let mut summary = summarise(&input, &rows, &limits);
     summary.deepest_penetration = penetration.map(|(depth, _)| depth);
     summary.deepest_penetration_step = penetration.map(|(_, step)| step);
+    summary.detection = detection.as_ref().map(report::DetectionSummary::of);
+    if summary.detection.as_ref().is_some_and(|d| d.disagreements > 0) {
+        summary.verdict = "disagree";
+        summary.passed = false;
+    }
     if args.json {
         let value = if args.table {
             serde_json::json!({"summary": summary, "problems": rows})
@@ -127,11 +140,13 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
 /// file, a 2D scene (an image with the default parameters, or a 2D scene file with its own) or a
 /// 3D scene, run for --time.
 /// For a 3D scene, `penetration` receives the run's deepest measured interpenetration (m) and
-/// the step after which it was measured (docs/contact.md §"Penetration measure").
+/// the step after which it was measured (docs/contact.md §"Penetration measure"), and
+/// `detection` the audit of every substep's contacts against the separating-axis oracle
+/// (docs/contact.md §"The oracle campaign").
 fn rows_of(
     args: &CrosscheckArgs,
     settings: &mut CrosscheckSettings,
-    penetration: &mut Option<(f64, u64)>,
+    (penetration, detection): (&mut Option<(f64, u64)>, &mut Option<DetectionAudit>),
 ) -> anyhow::Result<(String, Vec<Row>)> {
     Ok(match &args.input {
         Some(path) if path.is_dir() => (path.display().to_string(), check_folder(path, settings)?),
@@ -158,6 +173,7 @@ fn rows_of(
                 );
             }
             let mut world = World::new(&scene).map_err(anyhow::Error::msg)?;
+            world.audit_detection();
             settings.pgs.local = args.pgs_local_solve.unwrap_or(scene.params.pgs_local_solve);
             settings.solver = scene.params.solver;
             let mut watch = InterpenetrationWatch::default();
@@ -169,6 +185,7 @@ fn rows_of(
                 eprintln!("{w}");
             }
             *penetration = Some((watch.deepest, watch.deepest_step));
+            *detection = world.detection_audit().cloned();
             (scene.source.clone(), rows)
         }
     })

@@ -109,6 +109,29 @@ pub(crate) fn print_summary(s: &Summary) {
             "penetration      deepest {depth:.3e} m, after step {step} (measured between the bodies, whatever contacts were found)"
         );
     }
+    if let Some(d) = &s.detection {
+        println!(
+            "detection        {} pairs checked against the separating-axis oracle ({} overlapping, {} contacts between bodies, {} pairs not convex, not checked): {}",
+            d.pairs,
+            d.overlapping,
+            d.contacts,
+            d.skipped,
+            if d.disagreements == 0 {
+                "agree".to_string()
+            } else {
+                format!("{} disagree", d.disagreements)
+            }
+        );
+        if d.vertex_rule_short > 0 {
+            println!(
+                "                 {} overlapping pairs whose vertex-rule contacts do not reach the overlap (the assignment's rule misses edge crossings and faces on faces; `collision: complete` finds them)",
+                d.vertex_rule_short
+            );
+        }
+        for e in &d.examples {
+            println!("  {e}");
+        }
+    }
     println!("result           {}", describe_verdict(s));
 }
 
@@ -116,13 +139,20 @@ pub(crate) fn print_summary(s: &Summary) {
 pub(crate) fn describe_verdict(s: &Summary) -> String {
     match s.verdict {
         "disagree" => format!(
-            "disagree: {} of {} problems beyond the tolerance{}",
+            "disagree: {} of {} problems beyond the tolerance{}{}",
             s.failures,
             s.problems,
             if s.unverified > 0 {
                 format!(" ({} more unverified: not converged)", s.unverified)
             } else {
                 String::new()
+            },
+            match &s.detection {
+                Some(d) if d.disagreements > 0 => format!(
+                    "; detection disagrees with the oracle on {} pairs",
+                    d.disagreements
+                ),
+                _ => String::new(),
             }
         ),
         "unverified" => format!(

@@ -59,6 +59,42 @@ pub(crate) struct Summary {
     /// The step after which it was measured.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) deepest_penetration_step: Option<u64>,
+    /// 3D scenes: every substep's contacts held against the separating-axis oracle.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) detection: Option<DetectionSummary>,
+}
+
+/// The detection audit of a 3D run (docs/contact.md §"The oracle campaign").
+#[derive(serde::Serialize)]
+pub(crate) struct DetectionSummary {
+    /// Body pairs checked, summed over the substeps.
+    pub(crate) pairs: u64,
+    /// Of those, pairs overlapping by the oracle.
+    pub(crate) overlapping: u64,
+    /// Contacts between bodies checked.
+    pub(crate) contacts: u64,
+    /// Pairs not checked: a body not convex, or an analytic ellipsoid.
+    pub(crate) skipped: u64,
+    /// Pairs whose contacts disagree with the oracle.
+    pub(crate) disagreements: u64,
+    /// With the vertex rule: overlapping pairs its contacts do not reach (its known misses).
+    pub(crate) vertex_rule_short: u64,
+    /// The first few, with body names, step and substep.
+    pub(crate) examples: Vec<String>,
+}
+
+impl DetectionSummary {
+    pub(crate) fn of(a: &rigidref::rigid3d::collide::audit::DetectionAudit) -> DetectionSummary {
+        DetectionSummary {
+            pairs: a.pairs,
+            overlapping: a.overlapping,
+            contacts: a.contacts,
+            skipped: a.skipped,
+            disagreements: a.disagreements,
+            vertex_rule_short: a.vertex_rule_short,
+            examples: a.examples.clone(),
+        }
+    }
 }
 
 /// The exact reference over a run (PGS under test).
@@ -181,6 +217,7 @@ pub(crate) fn summarise(input: &str, rows: &[Row], args: &Limits) -> Summary {
             .reduce(f64::max),
         deepest_penetration: None,
         deepest_penetration_step: None,
+        detection: None,
     }
 }
 

@@ -21,12 +21,14 @@
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
 //!   vertex rule misses (edge–edge crossings, faces on faces);
 //! - [`sat`]: the oracle, separating axes by brute force (sharing no code with detection);
+//! - [`audit`]: a pair's contacts held against the oracle (the campaign, crosscheck, the watch);
 //! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, by the
 //!   oracle.
 //!
 //! A contact always has the vertex owner as body 1 and the body it penetrates (or the ground) as
 //! body 2, so the normal (out of body 2) is the direction body 1 must move to separate.
 
+pub mod audit;
 pub mod closest_point;
 pub mod coherence;
 pub mod detect;

@@ -196,14 +196,33 @@ impl SatBuffers {
         };
         // 1. Face axes of A, then of B (B's plane moved into A's frame).
         let mut face_a = (usize::MAX, f64::NEG_INFINITY);
+        // The teeth tests' deliberate bug: the face of greatest penetration, as GJK/EPA gave in
+        // degenerate poses (docs/verification.md §"Teeth").
+        let wrong = crate::common::faults::fault!(deepest_face_axis);
         for (f, face) in a.faces.iter().enumerate() {
             let gap = lowest(bv, &face.normal) - face.offset;
             if gap > stop_above {
                 return None;
             }
-            if gap > face_a.1 {
+            let better = if wrong {
+                face_a.0 == usize::MAX || gap < face_a.1
+            } else {
+                gap > face_a.1
+            };
+            if better {
                 face_a = (f, gap);
             }
+        }
+        if wrong {
+            let (f, gap) = face_a;
+            return Some(LeastPenetration {
+                axis: Axis::FaceOfA(f),
+                normal: a.faces[f].normal,
+                gap,
+                exact_axis: Axis::FaceOfA(f),
+                exact_normal: a.faces[f].normal,
+                exact_gap: gap,
+            });
         }
         let mut face_b = (usize::MAX, f64::NEG_INFINITY);
         for (g, face) in b.faces.iter().enumerate() {

@@ -1,7 +1,7 @@
 //! The JSON shapes of the 3D assignment's scene and body files, and the one reader that turns
 //! serde errors into `file:line:column: key.path: message` and unknown keys into warnings.
 
-use super::params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
+use super::params::{DEFAULT_MAX_PUSH_SPEED, DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
 use super::values::{Inertia, Orientation, Vec3, ZeroDamping};
 use crate::common::preset::Preset;
 use crate::common::scene_json::SceneError;
@@ -42,6 +42,7 @@ pub(super) struct SimParametersJson {
     compliance: Option<NonNegative>,
     stabilization: Option<Fraction>,
     stabilization_slop: Option<NonNegative>,
+    stabilization_max_speed: Option<Positive>,
     warm_start: Option<bool>,
     pgs_tolerance: Option<Positive>,
     pgs_order: Option<ContactOrder>,
@@ -83,6 +84,9 @@ impl SimParametersJson {
                 .stabilization
                 .map_or(if starter { 0.0 } else { DEFAULT_STABILIZATION }, |x| x.0),
             stabilization_slop: self.stabilization_slop.map_or(DEFAULT_SLOP, |x| x.0),
+            stabilization_max_speed: self
+                .stabilization_max_speed
+                .map_or(DEFAULT_MAX_PUSH_SPEED, |x| x.0),
             warm_start: self.warm_start.unwrap_or(!starter),
             pgs_tolerance: self.pgs_tolerance.map(|x| x.0),
             pgs_order: self.pgs_order.unwrap_or_default(),

@@ -7,7 +7,7 @@ pub(crate) mod json;
 pub mod params;
 pub mod values;
 
-pub use params::{DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
+pub use params::{DEFAULT_MAX_PUSH_SPEED, DEFAULT_SLOP, DEFAULT_STABILIZATION, SimParameters};
 
 use crate::rigid3d::mesh::TriMesh;
 use nalgebra::{Matrix3, Vector3};

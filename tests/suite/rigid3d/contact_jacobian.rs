@@ -147,7 +147,7 @@ fn delassus_block_is_symmetric_psd_and_equals_the_dense_product() {
             let body2 = if b2 < 3 && b2 != b1 { Some(b2) } else { None };
             Contact { body1: b1, body2, feature: rigidref::rigid3d::collide::Feature::Vertex(0), point: p, frame: ContactFrame::from_normal(&n), depth }
         }).collect();
-        let settings = ProblemSettings { h: 0.01, mu: 0.5, friction: FrictionModel::Box, compliance: 0.0, stabilization: 0.2, slop: 0.0, };
+        let settings = ProblemSettings { h: 0.01, mu: 0.5, friction: FrictionModel::Box, compliance: 0.0, stabilization: 0.2, slop: 0.0, max_push_speed: f64::INFINITY, };
         let problem = assemble_problem(&bodies, &contacts, &settings, &WarmStart::new(false));
         let dense = problem.dense_delassus();
         let scale = dense.amax();

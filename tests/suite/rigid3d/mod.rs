@@ -9,6 +9,7 @@ mod complete;
 mod contact_jacobian;
 mod contact_scenes;
 mod dzhanibekov;
+mod exact_contact;
 mod integrators;
 mod massprops;
 mod projectile;

@@ -340,6 +340,7 @@ fn compliance_with_baumgarte_is_a_spring_damper() {
             compliance: c,
             stabilization: beta,
             slop,
+            max_push_speed: f64::INFINITY,
         };
         let problem = assemble_problem(&[body], &[contact], &settings, &WarmStart::new(false));
         let (lambda, report) = pgs(&problem, LocalSolve::Exact, 1, None);

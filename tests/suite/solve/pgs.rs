@@ -202,6 +202,7 @@ pub(super) fn box_on_ground(
         compliance: 0.0,
         stabilization: 0.0,
         slop: 0.0,
+        max_push_speed: f64::INFINITY,
     };
     assemble_problem(
         &[body],

@@ -164,6 +164,7 @@ fn body_on_ground(
         compliance,
         stabilization: 0.0,
         slop: 0.0,
+        max_push_speed: f64::INFINITY,
     };
     assemble_problem(
         &[body],
