@@ -32,7 +32,7 @@ fuzz_target!(|data: &[u8]| {
             let (xa, ra, xb, rb) = (v(0), v(3), v(6), v(9));
             // Poses within reach and representable: a kilometre, rotation vectors of any angle.
             let sane = |w: &Vector3<f64>, limit: f64| w.iter().all(|x| x.is_finite() && x.abs() <= limit);
-            if !(sane(&xa, 1e3) && sane(&xb - xa, 2.0) && sane(&ra, 100.0) && sane(&rb, 100.0)) {
+            if !(sane(&xa, 1e3) && sane(&(xb - xa), 2.0) && sane(&ra, 100.0) && sane(&rb, 100.0)) {
                 return;
             }
             let (a, b) = (data[0] as usize % n, data[1] as usize % n);

@@ -26,6 +26,8 @@ pub struct InterpenetrationWatch {
     warned_disagreeing: HashSet<(usize, usize)>,
     /// Warnings given so far (every kind), for the run's summary.
     pub warnings: usize,
+    /// Working list of each pair's deepest contact in the last substep.
+    deepest_by_pair: Vec<((usize, usize), f64)>,
 }
 
 /// A pair at rest deeper than this fraction of the smaller body's size gets a warning
@@ -90,6 +92,7 @@ impl InterpenetrationWatch {
                 None => format!("{} and the ground", name(p.body1)),
             };
             let found = match p.body2 {
+                Some(_) if world.step == 0 => String::new(),
                 Some(j) => {
                     let between = world
                         .solves
@@ -103,12 +106,16 @@ impl InterpenetrationWatch {
                 }
                 None => String::new(),
             };
-            let advice = match (world.params.collision, p.body2) {
-                (CollisionMethod::Vertices, Some(_)) => {
-                    "the vertex rule missed their contacts; `collision: complete` (or --set collision=complete) finds them"
+            let advice = match (world.step, world.params.collision, p.body2) {
+                (0, _, _) => format!(
+                    "the scene writes them overlapping; stabilisation pushes them apart at most at stabilization_max_speed ({} m/s)",
+                    world.params.stabilization_max_speed
+                ),
+                (_, CollisionMethod::Vertices, Some(_)) => {
+                    "the vertex rule missed their contacts; `collision: complete` (or --set collision=complete) finds them".into()
                 }
                 _ => {
-                    "the contacts found did not keep them apart (too fast a body for the step, or too few PGS iterations)"
+                    "the contacts found did not keep them apart (too fast a body for the step, or too few PGS iterations)".into()
                 }
             };
             warnings.push(format!(
@@ -133,18 +140,21 @@ impl InterpenetrationWatch {
         };
         let colliders = world.colliders();
         let name = |i: usize| format!("body {i} ({:?})", world.bodies[i].name);
-        // The last substep's deepest contact of each body pair, in the order first found.
-        let mut deepest: Vec<((usize, usize), f64)> = Vec::new();
+        // The last substep's deepest contact of each run of one body pair's contacts (detection
+        // lists a pair's contacts together, so this is one entry per pair without a search).
+        let deepest = &mut self.deepest_by_pair;
+        deepest.clear();
         for c in &solve.contacts {
             let Some(pair) = pair_of(c) else { continue };
-            match deepest.iter_mut().find(|(p, _)| *p == pair) {
-                Some((_, d)) => *d = d.max(c.depth),
-                None => deepest.push((pair, c.depth)),
+            match deepest.last_mut() {
+                Some((p, d)) if *p == pair => *d = d.max(c.depth),
+                _ => deepest.push((pair, c.depth)),
             }
         }
+        let deepest = std::mem::take(deepest);
         let motion_steps = f64::from(world.params.substeps - solve.substep);
         let h = world.params.h();
-        for ((i, j), depth) in deepest {
+        for &((i, j), depth) in &deepest {
             let bound = PENETRATION_BOUND * colliders[i].size().min(colliders[j].size());
             if depth > bound && self.warned_deep_contact.insert((i, j)) {
                 warnings.push(format!(
@@ -159,11 +169,11 @@ impl InterpenetrationWatch {
             if !(convex(i) && convex(j)) {
                 continue;
             }
-            let measured = world
-                .penetrations
-                .iter()
-                .find(|p| p.body1 == i && p.body2 == Some(j))
-                .map_or(0.0, |p| p.depth);
+            // The measure lists the ground's entries first, then the pairs in sorted order.
+            let pairs = &world.penetrations[world.penetrations.partition_point(|p| p.body2.is_none())..];
+            let measured = pairs
+                .binary_search_by_key(&(i, j), |p| (p.body1, p.body2.unwrap_or(usize::MAX)))
+                .map_or(0.0, |k| pairs[k].depth);
             let speed = |k: usize| {
                 let b = &world.bodies[k];
                 b.v.norm() + b.omega.norm() * colliders[k].radius()
@@ -181,6 +191,7 @@ impl InterpenetrationWatch {
                 ));
             }
         }
+        self.deepest_by_pair = deepest;
         warnings
     }
 }

@@ -301,6 +301,7 @@ fn overlaps_and_wrong_contacts_warn_once_naming_the_bodies_and_the_step() {
     assert_eq!(overlap.len(), 1, "{warnings:?}");
     assert!(overlap[0].starts_with("warning: step 0 (t = 0 s)"), "{overlap:?}");
     assert!(overlap[0].contains(&format!("{names} interpenetrate by 0.1500 m")), "{overlap:?}");
+    assert!(overlap[0].ends_with("the scene writes them overlapping; stabilisation pushes them apart at most at stabilization_max_speed (1 m/s)"), "{overlap:?}");
     let deep: Vec<_> = warnings.iter().filter(|w| w.contains("more than the bound") && w.contains("a contact between")).collect();
     assert_eq!(deep.len(), 1, "{warnings:?}");
     assert!(deep[0].starts_with("warning: step 1 ") && deep[0].contains(names), "{deep:?}");
