@@ -2,7 +2,6 @@
 //! trace goes, the rest threshold, `--set`; the 2D system's options are in [`super::args2d`]. A
 //! subcommand offers only the groups it uses.
 
-pub use super::args2d::Blocks2dOptions;
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::common::scene_json::Overrides;

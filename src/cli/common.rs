@@ -1,10 +1,8 @@
 //! What several commands need: loading a 3D or 2D scene, running a scene to a trace and reading
 //! traces back (view, plot, render), opening outputs, writing problem files.
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets, TraceOutput};
-use super::run_args::{Run2dReports, RunArgs};
 use anyhow::{Context, bail};
-use rigidref::blocks2d::scene::{Scene2, is_2d_scene, load_2d};
+use rigidref::blocks2d::scene::{Scene2, load_2d};
 use rigidref::rigid3d::scene::embedded::{BUILT_IN_SOURCE, default_scene_with};
 use rigidref::rigid3d::scene::{Overrides, load_scene_with};
 use rigidref::tools::viewing::view::{RunTrace, read_run_trace};
@@ -99,52 +97,6 @@ pub(crate) fn is_trace(path: &Path) -> bool {
         .is_ok_and(|v| v.get("format").is_some() && v.get("sim_parameters").is_none())
 }
 
-/// Runs `input` (a 3D scene, a 2D image or scene file, or the built-in default when `None`) as
-/// `rigidref run` would, recording every `every`-th frame to `trace` (2D: with all contacts).
-/// `view` and `render` run scenes through this.
-pub(crate) fn run_to_trace(
-    input: Option<&Path>,
-    length: &RunLength,
-    sets: &SceneSets,
-    blocks: &Blocks2dOptions,
-    every: u64,
-    quiet: bool,
-    trace: &Path,
-) -> anyhow::Result<()> {
-    let two_d = input.is_some_and(is_2d_scene);
-    if !two_d && !blocks.given().is_empty() {
-        bail!(
-            "{}: {} apply to 2D scenes only",
-            input.map_or("the built-in default scene".into(), |p| p
-                .display()
-                .to_string()),
-            blocks.given().join(", ")
-        );
-    }
-    let run = RunArgs {
-        scene: input.map(Path::to_path_buf),
-        length: length.clone(),
-        sets: sets.clone(),
-        output: TraceOutput {
-            out: Some(trace.to_path_buf()),
-            every,
-            format: None,
-            dump_problems: None,
-        },
-        quiet,
-        no_collisions: false,
-        blocks: blocks.clone(),
-        rest: RestThreshold {
-            rest_threshold: None,
-        },
-        reports: Run2dReports {
-            nut_report: None,
-            scaling_csv: None,
-            all_contacts: two_d,
-        },
-    };
-    super::run::run(run)
-}
 
 /// Reads the trace at `path` for viewing or plotting, printing its warnings (and returning
 /// them, for the page); fails, naming the
@@ -201,7 +153,7 @@ pub(crate) fn scene_of_3d_trace(
 /// A 2D scene with the command line's 2D options and `--set` overrides, its warnings printed.
 pub(crate) fn load_scene_2d(
     path: &Path,
-    options: &super::args::Blocks2dOptions,
+    options: &super::args2d::Blocks2dOptions,
     sets: &super::args::SceneSets,
 ) -> anyhow::Result<Scene2> {
     let scene = load_2d(path, &options.command_line(sets)?)?;

@@ -1,7 +1,12 @@
 //! `rigidref run`: simulate a scene (3D or 2D) and write its trace, with a progress bar and a
 //! summary. The 3D run is in run3d.rs, the 2D run in run2d.rs; this chooses between them.
 
-use super::run_args::RunArgs;
+use super::args2d::Blocks2dOptions;
+use super::args::{RestThreshold, RunLength, SceneSets, TraceOutput};
+use super::run_args::{Run2dReports, RunArgs};
+use anyhow::bail;
+use rigidref::blocks2d::scene::is_2d_scene;
+use std::path::Path;
 
 /// Runs a scene: a 2D one (an image or a 2D scene file) in 2D, anything else in 3D.
 pub fn run(args: RunArgs) -> anyhow::Result<()> {
@@ -30,4 +35,51 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
         );
     }
     super::run3d::run(&args)
+}
+
+/// Runs `input` (a 3D scene, a 2D image or scene file, or the built-in default when `None`) as
+/// `rigidref run` would, recording every `every`-th frame to `trace` (2D: with all contacts).
+/// `view` and `render` run scenes through this.
+pub(crate) fn run_to_trace(
+    input: Option<&Path>,
+    length: &RunLength,
+    sets: &SceneSets,
+    blocks: &Blocks2dOptions,
+    every: u64,
+    quiet: bool,
+    trace: &Path,
+) -> anyhow::Result<()> {
+    let two_d = input.is_some_and(is_2d_scene);
+    if !two_d && !blocks.given().is_empty() {
+        bail!(
+            "{}: {} apply to 2D scenes only",
+            input.map_or("the built-in default scene".into(), |p| p
+                .display()
+                .to_string()),
+            blocks.given().join(", ")
+        );
+    }
+    let run = RunArgs {
+        scene: input.map(Path::to_path_buf),
+        length: length.clone(),
+        sets: sets.clone(),
+        output: TraceOutput {
+            out: Some(trace.to_path_buf()),
+            every,
+            format: None,
+            dump_problems: None,
+        },
+        quiet,
+        no_collisions: false,
+        blocks: blocks.clone(),
+        rest: RestThreshold {
+            rest_threshold: None,
+        },
+        reports: Run2dReports {
+            nut_report: None,
+            scaling_csv: None,
+            all_contacts: two_d,
+        },
+    };
+    self::run(run)
 }

@@ -1,6 +1,7 @@
 //! The arguments of `rigidref run` (and of `rigidref` with no subcommand).
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets, TraceOutput};
+use super::args::{RestThreshold, RunLength, SceneSets, TraceOutput};
+use super::args2d::Blocks2dOptions;
 use clap::Args;
 use std::path::PathBuf;
 

@@ -1,8 +1,10 @@
 //! `rigidref view TRACE.jsonl|SCENE`: one self-contained HTML page showing the run (bodies,
 //! contacts, plots, a body's state), which opens offline in a browser. docs/viewing.md.
 
-use super::args::{Blocks2dOptions, RunLength, SceneSets};
-use super::common::{is_trace, read_trace_file, run_to_trace, scene_of_3d_trace};
+use super::args::{RunLength, SceneSets};
+use super::args2d::Blocks2dOptions;
+use super::common::{is_trace, read_trace_file, scene_of_3d_trace};
+use super::run::run_to_trace;
 use anyhow::{Context, bail};
 use clap::Args;
 use rigidref::tools::viewing::view::{

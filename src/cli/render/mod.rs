@@ -6,7 +6,8 @@
 mod render2d;
 mod render3d;
 
-use super::args::{Blocks2dOptions, RestThreshold, RunLength, SceneSets};
+use super::args::{RestThreshold, RunLength, SceneSets};
+use super::args2d::Blocks2dOptions;
 use super::progress::{Progress, Stopped};
 use anyhow::{Context, bail};
 use clap::Args;

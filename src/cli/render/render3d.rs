@@ -54,7 +54,7 @@ pub(super) fn render_3d(args: &RenderArgs) -> anyhow::Result<()> {
                 std::fs::create_dir_all(dir)
                     .with_context(|| format!("{}: cannot create", dir.display()))?;
             }
-            let ran = crate::cli::common::run_to_trace(
+            let ran = crate::cli::run::run_to_trace(
                 args.scene.as_deref(),
                 &args.length,
                 &args.sets,

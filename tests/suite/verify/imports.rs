@@ -11,6 +11,18 @@ use std::collections::{BTreeMap, BTreeSet};
 /// The library's modules by path (`rigid3d::collide::ground`), with their source. The binary's
 /// `main.rs` and `cli/` use the library from outside (`rigidref::…`) and are not part of it.
 fn modules() -> BTreeMap<String, String> {
+    crate_modules(false)
+}
+
+/// The binary's modules (`main.rs` as the crate root, `cli::run`, `cli::render::render3d`, …):
+/// its `crate::` is the binary, and the library is reached as `rigidref::`, not an edge here.
+fn binary_modules() -> BTreeMap<String, String> {
+    crate_modules(true)
+}
+
+/// The modules of the library (`binary` false: every file of src/ but `main.rs` and `cli/`) or
+/// of the binary (`binary` true: `main.rs` and `cli/`).
+fn crate_modules(binary: bool) -> BTreeMap<String, String> {
     let src = common::project_root().join("src");
     let mut out = BTreeMap::new();
     let mut folders = vec![src.clone()];
@@ -22,14 +34,15 @@ fn modules() -> BTreeMap<String, String> {
                 .unwrap()
                 .to_string_lossy()
                 .replace('\\', "/");
-            if rel == "cli" || rel == "main.rs" {
+            let of_binary = rel == "main.rs" || rel == "cli" || rel.starts_with("cli/");
+            if dir == src && of_binary != binary {
                 continue;
             }
             if path.is_dir() {
                 folders.push(path);
             } else if let Some(stem) = rel.strip_suffix(".rs") {
                 let mut parts: Vec<&str> = stem.split('/').collect();
-                if parts.last() == Some(&"mod") || parts == ["lib"] {
+                if parts.last() == Some(&"mod") || parts == ["lib"] || parts == ["main"] {
                     parts.pop();
                 }
                 out.insert(parts.join("::"), std::fs::read_to_string(&path).unwrap());
@@ -271,4 +284,31 @@ fn the_import_checker_finds_a_planted_circle() {
         circles(&at_depth(&edges, 1)),
         vec![vec!["d".to_string(), "x".into()]]
     );
+}
+
+/// The binary's command-line modules have no import circle either (`cli::args` ↔ `cli::args2d`
+/// and `cli::common` ↔ `cli::run` were the last two): each command's module stays a leaf of the
+/// shared argument and helper modules.
+#[test]
+fn no_cli_module_imports_a_module_that_imports_it_back() {
+    let modules = binary_modules();
+    assert!(
+        modules.contains_key("cli::run") && modules.contains_key("cli::render::render3d"),
+        "{:?}",
+        modules.keys().collect::<Vec<_>>()
+    );
+    let edges = imports(&modules);
+    // The reader sees the binary's imports: `super::` in a file of cli/ and `crate::cli::` in a
+    // file of a folder below it.
+    assert!(edges["cli::view"].contains("cli::run"), "{:?}", edges["cli::view"]);
+    assert!(edges["cli::render::render3d"].contains("cli::run"));
+    let deepest = modules.keys().map(|m| m.split("::").count()).max().unwrap();
+    let mut found = Vec::new();
+    for depth in 1..=deepest {
+        for circle in circles(&at_depth(&edges, depth)) {
+            found.push(format!("depth {depth}: {}", circle.join(" ↔ ")));
+        }
+    }
+    found.dedup();
+    assert!(found.is_empty(), "import circles:\n{}", found.join("\n"));
 }
