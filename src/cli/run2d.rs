@@ -13,7 +13,9 @@ use rigidref::blocks2d::trace::{Record2, TraceHeader2};
 use rigidref::blocks2d::world::World2;
 use rigidref::rigid3d::trace::TraceFormat;
 use rigidref::sim::{Flow, RunTotals, SolveTotals, drive, is_recorded};
-use rigidref::tools::experiments::nuts::{RISEN, nut_statistics, outside_bag, plot, time_to_rise};
+use rigidref::tools::experiments::nuts::{
+    HOLD_CYCLES, RISEN, nut_statistics, outside_bag, plot, time_to_rise, time_to_rise_held,
+};
 use std::io::Write;
 use std::path::Path;
 
@@ -93,7 +95,7 @@ pub fn run(image: &Path, args: &RunArgs) -> anyhow::Result<()> {
         Ok(Flow::Continue)
     });
     out.flush().map_err(write_err)?;
-    let nut_finding = reports.flush()?;
+    let nut_finding = reports.flush(&world)?;
     progress.finish();
     Stopped::outcome(ran, |e| {
         format!(

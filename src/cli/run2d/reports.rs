@@ -11,6 +11,8 @@ pub(super) struct Reports2 {
     /// The nut report's path and its (t, fraction of the heaviest fifth in the upper half)
     /// points, for the plot beside it.
     pub(super) nut_points: Option<(std::path::PathBuf, Vec<(f64, f64)>)>,
+    /// The first recorded time a nut was outside the bag and the most outside at once.
+    pub(super) nuts_outside: Option<(f64, usize)>,
 }
 
 impl Reports2 {
@@ -20,6 +22,7 @@ impl Reports2 {
             scaling: None,
             nuts: None,
             nut_points: None,
+            nuts_outside: None,
         };
         if let Some(p) = &asked.scaling_csv {
             let mut f = crate::cli::common::create_file(p)?;
@@ -67,6 +70,11 @@ impl Reports2 {
         if let Some((_, points)) = &mut self.nut_points {
             points.push((w.time(), s.heaviest_fraction_in_upper_half));
         }
+        let outside = outside_bag(w);
+        if outside > 0 {
+            let (_, most) = self.nuts_outside.get_or_insert((w.time(), 0));
+            *most = (*most).max(outside);
+        }
         writeln!(
             f,
             "{},{},{},{},{}",
@@ -74,26 +82,49 @@ impl Reports2 {
             s.heaviest_mean_height,
             s.others_mean_height,
             s.heaviest_fraction_in_upper_half,
-            outside_bag(w)
+            outside
         )
     }
 
     /// Flushes the files and draws the nut report's plot (NAME.svg beside NAME.csv), with the
-    /// time the largest nuts took to rise, if they did; returns that finding for the summary.
-    pub(super) fn flush(&mut self) -> anyhow::Result<Option<String>> {
+    /// time the largest nuts took to rise, if they did (first at [`RISEN`], and held for
+    /// [`HOLD_CYCLES`] cycles of `world`'s first shake), and whether every nut stayed in the bag;
+    /// returns that finding for the summary, and warns on stderr when a nut left the bag.
+    pub(super) fn flush(&mut self, world: &World2) -> anyhow::Result<Option<String>> {
         for f in [&mut self.nuts, &mut self.scaling].into_iter().flatten() {
             f.flush()?;
         }
         if let Some((path, points)) = &self.nut_points {
-            let risen = match time_to_rise(points) {
+            let frequency = world.shakes.iter().map(|s| s.frequency).find(|&f| f > 0.0);
+            let mut risen = match time_to_rise(points) {
                 Some(t) => format!("reached {RISEN} at t = {t}"),
                 None => format!("did not reach {RISEN}"),
+            };
+            if let Some(f) = frequency {
+                let hold = HOLD_CYCLES / f;
+                risen += &match time_to_rise_held(points, hold) {
+                    Some(t) => format!(
+                        ", held from t = {t} ({:.0} cycles) for {HOLD_CYCLES} cycles",
+                        t * f
+                    ),
+                    None => format!(", not held for {HOLD_CYCLES} cycles"),
+                };
+            }
+            let outside = match self.nuts_outside {
+                None => "every nut stayed in the bag".to_string(),
+                Some((t, most)) => {
+                    eprintln!(
+                        "warning: {}: a nut left the bag at t = {t} (at most {most} outside at once): the step let it pass through the wall; `--max-travel 1` takes substeps so that no block moves more than a block per substep",
+                        path.with_extension("csv").display()
+                    );
+                    format!("{most} nuts outside the bag at most, the first at t = {t}")
+                }
             };
             let title = format!("heaviest fifth of the nuts in the upper half ({risen})");
             plot(points, path, &title).map_err(anyhow::Error::msg)?;
             let last = points.last().map_or(f64::NAN, |p| p.1);
             return Ok(Some(format!(
-                "heaviest fifth in the upper half: {:.2} at the start, {last:.2} at the end; {risen}; plot {}",
+                "heaviest fifth in the upper half: {:.2} at the start, {last:.2} at the end; {risen}; {outside}; plot {}",
                 points.first().map_or(f64::NAN, |p| p.1),
                 path.display()
             )));

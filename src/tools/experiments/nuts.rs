@@ -72,6 +72,41 @@ pub fn time_to_rise(points: &[(f64, f64)]) -> Option<f64> {
     points.iter().find(|p| p.1 >= RISEN).map(|p| p.0)
 }
 
+/// How many shaking cycles the fraction must hold at [`RISEN`] on average for the largest nuts
+/// to count as risen for good ([`time_to_rise_held`]): long against the one-nut flicker of the
+/// fraction (one nut is 1/31 of nuts3.png's heaviest fifth) and short against the hundreds of
+/// cycles the rise takes.
+pub const HOLD_CYCLES: f64 = 50.0;
+
+/// The first time t at which the fraction is at least [`RISEN`] and its mean over the points in
+/// [t, t + `hold`] is too, the run reaching t + `hold` (so the rise holds, not a flicker); from
+/// `(t, fraction)` points in time order, `hold` in time units; `None` if it never did.
+/// docs/blocks2d.md §"Shaking the nut bag".
+pub fn time_to_rise_held(points: &[(f64, f64)], hold: f64) -> Option<f64> {
+    let end = points.last()?.0;
+    // prefix[i] = sum of the fractions of points[..i], so a window's mean is two lookups.
+    let mut prefix = Vec::with_capacity(points.len() + 1);
+    prefix.push(0.0);
+    for p in points {
+        prefix.push(prefix.last().unwrap() + p.1);
+    }
+    let mut stop = 0;
+    for (i, &(t, f)) in points.iter().enumerate() {
+        if t + hold > end {
+            return None;
+        }
+        stop = stop.max(i);
+        while stop + 1 < points.len() && points[stop + 1].0 <= t + hold {
+            stop += 1;
+        }
+        let mean = (prefix[stop + 1] - prefix[i]) / (stop + 1 - i) as f64;
+        if f >= RISEN && mean >= RISEN {
+            return Some(t);
+        }
+    }
+    None
+}
+
 /// Plots the fraction of the heaviest fifth in the upper half against time as an SVG, with the
 /// 0.5 of a mixture and the [`RISEN`] line; `title` heads it.
 pub fn plot(points: &[(f64, f64)], path: &std::path::Path, title: &str) -> Result<(), String> {
@@ -109,4 +144,25 @@ pub fn plot(points: &[(f64, f64)], path: &std::path::Path, title: &str) -> Resul
         .map_err(|e| err(&e))?;
     root.present().map_err(|e| err(&e))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flicker above 0.8 is not a rise; a rise that holds is, from its first point; a run that
+    /// ends before the window closes has not shown it.
+    #[test]
+    fn a_rise_counts_only_when_it_holds_for_the_window() {
+        let flicker = [(0.0, 0.4), (10.0, 0.81), (20.0, 0.5), (30.0, 0.5), (40.0, 0.5)];
+        assert_eq!(time_to_rise(&flicker), Some(10.0));
+        assert_eq!(time_to_rise_held(&flicker, 20.0), None);
+        let rise = [(0.0, 0.4), (10.0, 0.81), (20.0, 0.77), (30.0, 0.9), (40.0, 0.85)];
+        assert_eq!(time_to_rise_held(&rise, 20.0), Some(10.0));
+        // The window from t = 10 reaches 40 at most: a 40-unit window cannot close.
+        assert_eq!(time_to_rise_held(&rise, 40.0), None);
+        assert_eq!(time_to_rise_held(&[], 1.0), None);
+        // hold 0: the first point at RISEN.
+        assert_eq!(time_to_rise_held(&rise, 0.0), Some(10.0));
+    }
 }
