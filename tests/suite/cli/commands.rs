@@ -535,6 +535,14 @@ fn the_3d_starter_preset_is_taken_from_the_command_line_and_shown() {
             && stdout.contains("tangents         orthonormal"),
         "{stdout}"
     );
+    // `run --help` lists the key and the starter's values.
+    let o = rigidref(&["run", "--help"], tmp.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("    tangents          ")
+            && stdout.contains("Python starter's collision.py"),
+        "{stdout}"
+    );
 }
 
 /// `--set KEY=VALUE` overrides a scene parameter in both systems, is checked exactly as the
