@@ -68,6 +68,8 @@ fn subdivide(mesh: &TriMesh, levels: u32, radius: Option<f64>) -> TriMesh {
         m = TriMesh {
             vertices,
             triangles,
+            file_numbers: Vec::new(),
+            file_vertex_count: 0,
         };
     }
     m

@@ -17,6 +17,8 @@ pub struct Blocks2dOptions {
     /// starter's code does: 1 substep, 10 sweeps in the order found, no warm start, no
     /// post-stabilisation, point-mass inertia, its body numbering and disc trees;
     /// docs/blocks2d.md §"The starter preset"); the options below override it [default: default].
+    /// A 3D scene takes it too, as `--set preset=NAME` (the 3D Python starter's behaviour:
+    /// docs/scene-format.md §"The starter preset").
     #[arg(long, value_enum)]
     pub preset: Option<rigidref::blocks2d::params::Preset>,
     /// 2D: step size [default: 0.05, the starter's].

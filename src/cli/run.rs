@@ -15,7 +15,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
     {
         return super::run2d::run(path, &args);
     }
-    let only_2d = args.only_2d_given();
+    // `--preset` applies to a 3D scene too: as `--set preset=NAME`.
+    let only_2d: Vec<String> = args
+        .only_2d_given()
+        .into_iter()
+        .filter(|name| name != "--preset")
+        .collect();
     if !only_2d.is_empty() {
         super::common::check_readable(args.scene.as_deref())?;
         let scene_name = args
@@ -33,6 +38,22 @@ pub fn run(args: RunArgs) -> anyhow::Result<()> {
                 "apply"
             }
         );
+    }
+    let mut args = args;
+    if let Some(preset) = args.blocks.preset {
+        if args
+            .sets
+            .set
+            .iter()
+            .any(|s| s.split_once('=').is_some_and(|(k, _)| k.trim() == "preset"))
+        {
+            anyhow::bail!("--preset and --set preset=… both given: give one");
+        }
+        let name = match preset {
+            rigidref::common::preset::Preset::Default => "default",
+            rigidref::common::preset::Preset::Starter => "starter",
+        };
+        args.sets.set.insert(0, format!("preset={name}"));
     }
     super::run3d::run(&args)
 }

@@ -91,8 +91,15 @@ pub fn run(args: &RunArgs) -> anyhow::Result<()> {
     if !args.quiet {
         eprintln!("scene          {} ({source})", world.params.name);
         if world.params.preset == rigidref::common::preset::Preset::Starter {
+            let p = &world.params;
             eprintln!(
-                "preset         starter (the Python starter's, docs/scene-format.md §\"The starter preset\"): warm_start false, stabilization 0; keys given override it"
+                "preset         starter (the Python starter's, docs/scene-format.md §\"The starter preset\"; keys given override it): warm_start {}, stabilization {}, collision {}, tangents {}, pgs_iterations {}, pgs_order {:?}",
+                p.warm_start,
+                p.stabilization,
+                p.collision.name(),
+                p.tangents.name(),
+                p.pgs_iterations,
+                p.pgs_order
             );
         }
         if !scene.overrides.is_empty() {

@@ -19,8 +19,10 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     damping           only 0 is accepted (the assignment defines no damping model)
     show_contacts, is_running   user-interface keys; no effect here
   Keys this project adds (docs/scene-format.md, docs/contact.md):
-    preset            \"default\" or \"starter\" (the Python starter's: warm_start false,
-                      stabilization 0); the keys given override it     default
+    preset            \"default\" or \"starter\" (the Python starter's own behaviour:
+                      warm_start false, stabilization 0, collision and tangents
+                      \"starter\"; also `run --preset starter`); the keys given
+                      override it                                      default
     integrator        angular velocity update: \"spatial\" (the assignment's explicit
                       spatial-frame scheme; default), \"body\" (the same equations in
                       the body frame), \"implicit_gyroscopic\" (implicit Euler on the
@@ -58,8 +60,14 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     collision         \"vertices\" (the assignment's rule: vertices of one mesh
                       inside the other; default) or \"complete\" (also edge-edge
                       crossings and face contacts, from the contact manifolds of
-                      the meshes' convex pieces: equal boxes stack); either way the
-                      run measures interpenetration and warns when contacts were missed
+                      the meshes' convex pieces: equal boxes stack) or \"starter\"
+                      (the Python starter's collision.py: per pair only the vertices
+                      of the mesh with more vertices, contacts at the closest surface
+                      point, body by body; the starter preset's); every way the run
+                      measures interpenetration and warns when contacts were missed
+    tangents          \"orthonormal\" (unit tangents; default) or \"starter\" (the
+                      Python starter's contact.py: its axis test, not normalised;
+                      the starter preset's)
     culling           \"bvh\" (a vertex is tested against the other mesh when inside
                       its bounding box; default) or \"sphere_tree\" (and inside one of
                       the leaf spheres covering its solid): the same contacts either way

@@ -52,6 +52,7 @@ pub fn scene(args: SceneArgs) -> anyhow::Result<()> {
     println!("pgs_local_solve  {}", p.pgs_local_solve.name());
     println!("solver           {}", p.solver.name());
     println!("collision        {}", p.collision.name());
+    println!("tangents         {}", p.tangents.name());
     println!("culling          {}", p.culling.name());
     for (i, b) in scene.bodies.iter().enumerate() {
         let moments = b.inertia.symmetric_eigenvalues();

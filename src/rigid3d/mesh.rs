@@ -15,6 +15,16 @@ pub struct TriMesh {
     pub vertices: Vec<Vector3<f64>>,
     /// Triangles as indices into `vertices`, counter-clockwise seen from outside.
     pub triangles: Vec<[usize; 3]>,
+    /// For a mesh read from an OBJ file, each vertex's number in the file (from 0: the order of
+    /// its `v` lines); empty for a mesh made in code, whose vertex i is number i. The reader
+    /// numbers vertices in the order the faces first use them and keeps only those; libigl's
+    /// reader, the 3D Python starter's, keeps the file's order, in which `collision: starter`
+    /// visits them ([`TriMesh::file_order`]; docs/contact.md §"The starter's collision
+    /// detection").
+    pub file_numbers: Vec<usize>,
+    /// The number of `v` lines of the OBJ file (0 for a mesh made in code): more than
+    /// `vertices.len()` when the file has vertices no face uses, which libigl keeps.
+    pub file_vertex_count: usize,
 }
 
 /// What [`TriMesh::topology`] found. A mesh bounds a solid when every count here is zero and the
@@ -100,10 +110,36 @@ impl TriMesh {
                 vertices.len()
             )));
         }
+        let (file_numbers, file_vertex_count) = obj_numbering(text);
+        if file_numbers.len() != vertices.len() {
+            return Err(MeshError(format!(
+                "{origin}: the faces use {} vertices but {} were read: the file's vertex numbering could not be followed",
+                file_numbers.len(),
+                vertices.len()
+            )));
+        }
         Ok(TriMesh {
             vertices,
             triangles,
+            file_numbers,
+            file_vertex_count,
         })
+    }
+
+    /// The vertex indices in the OBJ file's order (by [`TriMesh::file_numbers`]; in index order
+    /// for a mesh made in code).
+    pub fn file_order(&self) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..self.vertices.len()).collect();
+        if self.file_numbers.len() == order.len() {
+            order.sort_by_key(|&k| self.file_numbers[k]);
+        }
+        order
+    }
+
+    /// The number of vertices the starter's reader (libigl) reads: the file's `v` lines, or the
+    /// vertices of a mesh made in code.
+    pub fn file_vertex_count(&self) -> usize {
+        self.file_vertex_count.max(self.vertices.len())
     }
 
     /// Writes the mesh as OBJ text, vertices with round-trip precision.
@@ -213,6 +249,8 @@ impl TriMesh {
             )
         };
         TriMesh {
+            file_numbers: Vec::new(),
+            file_vertex_count: 0,
             vertices: (0..8).map(corner).collect(),
             triangles: vec![
                 [0, 2, 1],
@@ -255,8 +293,39 @@ impl TriMesh {
         TriMesh {
             vertices: self.vertices.iter().map(|v| v + offset).collect(),
             triangles: self.triangles.clone(),
+            file_numbers: self.file_numbers.clone(),
+            file_vertex_count: self.file_vertex_count,
         }
     }
+}
+
+/// The file number (from 0) of each vertex in the order the OBJ reader (tobj, one object, faces
+/// triangulated, positions not merged) first meets it in the `f` and `l` lines, with tobj's
+/// index rules (1-based; negative counts back from the `v` lines read so far; `v/vt/vn`), and
+/// the number of `v` lines.
+fn obj_numbering(text: &str) -> (Vec<usize>, usize) {
+    let mut positions = 0usize;
+    let mut seen = std::collections::HashSet::new();
+    let mut order = Vec::new();
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => positions += 1,
+            Some("f") | Some("l") => {
+                for word in words {
+                    let Some(Ok(x)) = word.split('/').next().map(str::parse::<isize>) else {
+                        continue;
+                    };
+                    let index = if x < 0 { positions as isize + x } else { x - 1 };
+                    if index >= 0 && seen.insert(index as usize) {
+                        order.push(index as usize);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    (order, positions)
 }
 
 #[cfg(test)]
@@ -299,6 +368,21 @@ mod tests {
             .check_solid("inv.obj")
             .unwrap_err();
         assert!(err.0.contains("inside out"), "{err}");
+    }
+
+    #[test]
+    fn vertices_keep_their_numbers_in_the_file() {
+        // The faces use the vertices in the order 4, 2, 1, 3 (negative and v/vt/vn indices too);
+        // vertex 5 is used by no face.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 9 9 9\nvt 0 0\nf 4/1 3 -4\nf 4 2 1\nf 1 3 2\nf 2 3 -2\n";
+        let mesh = TriMesh::parse_obj(text, "numbered").unwrap();
+        assert_eq!(mesh.file_numbers, vec![3, 2, 1, 0]);
+        assert_eq!(mesh.vertices[0], Vector3::new(0.0, 0.0, 1.0));
+        assert_eq!(mesh.file_order(), vec![3, 2, 1, 0]);
+        assert_eq!(mesh.file_vertex_count(), 5);
+        let made = TriMesh::cuboid(Vector3::repeat(-1.0), Vector3::repeat(1.0));
+        assert_eq!(made.file_order(), (0..8).collect::<Vec<_>>());
+        assert_eq!(made.file_vertex_count(), 8);
     }
 
     #[test]

@@ -40,10 +40,14 @@ pub struct TraceHeader {
     /// The angular integrator's scene name (descriptive: may be absent in a trace read).
     #[serde(default)]
     pub integrator: String,
-    /// The collision method's scene name (`vertices` or `complete`); absent from version 1
+    /// The collision method's scene name (`vertices`, `complete` or `starter`); absent from version 1
     /// traces, which were all `vertices`.
     #[serde(default = "vertices")]
     pub collision: String,
+    /// The contact tangents' scene name (`orthonormal` or `starter`); written only when not
+    /// `orthonormal`, so traces of the default are unchanged.
+    #[serde(default = "orthonormal", skip_serializing_if = "is_orthonormal")]
+    pub tangents: String,
     /// The bodies in index order.
     pub bodies: Vec<TraceBodyInfo>,
 }
@@ -85,6 +89,14 @@ pub struct TraceRecord {
 
 fn vertices() -> String {
     "vertices".into()
+}
+
+fn orthonormal() -> String {
+    "orthonormal".into()
+}
+
+fn is_orthonormal(name: &String) -> bool {
+    name == "orthonormal"
 }
 
 /// A body's state: position (m), rotation rows, velocity (m/s), angular velocity (rad/s, world).
@@ -142,6 +154,7 @@ impl TraceHeader {
             gravity: world.params.gravity.into(),
             integrator: world.params.integrator.name().into(),
             collision: world.params.collision.name().into(),
+            tangents: world.params.tangents.name().into(),
             bodies: world
                 .bodies
                 .iter()

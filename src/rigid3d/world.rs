@@ -5,7 +5,8 @@
 //! 1. zero the force accumulators and add gravity and the applied loads,
 //!    f = m g + F + Ḟ t (scene keys `force`, `force_rate`; t the substep's start);
 //! 2. step velocities (symplectic Euler, velocity half): [`RigidBody::step_velocity`];
-//! 3. contact processing, when `check_collisions` is on: detect ([`crate::rigid3d::collide`]) →
+//! 3. contact processing, when `check_collisions` is on: detect ([`crate::rigid3d::collide`];
+//!    with `tangents: starter`, each contact's tangents remade by the starter's rule) →
 //!    assemble the contact problem ([`crate::rigid3d::assemble`]) → solve ([`crate::solve::solve`]:
 //!    PGS, or the exact Newton solver with `solver: newton`) →
 //!    apply the velocity changes u⁺ = u + M⁻¹Jᵀλ;
@@ -24,6 +25,7 @@ use crate::rigid3d::collide::pieces::ConvexPieces;
 use crate::rigid3d::collide::sphere_tree::{self, SphereTree};
 use crate::rigid3d::collide::{Contact, Culling, MeshCollider};
 use crate::rigid3d::diagnostics::{Energy, Momentum, system_energy, system_momentum};
+use crate::rigid3d::frame::Tangents;
 use crate::rigid3d::scene::{Scene, SimParameters};
 use crate::rigid3d::warm_start::WarmStart;
 pub use crate::sim::PhaseTimes;
@@ -227,6 +229,11 @@ impl World {
             self.params.collision,
             &mut contacts,
         );
+        if self.params.tangents != Tangents::Orthonormal {
+            for c in &mut contacts {
+                c.frame = self.params.tangents.frame(&c.frame.n);
+            }
+        }
         self.phase_times.detect += clock.elapsed().as_secs_f64();
         if let Some(audit) = &mut self.audit {
             audit.check(

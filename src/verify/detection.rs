@@ -139,6 +139,8 @@ impl DetectionCampaign {
                 [3, 1, 5],
                 [0, 3, 5],
             ],
+            file_numbers: Vec::new(),
+            file_vertex_count: 0,
         };
         [
             cube20,

@@ -56,11 +56,17 @@ def _states(bodies):
 
 
 def _contacts(program, bodies):
-    """The program's collision object's contacts, in the trace's form (j = -1: the ground)."""
+    """The program's collision object's contacts, in the trace's form (j = -1: the ground).
+
+    The starter's Contact(body1, body2, p, n, d) has n pointing from body1 into body2 (the
+    ground is body1 of a ground contact; of a pair, body1 owns the penetrating vertex and n
+    points into body2, the body it penetrates): body2 is the one n pushes. The trace's
+    [i, j] has n pointing from j into i, so a contact is written [body2, body1], the starter's
+    normal unchanged (a contact whose body2 is the ground is written [body1, -1])."""
     collision = program.get("collision")
     out = []
     for c in getattr(collision, "contacts", None) or []:
-        index = [next((k for k, b in enumerate(bodies) if b is body), -1) for body in (c.body1, c.body2)]
+        index = [next((k for k, b in enumerate(bodies) if b is body), -1) for body in (c.body2, c.body1)]
         if index[0] == -1:
             index.reverse()
         entry = {"bodies": index, "p": [float(v) for v in c.p], "n": [float(v) for v in c.n],

@@ -33,6 +33,9 @@ pub enum CollisionMethod {
     /// The vertex rule plus the contact manifolds of the bodies' convex pieces, which find
     /// edge–edge crossings and face contacts the vertex rule misses.
     Complete,
+    /// The 3D Python starter's `collision.py`, rule for rule ([`super::starter`]): per pair
+    /// one direction only, contacts at the closest surface point, body by body.
+    Starter,
 }
 
 impl CollisionMethod {
@@ -41,6 +44,7 @@ impl CollisionMethod {
         match self {
             CollisionMethod::Vertices => "vertices",
             CollisionMethod::Complete => "complete",
+            CollisionMethod::Starter => "starter",
         }
     }
 }
@@ -118,7 +122,9 @@ impl Detector {
     /// a fixed order: ground contacts body by body, then body pairs in the broad phase's order;
     /// per pair the vertex rule's contacts in both directions (vertices in mesh order) and, with
     /// [`CollisionMethod::Complete`], then the manifold contacts they do not already hold
-    /// (pieces in order, points in parry's order). `colliders[i]` belongs to body i.
+    /// (pieces in order, points in parry's order). `colliders[i]` belongs to body i. With
+    /// [`CollisionMethod::Starter`], the starter's rules and order instead
+    /// ([`super::starter::starter_contacts`]; no broad phase, no cache).
     pub fn detect(
         &mut self,
         bodies: &[RigidBody],
@@ -126,13 +132,17 @@ impl Detector {
         method: CollisionMethod,
         out: &mut Vec<Contact>,
     ) {
+        if method == CollisionMethod::Starter {
+            super::starter::starter_contacts(bodies, out);
+            return;
+        }
         out.clear();
         for (i, body) in bodies.iter().enumerate() {
             // `complete` takes vertices within the speculative margin above the plane too (a body
             // written exactly on the ground is held from the first step); the vertex rule only
             // vertices below it.
             let touching = match method {
-                CollisionMethod::Vertices => 0.0,
+                CollisionMethod::Vertices | CollisionMethod::Starter => 0.0,
                 CollisionMethod::Complete => super::manifold::speculative_margin(colliders[i].radius()),
             };
             ground_contacts(i, body, touching, out);

@@ -20,13 +20,17 @@
 //!   exactly, edges are parallel or the overlap is deep) and its contact points by clipping;
 //! - [`manifold`]: with `collision: complete`, the contact manifolds of the pieces add what the
 //!   vertex rule misses (edge–edge crossings, faces on faces);
+//! - [`starter`]: with `collision: starter`, the 3D Python starter's detection rule for rule (one
+//!   direction per pair, the closest surface point, its body-by-body order);
 //! - [`sat`]: the oracle, separating axes by brute force (sharing no code with detection);
 //! - [`audit`]: a pair's contacts held against the oracle (the campaign, crosscheck, the watch);
 //! - [`penetration`]: how deep bodies interpenetrate, whatever contacts were found, by the
 //!   oracle.
 //!
-//! A contact always has the vertex owner as body 1 and the body it penetrates (or the ground) as
-//! body 2, so the normal (out of body 2) is the direction body 1 must move to separate.
+//! A contact has the vertex owner as body 1 and the body it penetrates (or the ground) as body 2,
+//! so the normal (out of body 2) is the direction body 1 must move to separate; the starter's
+//! pair contacts name the two the other way round, as the starter does, with the normal into the
+//! penetrated body (body 1), still the direction body 1 must move.
 
 pub mod audit;
 pub mod closest_point;
@@ -42,6 +46,7 @@ pub mod polytope;
 pub mod sat;
 pub mod separating_axes;
 pub mod sphere_tree;
+pub mod starter;
 pub mod vertex_contact;
 
 pub use detect::{CollisionMethod, Culling, detect_contacts};

@@ -9,6 +9,10 @@ use nalgebra::Vector3;
 pub enum Feature {
     /// A vertex of body 1's mesh inside body 2 or the ground (the assignment's rule).
     Vertex(usize),
+    /// A vertex of body 2's mesh inside body 1 (`collision: starter`, which lists a pair
+    /// contact with the penetrated body as body 1, as the starter's contacts do;
+    /// [`super::starter`]).
+    StarterVertex(usize),
     /// The lowest point of body 1's analytic ellipsoid on the ground (one per body;
     /// [`super::ellipsoid`]).
     Surface,
@@ -38,7 +42,8 @@ pub struct Contact {
     /// 1's mesh.
     pub feature: Feature,
     /// Contact point: the penetrating vertex (vertex rule) or the manifold point on body 1's
-    /// surface (complete), inside body 2; world frame, m.
+    /// surface (complete), inside body 2; with `collision: starter`, a pair contact's point is
+    /// the closest point of body 1's surface to body 2's penetrating vertex; world frame, m.
     pub point: Vector3<f64>,
     /// Contact frame; `frame.n` points from body 2 into body 1.
     pub frame: ContactFrame,
@@ -52,7 +57,7 @@ impl Contact {
     pub fn vertex(&self) -> Option<usize> {
         match self.feature {
             Feature::Vertex(v) => Some(v),
-            Feature::Manifold { .. } | Feature::Surface => None,
+            Feature::Manifold { .. } | Feature::Surface | Feature::StarterVertex(_) => None,
         }
     }
 }

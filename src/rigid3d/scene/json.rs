@@ -9,6 +9,7 @@ use crate::common::values::{Count, Fraction, NonNegative, Positive};
 use crate::problem::FrictionModel;
 use crate::rigid3d::body::AngularIntegrator;
 use crate::rigid3d::collide::{CollisionMethod, Culling};
+use crate::rigid3d::frame::Tangents;
 use crate::solve::{ContactOrder, LocalSolve, Solver};
 use nalgebra::{Matrix3, Vector3};
 use serde::Deserialize;
@@ -51,6 +52,7 @@ pub(super) struct SimParametersJson {
     pgs_local_solve: Option<LocalSolve>,
     solver: Option<Solver>,
     collision: Option<CollisionMethod>,
+    tangents: Option<Tangents>,
     culling: Option<Culling>,
     detection_cache: Option<bool>,
     check_detection: Option<bool>,
@@ -58,9 +60,9 @@ pub(super) struct SimParametersJson {
 
 impl SimParametersJson {
     /// Applies the starter's defaults (docs/scene-format.md §"Simulation parameters"); with
-    /// `"preset": "starter"` also the starter's own behaviour where the project's defaults add
-    /// to it: no warm start, no Baumgarte stabilisation (docs/scene-format.md §"The starter
-    /// preset").
+    /// `"preset": "starter"` also the starter's own behaviour where the project's defaults
+    /// differ: no warm start, no Baumgarte stabilisation, the starter's collision detection and
+    /// tangents (docs/scene-format.md §"The starter preset").
     pub fn resolve(&self, default_name: &str) -> SimParameters {
         let preset = self.preset.unwrap_or_default();
         let starter = preset == Preset::Starter;
@@ -94,7 +96,16 @@ impl SimParametersJson {
             threads: self.threads.map_or(1, |x| x.0),
             pgs_local_solve: self.pgs_local_solve.unwrap_or_default(),
             solver: self.solver.unwrap_or_default(),
-            collision: self.collision.unwrap_or_default(),
+            collision: self.collision.unwrap_or(if starter {
+                CollisionMethod::Starter
+            } else {
+                CollisionMethod::default()
+            }),
+            tangents: self.tangents.unwrap_or(if starter {
+                Tangents::Starter
+            } else {
+                Tangents::default()
+            }),
             culling: self.culling.unwrap_or_default(),
             detection_cache: self.detection_cache.unwrap_or(true),
             check_detection: self.check_detection.unwrap_or(false),

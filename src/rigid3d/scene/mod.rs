@@ -289,6 +289,11 @@ pub fn parse_scene(
         });
     }
     warnings.extend(slop_warnings(source, &params, &bodies));
+    if params.check_collisions
+        && params.collision == crate::rigid3d::collide::CollisionMethod::Starter
+    {
+        warnings.extend(starter_warnings(source, &bodies));
+    }
     if params.check_collisions && bodies.len() > 1 {
         // Not silent about what the ellipsoid replaces: its surface is exact against the ground
         // and other meshes' vertices, its mesh stands in for it everywhere else.
@@ -306,6 +311,32 @@ pub fn parse_scene(
         warnings,
         overrides: overrides.describe(),
     })
+}
+
+/// What `collision: starter` cannot do as the starter does: a body's ellipsoid (the starter
+/// knows meshes only, so its mesh is used), and vertices of the OBJ file no face uses (libigl
+/// reads them and the starter tests them; rigidref's reader drops them).
+fn starter_warnings(source: &str, bodies: &[BodyDescription]) -> Vec<String> {
+    let mut out = Vec::new();
+    for b in bodies {
+        if b.ellipsoid.is_some() {
+            out.push(format!(
+                "{source}: body {:?}: `collision: starter` tests meshes only, as the starter does: its ellipsoid is not used for contact",
+                b.name
+            ));
+        }
+        let unused = b
+            .mesh
+            .file_vertex_count()
+            .saturating_sub(b.mesh.vertices.len());
+        if unused > 0 {
+            out.push(format!(
+                "{source}: body {:?}: its mesh has {unused} vertices no face uses; the starter (libigl's reader) keeps and tests them, `collision: starter` does not",
+                b.name
+            ));
+        }
+    }
+    out
 }
 
 /// The slop is more than this fraction of a body's smallest extent: a warning

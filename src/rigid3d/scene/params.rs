@@ -10,8 +10,9 @@ use nalgebra::Vector3;
 /// defaults for missing keys.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimParameters {
-    /// `preset`: `default` or `starter` (no warm start, no Baumgarte stabilisation: the Python
-    /// starter's own behaviour), what the other keys override (default `default`).
+    /// `preset`: `default` or `starter` (the Python starter's own behaviour: no warm start, no
+    /// Baumgarte stabilisation, its collision detection and tangents), what the other keys
+    /// override (default `default`).
     pub preset: crate::common::preset::Preset,
     /// Scene name (`name`; default: the file's stem).
     pub name: String,
@@ -66,8 +67,12 @@ pub struct SimParameters {
     /// `solver`: `pgs` (default, the assignment's projected Gauss–Seidel) or `newton` (the exact
     /// solver; docs/contact.md §"Newton solver").
     pub solver: Solver,
-    /// `collision`: `vertices` (default, the assignment's) or `complete`.
+    /// `collision`: `vertices` (default, the assignment's), `complete` or `starter` (the Python
+    /// starter's `collision.py`; the starter preset's).
     pub collision: CollisionMethod,
+    /// `tangents`: `orthonormal` (default) or `starter` (the Python starter's `contact.py`: not
+    /// normalised, its axis choice; the starter preset's). docs/contact.md §"Contact frame".
+    pub tangents: crate::rigid3d::frame::Tangents,
     /// `culling`: `bvh` (default) or `sphere_tree`: how a mesh's vertices are culled before the
     /// signed-distance query against another mesh (the same contacts either way).
     pub culling: Culling,

@@ -453,6 +453,98 @@ fn summaries_report_the_same_solver_figures_in_both_systems() {
     }
 }
 
+/// `rigidref run SCENE.json --preset starter` is `--set preset=starter` (the same trace, bit for
+/// bit); the summary's preset line and the trace header show the starter's collision detection
+/// and tangents as in effect, a key given overrides them, `rigidref scene` prints both, and a
+/// default run's header is unchanged (no `tangents` key). docs/scene-format.md §"The starter
+/// preset".
+#[test]
+fn the_3d_starter_preset_is_taken_from_the_command_line_and_shown() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/box_stack.json");
+    let scene = scene.to_str().unwrap();
+    let header = |name: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(tmp.path().join(name)).unwrap();
+        serde_json::from_str(text.lines().next().unwrap()).unwrap()
+    };
+    let run = |extra: &[&str], out: &str| {
+        let mut args = vec!["run", scene, "--steps", "30", "--out", out];
+        args.extend_from_slice(extra);
+        let o = rigidref(&args, tmp.path());
+        let stderr = common::stderr(&o);
+        assert!(o.status.success(), "{extra:?}: {stderr}");
+        stderr
+    };
+    let stderr = run(&["--preset", "starter"], "a.jsonl");
+    assert!(
+        stderr.contains("preset         starter")
+            && stderr.contains("warm_start false, stabilization 0, collision starter, tangents starter, pgs_iterations 100"),
+        "{stderr}"
+    );
+    let h = header("a.jsonl");
+    assert_eq!(h["collision"], "starter", "{h}");
+    assert_eq!(h["tangents"], "starter", "{h}");
+    assert_eq!(h["overrides"], serde_json::json!(["preset=starter"]), "{h}");
+    run(&["--set", "preset=starter"], "b.jsonl");
+    assert_eq!(
+        std::fs::read(tmp.path().join("a.jsonl")).unwrap(),
+        std::fs::read(tmp.path().join("b.jsonl")).unwrap()
+    );
+    // A key given overrides the preset's, and the line says so.
+    let stderr = run(
+        &["--preset", "starter", "--set", "tangents=orthonormal"],
+        "c.jsonl",
+    );
+    assert!(
+        stderr.contains("collision starter, tangents orthonormal"),
+        "{stderr}"
+    );
+    assert!(header("c.jsonl").get("tangents").is_none());
+    // The default: vertices, orthonormal tangents, and no `tangents` in the header.
+    let stderr = run(&[], "d.jsonl");
+    assert!(!stderr.contains("preset "), "{stderr}");
+    let h = header("d.jsonl");
+    assert_eq!(h["collision"], "vertices", "{h}");
+    assert!(h.get("tangents").is_none(), "{h}");
+    // Both ways at once is refused, naming them.
+    let o = rigidref(
+        &[
+            "run",
+            scene,
+            "--steps",
+            "1",
+            "--preset",
+            "starter",
+            "--set",
+            "preset=default",
+        ],
+        tmp.path(),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(common::stderr(&o).contains("--preset and --set preset="));
+    let o = rigidref(&["scene", scene, "--set", "preset=starter"], tmp.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("collision        starter") && stdout.contains("tangents         starter"),
+        "{stdout}"
+    );
+    let o = rigidref(&["scene", scene], tmp.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("collision        vertices")
+            && stdout.contains("tangents         orthonormal"),
+        "{stdout}"
+    );
+    // `run --help` lists the key and the starter's values.
+    let o = rigidref(&["run", "--help"], tmp.path());
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("    tangents          ")
+            && stdout.contains("Python starter's collision.py"),
+        "{stdout}"
+    );
+}
+
 /// `--set KEY=VALUE` overrides a scene parameter in both systems, is checked exactly as the
 /// file's value (a bad key or value is a one-line error naming the key, exit 1), and shows in
 /// the summary and the trace header.

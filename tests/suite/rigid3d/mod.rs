@@ -16,3 +16,4 @@ mod projectile;
 mod rattleback;
 mod rotation;
 mod sphere_tree;
+mod starter_collision;

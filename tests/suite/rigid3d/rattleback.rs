@@ -198,6 +198,8 @@ fn tessellated(around: usize, rings: usize) -> rigidref::rigid3d::mesh::TriMesh 
     rigidref::rigid3d::mesh::TriMesh {
         vertices,
         triangles,
+        file_numbers: Vec::new(),
+        file_vertex_count: 0,
     }
 }
 
