@@ -114,8 +114,8 @@ impl InterpenetrationWatch {
                 (_, CollisionMethod::Vertices, Some(_)) => {
                     "the vertex rule missed their contacts; `collision: complete` (or --set collision=complete) finds them".into()
                 }
-                (CollisionMethod::Starter, Some(_)) => {
-                    "the starter's rule (only the vertices of the mesh with more vertices, against the other) missed their contacts; `collision: complete` (or --set collision=complete) finds them"
+                (_, CollisionMethod::Starter, Some(_)) => {
+                    "the starter's rule (only the vertices of the mesh with more vertices, against the other) missed their contacts; `collision: complete` (or --set collision=complete) finds them".into()
                 }
                 _ => {
                     "the contacts found did not keep them apart (too fast a body for the step, or too few PGS iterations)".into()
