@@ -155,16 +155,14 @@ fn relative(out: &Path, path: &Path) -> String {
     path.strip_prefix(out).unwrap_or(path).display().to_string()
 }
 
-/// Reads a trace, measures it and judges it.
+/// Reads a trace and measures it.
 fn measure(
     scene: &crate::rigid3d::scene::Scene,
     known: &KnownScene,
-    expected: &[Expected],
     path: &Path,
 ) -> Result<(Vec<Measured>, crate::rigid3d::trace::Trace), String> {
     let trace = crate::rigid3d::trace::read_trace_file(path)?;
     let measured = observe::observe(scene, known, &trace)?;
-    let _ = expected;
     Ok((measured, trace))
 }
 
@@ -266,7 +264,7 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         create(&dir)?;
         let path = dir.join(format!("{stem}.jsonl"));
         runs::run_rigidref(scene, *frames, &path)?;
-        let (reference, trace) = measure(scene, k, &expected, &path)?;
+        let (reference, trace) = measure(scene, k, &path)?;
         runs.push(RunResult {
             engine: Engine::Rigidref,
             settings: None,
@@ -302,7 +300,7 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
                             None => Ok(Some(v)),
                         })
                 };
-                match outcome.and_then(|model| measure(scene, k, &expected, &path).map(|m| (model, m))) {
+                match outcome.and_then(|model| measure(scene, k, &path).map(|m| (model, m))) {
                     Ok((model, (measured, trace))) => {
                         run.model = model;
                         run.trace = Some(relative(out, &path));

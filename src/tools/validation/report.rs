@@ -151,9 +151,8 @@ pub fn write_report(v: &Validation, out: &Path) -> Result<(), String> {
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| format!("{}: cannot create: {e}", plots.display()))?;
     for scene in &v.scenes {
-        let loaded = crate::rigid3d::scene::load_scene(Path::new(&scene_path(v, scene)))
-            .ok();
-        let Some(loaded) = loaded else { continue };
+        // The scene was loaded from this path moments ago; a plot needs it for the penetration.
+        let loaded = crate::rigid3d::scene::load_scene(Path::new(&scene.source)).map_err(|e| e.to_string())?;
         let runs: Vec<PlottedRun> = scene
             .runs
             .iter()
@@ -163,9 +162,4 @@ pub fn write_report(v: &Validation, out: &Path) -> Result<(), String> {
         plot_runs(&runs, &keys, &plots.join(format!("{}.svg", scene.file.trim_end_matches(".json"))), &scene.name)?;
     }
     Ok(())
-}
-
-fn scene_path(v: &Validation, scene: &super::SceneResult) -> String {
-    let _ = v;
-    scene.source.clone()
 }
