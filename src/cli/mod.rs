@@ -29,6 +29,7 @@ mod run3d;
 mod run_args;
 mod scene;
 mod solve_problems;
+mod validate;
 mod view;
 
 use clap::{Parser, Subcommand};
@@ -97,6 +98,9 @@ enum Command {
     SolveProblems(solve_problems::SolveProblemsArgs),
     /// Convert a contact problem between file formats (rigidref JSON, Siconos .dat, FCLIB HDF5).
     ConvertProblem(convert_problem::ConvertProblemArgs),
+    /// Run the known-answer scenes in other engines (rapier, MuJoCo, PyBullet, Drake) and judge
+    /// them against the closed forms and rigidref's exact run: a Markdown, JSON and SVG report.
+    Validate(validate::ValidateArgs),
 }
 
 pub use compare::Unreadable;
@@ -128,6 +132,7 @@ pub fn dispatch(cli: Cli) -> anyhow::Result<()> {
         Some(Command::Compare(args)) => compare::compare(args),
         Some(Command::CompareProblem(args)) => compare_problem::compare_problem(args),
         Some(Command::Grade(args)) => grade::grade(args),
+        Some(Command::Validate(args)) => validate::validate(args),
         Some(Command::View(args)) => view::view(args),
         Some(Command::Plot(args)) => plot::plot(args),
         None => run::run(cli.run),

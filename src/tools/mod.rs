@@ -7,8 +7,11 @@
 //!   video (docs/viewing.md);
 //! - [`experiments`]: the 2D factory (the stress test) and its scaling, the nut bag, the
 //!   benchmark against rapier3d, and the library of standard contact problems
-//!   (docs/performance.md, docs/problem-library.md).
+//!   (docs/performance.md, docs/problem-library.md);
+//! - [`validation`]: other engines (rapier, MuJoCo, PyBullet, Drake) on the known-answer scenes,
+//!   judged against the closed forms and rigidref's exact run (docs/validation.md).
 
 pub mod experiments;
 pub mod grading;
+pub mod validation;
 pub mod viewing;

@@ -13,6 +13,7 @@ use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
 use rapier3d_f64::math::{Rotation, Vector};
+use rapier3d_f64::geometry::PairContacts;
 use rapier3d_f64::prelude::*;
 
 /// One body's state, world frame.
@@ -154,6 +155,129 @@ impl RapierMirror {
     /// Sets rapier's solver iterations (matched to PGS sweeps by `rigidref bench`).
     pub fn set_solver_iterations(&mut self, n: usize) {
         self.world.integration_parameters.num_solver_iterations = n.max(1);
+    }
+
+    /// Sets rapier's step, s (the mirror steps at the scene's frame step unless told otherwise:
+    /// `rigidref validate` steps at dt / substeps).
+    pub fn set_step(&mut self, h: f64) {
+        self.world.integration_parameters.dt = h;
+    }
+
+    /// What rapier's documentation recommends for accuracy (docs/validation.md §"rapier"):
+    /// `num_solver_iterations` 12 ("8-12: Use for demanding scenarios (stacks of objects, complex
+    /// machinery)"), the Coulomb friction model (one friction constraint per contact point; the
+    /// default `Simplified` is "significantly faster [...] but less accurate") and no contact
+    /// recycling (whose stale contacts are a documented trade-off).
+    pub fn set_accurate(&mut self) {
+        let p = &mut self.world.integration_parameters;
+        p.num_solver_iterations = 12;
+        p.friction_model = rapier3d_f64::dynamics::FrictionModel::Coulomb;
+        p.contact_recycling = false;
+    }
+
+    /// rapier's settings that `rigidref validate` reports.
+    pub fn settings_report(&self) -> serde_json::Value {
+        let p = &self.world.integration_parameters;
+        serde_json::json!({
+            "dt": p.dt,
+            "num_solver_iterations": p.num_solver_iterations,
+            "num_internal_pgs_iterations": p.num_internal_pgs_iterations,
+            "num_internal_stabilization_iterations": p.num_internal_stabilization_iterations,
+            "friction_model": format!("{:?}", p.friction_model),
+            "contact_recycling": p.contact_recycling,
+            "contact_clustering": p.contact_clustering,
+            "contact_softness_natural_frequency": p.contact_softness.natural_frequency,
+            "contact_softness_damping_ratio": p.contact_softness.damping_ratio,
+            "allowed_linear_error": p.allowed_linear_error(),
+            "prediction_distance": p.prediction_distance(),
+        })
+    }
+
+    /// rapier's model read back for `rigidref validate`: the step (s), gravity (m/s²), each body's
+    /// mass (kg), inertia about its centre of mass in the body frame (kg·m², rows, rebuilt from
+    /// rapier's principal moments and frame) and its colliders' friction, the ground's friction,
+    /// and the rule rapier combines them by (every collider here asks for `Min`).
+    pub fn readback(&self) -> serde_json::Value {
+        let bodies: Vec<serde_json::Value> = self
+            .handles
+            .iter()
+            .map(|h| {
+                let body = &self.world.bodies[*h];
+                let m = body.mass_properties().local_mprops.reconstruct_inertia_matrix();
+                let cols = [m.x_axis, m.y_axis, m.z_axis];
+                let rows: Vec<[f64; 3]> = (0..3).map(|i| [cols[0][i], cols[1][i], cols[2][i]]).collect();
+                let mu: Vec<f64> = body.colliders().iter().map(|c| self.world.colliders[*c].friction()).collect();
+                serde_json::json!({"mass": body.mass(), "inertia": rows, "mu": mu})
+            })
+            .collect();
+        let ground: Vec<f64> = self
+            .world
+            .colliders
+            .iter()
+            .filter(|(_, c)| c.parent().is_none())
+            .map(|(_, c)| c.friction())
+            .collect();
+        let g = from_vector(self.world.gravity);
+        serde_json::json!({
+            "h": self.world.integration_parameters.dt,
+            "gravity": [g.x, g.y, g.z],
+            "bodies": bodies,
+            "ground_mu": ground,
+            "pair_mu_rule": "min of the two colliders' friction",
+        })
+    }
+
+    /// Sets each body's applied force to the scene's load at time `t` (s): force + force_rate t.
+    pub fn apply_loads(&mut self, scene: &Scene, t: f64) {
+        for (h, d) in self.handles.iter().zip(&scene.bodies) {
+            let f = d.force + d.force_rate * t;
+            let body = &mut self.world.bodies[*h];
+            body.reset_forces(false);
+            if f != Vector3::zeros() {
+                body.add_force(vector(&f), true);
+            }
+        }
+    }
+
+    /// The contact points of the last step as trace contacts: point (on the body), the normal
+    /// from the other body (or the ground) into it, depth, and the normal impulse rapier applied
+    /// (N·s). rapier's friction impulses are per manifold (its default `Simplified` model) or in
+    /// a basis of its own, so the tangential entries are left zero (docs/validation.md §"rapier").
+    pub fn contact_records(&self) -> Vec<crate::rigid3d::trace::ContactRecord> {
+        let index = |c: ColliderHandle| -> i64 {
+            self.world.colliders[c]
+                .parent()
+                .and_then(|b| self.handles.iter().position(|h| *h == b))
+                .map_or(-1, |k| k as i64)
+        };
+        let mut out = Vec::new();
+        for pair in self.world.contact_pairs() {
+            let PairContacts::Rigid(rigid) = &pair.contacts else {
+                continue;
+            };
+            let (b1, b2) = (index(pair.collider1), index(pair.collider2));
+            let pose1 = *self.world.colliders[pair.collider1].position();
+            for manifold in rigid.solver_manifolds() {
+                let n = from_vector(manifold.data.normal);
+                for point in &manifold.points {
+                    if point.data.impulse == 0.0 && point.dist > 0.0 {
+                        continue;
+                    }
+                    let p = from_vector(pose1 * point.local_p1);
+                    // rapier's normal points out of collider 1; the trace's from the other body
+                    // into the body named first.
+                    let (bodies, normal) = if b1 >= 0 { ([b1, b2], -n) } else { ([b2, b1], n) };
+                    out.push(crate::rigid3d::trace::ContactRecord {
+                        bodies,
+                        p: p.into(),
+                        n: normal.into(),
+                        depth: -point.dist,
+                        lambda: [point.data.impulse, 0.0, 0.0],
+                    });
+                }
+            }
+        }
+        out
     }
 
     /// Advances one frame of dt.

@@ -11,3 +11,4 @@ mod rapier;
 mod snapshots;
 mod soak;
 mod teeth;
+mod validation;

@@ -1,0 +1,328 @@
+//! `rigidref validate`: rigidref as the yardstick for other simulators (docs/validation.md).
+//!
+//! Each known-answer scene ([`scenes`]) is converted once into a mirror description
+//! ([`mirror`]) and run in every engine asked for ([`engines`]: rapier in-process, MuJoCo,
+//! PyBullet and Drake through the Python mirrors), each with its documented defaults and with the
+//! settings its documentation recommends for accuracy, and in rigidref with the exact (Newton)
+//! solver ([`runs`]). Every run writes a rigidref trace; every trace is measured by the same code
+//! ([`observe`]) and judged against the closed forms ([`judge`]) and against rigidref's run; the
+//! report ([`report`]) is Markdown, JSON and SVG plots. Engines that are not installed are
+//! reported as such, never dropped.
+
+pub mod engines;
+pub mod judge;
+pub mod mirror;
+pub mod observe;
+pub mod report;
+pub mod runs;
+pub mod scenes;
+
+use engines::{Engine, EngineStatus, Job, Settings};
+use judge::Expected;
+use mirror::MirrorScene;
+use observe::Measured;
+use scenes::{KnownScene, SCENES_3D};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// What `rigidref validate` is asked to do.
+#[derive(Clone, Debug)]
+pub struct ValidateOptions {
+    /// The engines besides rigidref (which always runs: it is the reference).
+    pub engines: Vec<Engine>,
+    /// Scene names of the known-answer set (`sliding_cube`, …); empty: all of them.
+    pub scenes: Vec<String>,
+    /// The folder holding the scenes (the repository's `scenes/`).
+    pub scene_dir: PathBuf,
+    /// Where the report, traces and mirrors go (created).
+    pub out: PathBuf,
+    /// The Python interpreter that has the engines.
+    pub python: PathBuf,
+}
+
+/// How a run went.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "status", content = "why", rename_all = "snake_case")]
+pub enum RunStatus {
+    /// It ran; its trace is measured.
+    Ran,
+    /// The engine is not installed (why, in one line).
+    NotInstalled(String),
+    /// It failed (one line).
+    Failed(String),
+}
+
+/// One engine × settings on one scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunResult {
+    /// The engine.
+    pub engine: Engine,
+    /// Its settings (`None` for rigidref's reference run).
+    pub settings: Option<Settings>,
+    /// How it went.
+    pub status: RunStatus,
+    /// Its trace, relative to the output folder.
+    pub trace: Option<String>,
+    /// The engine's settings as applied and its model read back (the Python mirrors' model file;
+    /// rapier's settings).
+    pub model: Option<serde_json::Value>,
+    /// The observables.
+    pub measured: Vec<MeasuredJudged>,
+    /// The trace, for plots (not in the JSON).
+    #[serde(skip)]
+    pub records: Option<crate::rigid3d::trace::Trace>,
+}
+
+/// A measured value with its judgement.
+#[derive(Clone, Debug, Serialize)]
+pub struct MeasuredJudged {
+    /// The observable's key.
+    pub key: &'static str,
+    /// The value.
+    pub value: Option<f64>,
+    /// value − the closed form's value.
+    pub error: Option<f64>,
+    /// value − rigidref's value.
+    pub versus_rigidref: Option<f64>,
+    /// Within the tolerance of the closed form (`None`: reported only).
+    pub passed: Option<bool>,
+}
+
+impl RunResult {
+    /// The label of the run in tables and legends: `mujoco (default)`, `rigidref (Newton)`.
+    pub fn label(&self) -> String {
+        match self.settings {
+            Some(s) => format!("{} ({})", self.engine.name(), s.name()),
+            None => format!("{} (Newton)", self.engine.name()),
+        }
+    }
+
+    /// (passed, judged) over the observables with a tolerance.
+    pub fn score(&self) -> (usize, usize) {
+        let judged: Vec<bool> = self.measured.iter().filter_map(|m| m.passed).collect();
+        (judged.iter().filter(|p| **p).count(), judged.len())
+    }
+}
+
+/// One scene's results.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneResult {
+    /// The scene file's name.
+    pub file: String,
+    /// The scene's own name.
+    pub name: String,
+    /// The scene file as read.
+    pub source: String,
+    /// Frames run, and the frame step (s).
+    pub frames: u64,
+    /// Frame step, s.
+    pub dt: f64,
+    /// The observables' expectations.
+    pub expected: Vec<Expected>,
+    /// rigidref's run first, then each engine × settings.
+    pub runs: Vec<RunResult>,
+}
+
+/// The whole validation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Validation {
+    /// Each engine asked for: its version or why it is missing.
+    pub engines: Vec<EngineStatus>,
+    /// Each scene.
+    pub scenes: Vec<SceneResult>,
+}
+
+fn scene_list(names: &[String]) -> Result<Vec<KnownScene>, String> {
+    if names.is_empty() {
+        return Ok(SCENES_3D.to_vec());
+    }
+    names
+        .iter()
+        .map(|n| {
+            scenes::known_scene(n).ok_or_else(|| {
+                let known: Vec<&str> = SCENES_3D.iter().map(|s| s.file.trim_end_matches(".json")).collect();
+                format!("--scenes: {n:?} is not a known-answer scene (known: {})", known.join(", "))
+            })
+        })
+        .collect()
+}
+
+fn create(dir: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))
+}
+
+fn relative(out: &Path, path: &Path) -> String {
+    path.strip_prefix(out).unwrap_or(path).display().to_string()
+}
+
+/// Reads a trace and measures it.
+fn measure(
+    scene: &crate::rigid3d::scene::Scene,
+    known: &KnownScene,
+    path: &Path,
+) -> Result<(Vec<Measured>, crate::rigid3d::trace::Trace), String> {
+    let trace = crate::rigid3d::trace::read_trace_file(path)?;
+    let measured = observe::observe(scene, known, &trace)?;
+    Ok((measured, trace))
+}
+
+fn judged(expected: &[Expected], measured: &[Measured], reference: &[Measured]) -> Vec<MeasuredJudged> {
+    measured
+        .iter()
+        .map(|m| {
+            let exp = expected.iter().find(|e| e.key == m.key);
+            let exact = exp.and_then(|e| e.exact);
+            let error = m.value.zip(exact).map(|(v, x)| v - x);
+            let passed = exp.and_then(|e| e.tolerance).map(|tol| error.is_some_and(|e| e.abs() <= tol));
+            let theirs = reference.iter().find(|r| r.key == m.key).and_then(|r| r.value);
+            MeasuredJudged {
+                key: m.key,
+                value: m.value,
+                error,
+                versus_rigidref: m.value.zip(theirs).map(|(a, b)| a - b),
+                passed,
+            }
+        })
+        .collect()
+}
+
+/// Runs the validation and writes its report (report.md, report.json, plots/) into
+/// `options.out`.
+pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
+    let known = scene_list(&options.scenes)?;
+    let out = &options.out;
+    create(out)?;
+    let python_engines: Vec<Engine> = options.engines.iter().copied().filter(|e| e.is_python()).collect();
+    let mut statuses: Vec<EngineStatus> = Vec::new();
+    let run_py = engines::write_mirrors(&out.join("mirrors"))?;
+    let probed = if python_engines.is_empty() {
+        Vec::new()
+    } else {
+        engines::probe(&options.python, &run_py, &python_engines)
+    };
+    let mut asked: Vec<Engine> = Vec::new();
+    for &engine in &options.engines {
+        if !asked.contains(&engine) {
+            asked.push(engine);
+        }
+    }
+    for &engine in &asked {
+        if engine == Engine::Rapier {
+            statuses.push(EngineStatus { engine, version: Some("rapier3d-f64 0.36.1 (built in)".into()), missing: None });
+        } else if engine == Engine::Pymunk {
+            statuses.push(EngineStatus { engine, version: None, missing: Some("pymunk mirrors the 2D scenes, which validate does not run yet (docs/validation.md §\"Not yet done\")".into()) });
+        } else if let Some(s) = probed.iter().find(|s| s.engine == engine) {
+            statuses.push(s.clone());
+        }
+    }
+    // Load every scene and write its description.
+    create(&out.join("descriptions"))?;
+    let mut loaded = Vec::new();
+    for k in &known {
+        let path = options.scene_dir.join(k.file);
+        if !path.is_file() {
+            return Err(format!("{}: not found (give the folder of rigidref's scenes with --scene-dir)", path.display()));
+        }
+        let scene = crate::rigid3d::scene::load_scene(&path).map_err(|e| e.to_string())?;
+        let frames = crate::sim::steps_in(k.seconds, scene.params.dt, " s")?;
+        let stem = k.file.trim_end_matches(".json");
+        let description = MirrorScene::of_scene(&scene, stem, frames)?;
+        let dpath = out.join("descriptions").join(format!("{stem}.mirror.json"));
+        let text = serde_json::to_string_pretty(&description).map_err(|e| e.to_string())?;
+        std::fs::write(&dpath, text + "\n").map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
+        loaded.push((*k, scene, frames, dpath));
+    }
+    // The Python engines: one process each, every scene and setting.
+    let mut python_failures: Vec<(Engine, String)> = Vec::new();
+    for status in statuses.iter().filter(|s| s.engine.is_python() && s.missing.is_none()) {
+        let mut jobs = Vec::new();
+        for settings in Settings::BOTH {
+            let dir = out.join("traces").join(format!("{}-{}", status.engine.name(), settings.name()));
+            create(&dir)?;
+            for (k, _, _, dpath) in &loaded {
+                let stem = k.file.trim_end_matches(".json");
+                jobs.push(Job {
+                    description: std::fs::canonicalize(dpath).unwrap_or(dpath.clone()),
+                    settings: settings.name(),
+                    trace: dir.join(format!("{stem}.jsonl")),
+                    model: dir.join(format!("{stem}.model.json")),
+                });
+            }
+        }
+        let jobs_file = out.join("traces").join(format!("{}-jobs.json", status.engine.name()));
+        if let Err(e) = engines::run_python_jobs(&options.python, &run_py, status.engine, &jobs, &jobs_file) {
+            python_failures.push((status.engine, e));
+        }
+    }
+    let mut results = Vec::new();
+    for (k, scene, frames, _) in &loaded {
+        let stem = k.file.trim_end_matches(".json");
+        let expected = judge::expectations(scene, k);
+        let mut runs: Vec<RunResult> = Vec::new();
+        // rigidref's reference run.
+        let dir = out.join("traces").join("rigidref");
+        create(&dir)?;
+        let path = dir.join(format!("{stem}.jsonl"));
+        runs::run_rigidref(scene, *frames, &path)?;
+        let (reference, trace) = measure(scene, k, &path)?;
+        runs.push(RunResult {
+            engine: Engine::Rigidref,
+            settings: None,
+            status: RunStatus::Ran,
+            trace: Some(relative(out, &path)),
+            model: None,
+            measured: judged(&expected, &reference, &reference),
+            records: Some(trace),
+        });
+        for status in &statuses {
+            for settings in Settings::BOTH {
+                let engine = status.engine;
+                let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), records: None };
+                if let Some(why) = &status.missing {
+                    run.status = RunStatus::NotInstalled(why.clone());
+                    runs.push(run);
+                    continue;
+                }
+                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+                create(&dir)?;
+                let path = dir.join(format!("{stem}.jsonl"));
+                let outcome: Result<Option<serde_json::Value>, String> = if engine == Engine::Rapier {
+                    runs::run_rapier(scene, settings, *frames, &path).map(Some)
+                } else if let Some((_, e)) = python_failures.iter().find(|(f, _)| *f == engine) {
+                    Err(e.clone())
+                } else {
+                    let model_path = dir.join(format!("{stem}.model.json"));
+                    std::fs::read_to_string(&model_path)
+                        .map_err(|e| format!("{}: not written: {e}", model_path.display()))
+                        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).map_err(|e| format!("{}: {e}", model_path.display())))
+                        .and_then(|v| match v["error"].as_str() {
+                            Some(err) => Err(err.to_string()),
+                            None => Ok(Some(v)),
+                        })
+                };
+                match outcome.and_then(|model| measure(scene, k, &path).map(|m| (model, m))) {
+                    Ok((model, (measured, trace))) => {
+                        run.model = model;
+                        run.trace = Some(relative(out, &path));
+                        run.measured = judged(&expected, &measured, &reference);
+                        run.records = Some(trace);
+                    }
+                    Err(e) => run.status = RunStatus::Failed(e),
+                }
+                runs.push(run);
+            }
+        }
+        results.push(SceneResult {
+            file: k.file.to_string(),
+            name: scene.params.name.clone(),
+            source: options.scene_dir.join(k.file).display().to_string(),
+            frames: *frames,
+            dt: scene.params.dt,
+            expected,
+            runs,
+        });
+    }
+    let validation = Validation { engines: statuses, scenes: results };
+    report::write_report(&validation, out)?;
+    Ok(validation)
+}
