@@ -11,6 +11,7 @@ mod newton;
 mod pgs;
 mod problem;
 mod qp;
+mod siconos_error;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.
 fn local_solve_problem(
