@@ -480,10 +480,13 @@ pub fn newton_function_local<const R: usize>(
 ) -> (DVector<f64>, DMatrix<f64>) {
     let system = System::of(problem, DENSE_ROWS);
     let n = system.rows();
-    let stack = |l: &[SVector<f64, R>]| DVector::from_iterator(n, l.iter().flat_map(|v| v.iter().copied()));
+    let stack =
+        |l: &[SVector<f64, R>]| DVector::from_iterator(n, l.iter().flat_map(|v| v.iter().copied()));
     let x = stack(lambda);
     let centre = proximal.map(|(_, c)| stack(c));
-    let prox = proximal.zip(centre.as_ref()).map(|((eta, _), centre)| Proximal { eta, centre });
+    let prox = proximal
+        .zip(centre.as_ref())
+        .map(|((eta, _), centre)| Proximal { eta, centre });
     let eta = prox.as_ref().map_or(0.0, |p| p.eta);
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
     evaluate(&system, &x, prox.as_ref(), &mut w, &mut f, &mut blocks);

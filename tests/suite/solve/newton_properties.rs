@@ -98,7 +98,11 @@ fn branches<const R: usize>(
             let l = lambda[k];
             let s_n = l[0] - wk[0] / a[0];
             let kappa = c.mu * s_n.max(0.0);
-            let moving = if s_n > 0.0 && c.mu > 0.0 { ", μ′" } else { "" };
+            let moving = if s_n > 0.0 && c.mu > 0.0 {
+                ", μ′"
+            } else {
+                ""
+            };
             let mut out = vec![format!(
                 "{prefix}normal {}",
                 if s_n > 0.0 { "active" } else { "inactive" }
@@ -295,11 +299,21 @@ fn newton_derivative_remainder_vanishes_at_every_kind_of_kink() {
             "cone tip (q = 0, λ* = 0: s_n = 0, z = 0, κ = 0)",
             one_contact(w, zero, 0.5, FrictionModel::Cone),
             zero,
-            vec!["normal active", "normal inactive", "disk rim, μ′", "disk rim"],
+            vec![
+                "normal active",
+                "normal inactive",
+                "disk rim, μ′",
+                "disk rim",
+            ],
         ),
         (
             "disk rim ‖z‖ = κ (λ* = (1, 0.375, 0.5), w* = 0, μ = 0.625)",
-            one_contact(w, q_for(Vector3::new(1.0, 0.375, 0.5)), 0.625, FrictionModel::Cone),
+            one_contact(
+                w,
+                q_for(Vector3::new(1.0, 0.375, 0.5)),
+                0.625,
+                FrictionModel::Cone,
+            ),
             Vector3::new(1.0, 0.375, 0.5),
             vec!["disk rim, μ′", "disk interior"],
         ),
@@ -317,7 +331,12 @@ fn newton_derivative_remainder_vanishes_at_every_kind_of_kink() {
         ),
         (
             "box bound |z_1| = κ (λ* = (1, 0.5, −0.25), w* = 0, μ = 0.5)",
-            one_contact(w, q_for(Vector3::new(1.0, 0.5, -0.25)), 0.5, FrictionModel::Box),
+            one_contact(
+                w,
+                q_for(Vector3::new(1.0, 0.5, -0.25)),
+                0.5,
+                FrictionModel::Box,
+            ),
             Vector3::new(1.0, 0.5, -0.25),
             vec!["bound, μ′", "interior"],
         ),
@@ -331,16 +350,26 @@ fn newton_derivative_remainder_vanishes_at_every_kind_of_kink() {
             // Affine pieces: round-off only (F of order 1: a few ε/‖h‖ ≤ 1e-9 at 1e-6). The rim:
             // the curvature of κẑ, ρκ‖h_t‖²/‖z‖² with ρ ≤ 2.2, κ = ‖z‖ = 0.625, under 10‖h‖.
             let bound = if rim { 10.0 * size } else { 1e-8 };
-            assert!(ratio <= bound, "{name}: remainder/‖h‖ = {ratio:e} at ‖h‖ = {size:e}");
+            assert!(
+                ratio <= bound,
+                "{name}: remainder/‖h‖ = {ratio:e} at ‖h‖ = {size:e}"
+            );
         }
         for b in expect {
-            assert!(seen.contains_key(b), "{name}: the points around never on {b}: {seen:?}");
+            assert!(
+                seen.contains_key(b),
+                "{name}: the points around never on {b}: {seen:?}"
+            );
         }
     }
     // 2D: the tie κ = 0, z = 0 and the bound |z| = κ of the interval law.
     let w2 = Matrix2::new(0.91, -1.8, -1.8, 4.1);
     for (name, q, star) in [
-        ("2D tie", SVector::<f64, 2>::new(1.0, 0.0), SVector::<f64, 2>::zeros()),
+        (
+            "2D tie",
+            SVector::<f64, 2>::new(1.0, 0.0),
+            SVector::<f64, 2>::zeros(),
+        ),
         (
             "2D bound",
             -(w2 * SVector::<f64, 2>::new(1.0, 0.5)),
@@ -351,7 +380,10 @@ fn newton_derivative_remainder_vanishes_at_every_kind_of_kink() {
         let mut seen = BTreeMap::new();
         for size in [1e-2, 1e-3, 1e-4, 1e-5, 1e-6] {
             let ratio = remainder(&problem, &[star], size, &mut seen);
-            assert!(ratio <= 1e-8, "{name}: remainder/‖h‖ = {ratio:e} at ‖h‖ = {size:e}");
+            assert!(
+                ratio <= 1e-8,
+                "{name}: remainder/‖h‖ = {ratio:e} at ‖h‖ = {size:e}"
+            );
         }
         assert!(seen.len() >= 2, "{name}: {seen:?}");
     }
@@ -392,11 +424,18 @@ fn compliant_cone(s: &common::problems::ProblemSpec, mu: f64) -> LocalProblem<3>
 /// Whether answer λ of `problem` is strictly complementary by `margin` (each contact clearly
 /// separating, sticking or sliding): there the solution is isolated and Newton's local rate is
 /// quadratic.
-fn non_degenerate<const R: usize>(problem: &LocalProblem<R>, lambda: &[SVector<f64, R>], margin: f64) -> bool {
+fn non_degenerate<const R: usize>(
+    problem: &LocalProblem<R>,
+    lambda: &[SVector<f64, R>],
+    margin: f64,
+) -> bool {
     let w = problem.velocity(lambda);
     problem.contacts.iter().enumerate().all(|(k, c)| {
         let (l, v) = (lambda[k], w[k]);
-        let (lt, vt) = ((1..R).map(|r| l[r] * l[r]).sum::<f64>().sqrt(), (1..R).map(|r| v[r] * v[r]).sum::<f64>().sqrt());
+        let (lt, vt) = (
+            (1..R).map(|r| l[r] * l[r]).sum::<f64>().sqrt(),
+            (1..R).map(|r| v[r] * v[r]).sum::<f64>().sqrt(),
+        );
         if l[0] <= margin {
             v[0] > margin
         } else {
@@ -437,7 +476,11 @@ fn newton_converges_quadratically_near_non_degenerate_solutions() {
             }
         }
     });
-    eprintln!("{} pairs, largest ‖F_k+1‖/‖F_k‖² = {}", pairs.borrow(), worst.borrow());
+    eprintln!(
+        "{} pairs, largest ‖F_k+1‖/‖F_k‖² = {}",
+        pairs.borrow(),
+        worst.borrow()
+    );
     assert!(*pairs.borrow() >= 50, "{}", pairs.borrow());
 }
 
@@ -553,7 +596,10 @@ fn assert_criteria_hold<const R: usize>(
             ("cone_boundary", c.cone_boundary),
             ("max_dissipation", c.max_dissipation),
         ] {
-            prop_assert!(v.abs() <= energy, "{k}: {name} {v:e} above {energy:e}: {c:?}");
+            prop_assert!(
+                v.abs() <= energy,
+                "{k}: {name} {v:e} above {energy:e}: {c:?}"
+            );
         }
     }
     Ok(())
@@ -617,7 +663,10 @@ fn newton_solves_the_painleve_example_frictionless_and_large_friction_problems()
     let stuck = super::derivations::painleve([-1.0, 0.0]).to_local();
     let (lambda, report) = newton(&stuck, 1e-12);
     assert!(report.converged, "{report:?}");
-    assert!((lambda[0] - SVector::from([4.1, 1.8]) / 0.491).amax() <= 1e-10, "{lambda:?}");
+    assert!(
+        (lambda[0] - SVector::from([4.1, 1.8]) / 0.491).amax() <= 1e-10,
+        "{lambda:?}"
+    );
 
     // μ = 0 (cone and box) and μ > 2 on random physical problems: μ = 0 converges on every one
     // with no friction impulse at all; μ in [2, 10] converges on most (existence asks more the
@@ -659,7 +708,10 @@ fn newton_solves_the_painleve_example_frictionless_and_large_friction_problems()
     let problem = one_contact(a, q, 5.0, FrictionModel::Cone);
     let (lambda, report) = newton(&problem, 1e-12);
     assert!(report.converged);
-    assert!((lambda[0] + a.try_inverse().unwrap() * q).amax() <= 1e-12, "{lambda:?}");
+    assert!(
+        (lambda[0] + a.try_inverse().unwrap() * q).amax() <= 1e-12,
+        "{lambda:?}"
+    );
 }
 
 #[test]
@@ -675,18 +727,24 @@ fn a_round_off_diagonal_counts_as_zero() {
     dense.view_mut((3, 3), (3, 3)).fill_with_identity();
     dense.view_mut((3, 3), (3, 3)).scale_mut(1e-18);
     let q = DVector::from_vec(vec![-1.0, 0.5, 0.0, 1.0, 0.0, 0.0]);
-    let problem = LocalProblem::<3>::from_dense(FrictionModel::Cone, &dense, &q, &[0.5, 0.5]).unwrap();
+    let problem =
+        LocalProblem::<3>::from_dense(FrictionModel::Cone, &dense, &q, &[0.5, 0.5]).unwrap();
     let (lambda, report) = newton(&problem, 1e-10);
     assert!(report.converged, "{report:?}");
     assert_eq!(lambda[1], SVector::<f64, 3>::zeros());
     let mut pushed = lambda.clone();
     pushed[1][0] = 1e7;
-    assert!(residual(&problem, &pushed) >= 1.0, "{}", residual(&problem, &pushed));
+    assert!(
+        residual(&problem, &pushed) >= 1.0,
+        "{}",
+        residual(&problem, &pushed)
+    );
     assert!(coulomb_residual(&problem, &pushed) >= 1.0);
     // An exactly zero block reads the same as before.
     let mut exact = dense.clone();
     exact.view_mut((3, 3), (3, 3)).fill(0.0);
-    let problem = LocalProblem::<3>::from_dense(FrictionModel::Cone, &exact, &q, &[0.5, 0.5]).unwrap();
+    let problem =
+        LocalProblem::<3>::from_dense(FrictionModel::Cone, &exact, &q, &[0.5, 0.5]).unwrap();
     assert!(residual(&problem, &pushed) >= 1.0);
 }
 
