@@ -1,5 +1,8 @@
-//! Physical criteria of a contact's answer against Coulomb's law, per contact (ContactBench:
-//! Le Lidec et al., "Contact models in robotics: a comparative analysis", IEEE T-RO 2024).
+//! Physical criteria of a contact's answer against Coulomb's law, per contact. ContactBench (Le
+//! Lidec et al., "Contact models in robotics: a comparative analysis", IEEE T-RO 2024) defines
+//! Signorini, contact complementarity, conic complementarity and the primal and dual
+//! feasibilities; the feasibilities, Signorini and the conic complementarity are its, the split of
+//! the rest into `cone_boundary` and `max_dissipation` is rigidref's own.
 //! docs/contact.md §"Physical criteria".
 //!
 //! With c = (A + C) λ + b the contact velocity after the impulses (m/s), K = {‖λ_T‖ ≤ μ λn} the
@@ -16,7 +19,7 @@
 //!   cone_boundary     |‖c_T‖ (μλn − ‖λ_T‖)|                 J
 //!   max_dissipation   ‖λ_T‖ ‖c_T‖ + λ_T·c_T                 J
 //!
-//! each zero exactly when its part of the law holds (for λ in K): no impulse on a separating
+//! each zero exactly when its part of the law holds (for λ in K and c_n ≥ 0): no impulse on a separating
 //! contact, friction on the cone's rim when sliding, friction opposite to the slip. They are
 //! measured against Coulomb's cone whatever the problem's friction model, so that a box-friction
 //! answer is judged by the same physics (it violates the cone's parts where it slides off the
@@ -26,6 +29,10 @@ use super::residual::project_cone;
 pub use crate::problem::ContactCriteria;
 use crate::problem::{ProblemView, RowBounds};
 use nalgebra::SVector;
+
+/// Friction coefficients below which the dual criterion is computed through K rather than
+/// through its dual cone of opening 1/μ (whose projection overflows below ~1e-154).
+pub const DUAL_THROUGH_K: f64 = 1e-100;
 
 /// The criteria of one contact with friction coefficient `mu`, impulse `lambda` (N·s, normal
 /// first) and contact velocity `c` (m/s).
@@ -40,11 +47,16 @@ pub fn contact_criteria<const R: usize>(
     let mut c_hat = *c;
     c_hat[0] += mu * c_t;
     let primal = (lambda - project_cone(lambda, mu)).norm();
-    // K* = {c_n ≥ μ‖c_T‖}: the cone of opening 1/μ; for μ = 0 the half-space c_n ≥ 0.
-    let dual = if mu > 0.0 {
+    // K* = {c_n ≥ μ‖c_T‖}: the cone of opening 1/μ, whose projection squares 1/μ and overflows
+    // (μ⁻² = ∞, and every ĉ outside K* projected to 0) for μ below ~1e-154. Below
+    // `DUAL_THROUGH_K` the distance is taken through K instead: K*'s polar cone is −K, so by
+    // Moreau's decomposition dist_K*(ĉ) = ‖proj_K(−ĉ)‖, which for μ = 0 is max(−ĉ_n, 0), the
+    // distance to the half-space c_n ≥ 0. (Both are exact; above the threshold the first is
+    // kept so that reported values stay what they were to the bit.)
+    let dual = if mu >= DUAL_THROUGH_K {
         (c_hat - project_cone(&c_hat, 1.0 / mu)).norm()
     } else {
-        (-c_hat[0]).max(0.0)
+        project_cone(&(-c_hat), mu).norm()
     };
     ContactCriteria {
         primal,

@@ -1,6 +1,8 @@
 //! Projected Gauss–Seidel on the local form ([`LocalProblem`]: W, q): the same visits as
 //! [`super::pgs`] — normal row, then friction rows, or the exact local solve — reading a
-//! contact's velocity through W instead of the bodies' Δu. This is Siconos' NSGS.
+//! contact's velocity through W instead of the bodies' Δu. With exact visits
+//! ([`super::LocalSolve::Exact`]) this is Siconos' NSGS; with row visits it is a projected
+//! Gauss–Seidel on W's rows, which Siconos does not have.
 //! docs/contact.md §"The local form".
 //!
 //! A visit of contact k starts from w_k = q_k + Σ_j W_kj λ_j (its block row: the contacts it is

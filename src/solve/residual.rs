@@ -16,6 +16,22 @@
 use crate::problem::{FrictionModel, ProblemView, RowBounds};
 use nalgebra::{SMatrix, SVector};
 
+/// A diagonal entry of W at or below this fraction of W's largest diagonal entry is round-off of
+/// zero (the sums that build W err by a few ε times its entries), and the row is taken as one no
+/// impulse of its own can move: a scale of 1e-18 kg⁻¹ would let the residual accept an impulse
+/// of 1e7 N·s on a separating contact as 1e-11 m/s.
+pub const ROUND_OFF_DIAGONAL: f64 = 64.0 * f64::EPSILON;
+
+/// The largest diagonal entry of `problem`'s W (compliance included) times
+/// [`ROUND_OFF_DIAGONAL`], kg⁻¹: diagonal entries at or below it count as zero. 0 for a problem
+/// whose diagonal is all zero (or that has no constraints).
+pub fn diagonal_floor<const R: usize, P: ProblemView<R> + ?Sized>(problem: &P) -> f64 {
+    let largest = (0..problem.count())
+        .map(|k| problem.block(k).diagonal().max())
+        .fold(0.0, f64::max);
+    ROUND_OFF_DIAGONAL * largest
+}
+
 /// The scales of one contact's rows that PGS steps with and the residual measures with.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RowScales<const R: usize> {
@@ -61,6 +77,21 @@ impl<const R: usize> RowScales<R> {
             tangent_rho: tangent_eigenvalue(&((block + block.transpose()) * 0.5)),
             block,
         }
+    }
+
+    /// These scales with every diagonal entry at or below `floor` (kg⁻¹, [`diagonal_floor`])
+    /// set to 0, and ρ too where it is at or below it: the rows the residual then measures as
+    /// rows no impulse of their own can move. The block is kept.
+    pub fn without_round_off(mut self, floor: f64) -> RowScales<R> {
+        for d in self.diagonal.iter_mut() {
+            if *d <= floor {
+                *d = 0.0;
+            }
+        }
+        if self.tangent_rho <= floor {
+            self.tangent_rho = 0.0;
+        }
+        self
     }
 }
 
@@ -149,6 +180,7 @@ pub fn residual<const R: usize, P: ProblemView<R> + ?Sized>(
     lambda: &[SVector<f64, R>],
 ) -> f64 {
     let w = problem.constraint_velocity(lambda);
+    let floor = diagonal_floor(problem);
     (0..problem.count())
         .map(|k| {
             constraint_residual(
@@ -157,7 +189,7 @@ pub fn residual<const R: usize, P: ProblemView<R> + ?Sized>(
                 problem.mu(k),
                 &lambda[k],
                 &w[k],
-                &row_scales(problem, k),
+                &row_scales(problem, k).without_round_off(floor),
             )
         })
         .fold(0.0, f64::max)
@@ -205,10 +237,15 @@ pub fn contact_coulomb_residual<const R: usize>(
 
 /// The scale ρ of a contact's Coulomb residual: the trace of its Delassus block with compliance
 /// (kg⁻¹), which does not change when (t1, t2) is turned about n and lies between the block's
-/// largest eigenvalue and R times it; 1 kg⁻¹ for a contact no impulse of its own can move.
+/// largest eigenvalue and R times it; 1 kg⁻¹ for a contact no impulse of its own can move (a
+/// zero trace, or every diagonal entry taken as round-off by [`RowScales::without_round_off`]).
 pub fn coulomb_scale<const R: usize>(scales: &RowScales<R>) -> f64 {
     let trace = scales.block.trace();
-    if trace > 0.0 { trace } else { 1.0 }
+    if trace > 0.0 && scales.diagonal.iter().any(|&d| d > 0.0) {
+        trace
+    } else {
+        1.0
+    }
 }
 
 /// The exact Coulomb law's residual of impulses `lambda` for `problem` (m/s, either form): the
@@ -219,20 +256,22 @@ pub fn coulomb_residual<const R: usize, P: ProblemView<R> + ?Sized>(
     lambda: &[SVector<f64, R>],
 ) -> f64 {
     let w = problem.constraint_velocity(lambda);
+    let floor = diagonal_floor(problem);
     (0..problem.count())
         .map(|k| {
             if problem.bounds(k) == RowBounds::Free {
                 return free_residual(&w[k]);
             }
-            let scales = row_scales(problem, k);
+            let scales = row_scales(problem, k).without_round_off(floor);
             contact_coulomb_residual(problem.mu(k), &lambda[k], &w[k], coulomb_scale(&scales))
         })
         .fold(0.0, f64::max)
 }
 
-/// Siconos' error of impulses `lambda` for `problem` (either form), the measure of Acary,
-/// Brémond and Huber (2018) and of Siconos' `fc3d_compute_error` (docs/problem-library.md
-/// §"Siconos' error measure"): with w = W λ + q and ŵ De Saxcé's velocity per contact,
+/// Siconos' error of impulses `lambda` for `problem` (either form): Siconos 4.4's
+/// `fc3d_compute_error` and `fc2d_compute_error` called with norm = ‖q‖, as its solvers call
+/// them (docs/problem-library.md §"Siconos' error measure"; Siconos 4.1–4.3 divide by ‖q‖
+/// alone): with w = W λ + q and ŵ De Saxcé's velocity per contact,
 ///
 ///   error = √(Σ_k ‖λ_k − proj_K(λ_k − ŵ_k)‖²) / max(‖q‖, ‖λ‖, ‖w‖)
 ///

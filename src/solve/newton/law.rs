@@ -22,8 +22,9 @@ pub(super) struct Linearised<const R: usize> {
     pub(super) d_w: SMatrix<f64, R, R>,
 }
 
-/// The largest eigenvalue of rows and columns 1..R of a symmetric block (the tangent block).
-pub(super) fn tangent_scale<const R: usize>(w: &SMatrix<f64, R, R>) -> f64 {
+/// The largest eigenvalue of rows and columns 1..R of a symmetric block (the tangent block);
+/// 1 where it is at or below `floor` (kg⁻¹: round-off of a zero block, [`System::of`]).
+pub(super) fn tangent_scale<const R: usize>(w: &SMatrix<f64, R, R>, floor: f64) -> f64 {
     let largest = match R {
         0 | 1 => 0.0,
         2 => w[(1, 1)],
@@ -32,7 +33,7 @@ pub(super) fn tangent_scale<const R: usize>(w: &SMatrix<f64, R, R>) -> f64 {
             0.5 * (p + d) + (0.25 * (p - d) * (p - d) + o * o).sqrt()
         }
     };
-    if largest > 0.0 { largest } else { 1.0 }
+    if largest > floor { largest } else { 1.0 }
 }
 
 /// F_k and its generalized Jacobian blocks at (λ_k, w_k) for law `law` with row scales `a`.
@@ -120,9 +121,16 @@ pub(super) fn linearise<const R: usize>(
                     out.d_lambda[(r, r)] = a[r];
                     out.d_lambda[(r, 0)] = a[r] * dr_lambda;
                     out.d_w[(r, 0)] = a[r] * dr_w;
-                } else {
+                } else if radius > 0.0 {
                     out.f[r] = w[r];
                     out.d_w[(r, r)] = 1.0;
+                } else {
+                    // The tie κ = 0, z_r = 0: F_r = a_r λ_r (the clamp to [0, 0]), the piece
+                    // active around it whenever κ stays 0 (s_n < 0, or μ = 0). The interior
+                    // piece w_r would put W's row in the matrix, singular with redundant
+                    // contacts, and is active only on the tie itself.
+                    out.f[r] = a[r] * lambda[r];
+                    out.d_lambda[(r, r)] = a[r];
                 }
             }
         }

@@ -50,7 +50,9 @@ pub struct NewtonSettings {
     pub max_iterations: u32,
     /// Converged when the residual (docs/contact.md §"Residual") and, for cone friction, the
     /// exact Coulomb residual of the answer are both at or below this, m/s (default 1e-10, the
-    /// level at which `rigidref crosscheck` counts a solve as converged).
+    /// level at which `rigidref crosscheck` counts a solve as converged), or, where the
+    /// iteration stalls above it, at or below the round-off floor [`round_off_floor`] of the
+    /// answer when that floor is above it.
     pub tolerance: f64,
     /// Proximal-point iterations at most in the fallback (default 60).
     pub proximal_iterations: u32,
@@ -81,6 +83,38 @@ impl<const D: usize> NewtonWorkspace<D> {
     /// Δu of body `i` after the last solve: add it to the body's velocity.
     pub fn delta_velocity(&self, i: usize) -> &SVector<f64, D> {
         &self.delta_velocity[i]
+    }
+}
+
+/// The factor of the round-off floor [`round_off_floor`]: sums of a few terms per row, and the
+/// exact Coulomb residual's scale (a block's trace, up to three times its largest diagonal
+/// entry) and De Saxcé's term μ‖w_t‖ on top; 16 left the Coulomb residual of a problem with
+/// impulses of 1e9 N·s at 2.3 times the floor.
+pub const ROUND_OFF_FACTOR: f64 = 64.0;
+
+/// The largest round-off floor accepted, as a fraction of the problem's largest |q_r|.
+pub const ROUND_OFF_CAP: f64 = 1e-6;
+
+/// The velocity error w = W λ + q carries from rounding alone, m/s: [`ROUND_OFF_FACTOR`] ε
+/// max_r W_rr ‖λ‖∞ (W's largest diagonal entry stands for its norm). Below it no residual can
+/// be told from zero: with impulses of 10⁹ N·s and W of order 1 kg⁻¹ it is 1.4e-5 m/s, far above
+/// the default tolerance. 0 where it is above [`ROUND_OFF_CAP`] times the largest |q_r|: there
+/// the size of λ, not rounding, is what is wrong (an iteration running off along a direction
+/// in which W is singular, on a problem without a solution, reaches impulses of 10¹⁴ N·s whose
+/// "floor" would pass a contact approaching at 0.2 m/s).
+pub fn round_off_floor<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
+    lambda: &[SVector<f64, R>],
+) -> f64 {
+    let largest_diagonal = crate::solve::residual::diagonal_floor(problem)
+        / crate::solve::residual::ROUND_OFF_DIAGONAL;
+    let largest_impulse = lambda.iter().map(|l| l.amax()).fold(0.0, f64::max);
+    let floor = ROUND_OFF_FACTOR * f64::EPSILON * largest_diagonal * largest_impulse;
+    let largest_q = problem.dense_b().amax();
+    if floor <= ROUND_OFF_CAP * largest_q {
+        floor
+    } else {
+        0.0
     }
 }
 
@@ -270,6 +304,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     );
     let cone = local.friction == FrictionModel::Cone;
     let tolerance = settings.tolerance;
+    let stop_given = stop.is_some();
     // The answer must pass the independent measures too, not only the iteration's own F.
     let to_impulses = |x: &DVector<f64>| -> Vec<SVector<f64, R>> {
         (0..count)
@@ -286,9 +321,21 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             }
         }
     };
+    // Where the iteration stalls, its end still passes if both residuals are within the
+    // round-off floor of its impulses and that floor is above the tolerance (large impulses):
+    // no iteration can go below it. Checked only after a run fails, so that wherever the
+    // tolerance is reachable the iteration runs exactly as it does without the floor.
+    let within_floor = |x: &DVector<f64>| {
+        let l = to_impulses(x);
+        let floor = round_off_floor(judge, &l);
+        !stop_given
+            && floor > tolerance
+            && residual(judge, &l) <= floor
+            && (!cone || coulomb_residual(judge, &l) <= floor)
+    };
     let first = iterate(&system, &mut x, None, settings.max_iterations, &mut accept);
     let mut iterations = first.iterations;
-    let mut reached = first.reached;
+    let mut reached = first.reached || within_floor(&x);
     let mut method = SolveMethod::Newton;
     // A warm start can put Newton where its merit function has a valley that is not a
     // solution (contacts that changed keys start cold beside warm ones, and the first steps
@@ -306,7 +353,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         if again.reached || again.norm < first.norm {
             x = cold;
         }
-        reached = again.reached;
+        reached = again.reached || within_floor(&x);
     }
     if !reached && n > 0 {
         let (extra, _, improved) = proximal_point(&system, &mut x, settings, &mut accept);
@@ -320,10 +367,11 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     lambda.extend(to_impulses(&x));
     let residual = residual(judge, lambda);
     let coulomb = cone.then(|| coulomb_residual(judge, lambda));
+    let limit = tolerance.max(round_off_floor(judge, lambda));
     SolveReport {
         iterations,
         residual,
-        converged: residual <= tolerance && coulomb.is_none_or(|c| c <= tolerance),
+        converged: residual <= limit && coulomb.is_none_or(|c| c <= limit),
         coulomb_residual: coulomb,
         method,
         local_fallbacks: 0,
@@ -419,12 +467,29 @@ pub fn newton_function<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     lambda: &[SVector<f64, R>],
 ) -> (DVector<f64>, DMatrix<f64>) {
-    let local = problem.to_local();
-    let system = System::of(&local, DENSE_ROWS);
+    newton_function_local(&problem.to_local(), lambda, None)
+}
+
+/// [`newton_function`] for a problem in local form; with `proximal` = (η, λ_c) the function of
+/// the proximal fallback's subproblem (w + H (λ − λ_c), H = η diag(W), rows scaled by W + H's
+/// diagonal) and its Jacobian D_λ + D_w (W + H).
+pub fn newton_function_local<const R: usize>(
+    problem: &LocalProblem<R>,
+    lambda: &[SVector<f64, R>],
+    proximal: Option<(f64, &[SVector<f64, R>])>,
+) -> (DVector<f64>, DMatrix<f64>) {
+    let system = System::of(problem, DENSE_ROWS);
     let n = system.rows();
-    let x = DVector::from_iterator(n, lambda.iter().flat_map(|l| l.iter().copied()));
+    let stack =
+        |l: &[SVector<f64, R>]| DVector::from_iterator(n, l.iter().flat_map(|v| v.iter().copied()));
+    let x = stack(lambda);
+    let centre = proximal.map(|(_, c)| stack(c));
+    let prox = proximal
+        .zip(centre.as_ref())
+        .map(|((eta, _), centre)| Proximal { eta, centre });
+    let eta = prox.as_ref().map_or(0.0, |p| p.eta);
     let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
-    evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
+    evaluate(&system, &x, prox.as_ref(), &mut w, &mut f, &mut blocks);
     let mut jacobian = DMatrix::zeros(n, n);
     for (k, row) in system.block_rows().enumerate() {
         let (d_lambda, d_w) = &blocks[k];
@@ -432,6 +497,11 @@ pub fn newton_function<const D: usize, const R: usize>(
             let mut m = d_w * wkj;
             if *j == k {
                 m += d_lambda;
+                for r in 0..R {
+                    for c in 0..R {
+                        m[(r, c)] += d_w[(r, c)] * eta * system.scales[R * k + c];
+                    }
+                }
             }
             jacobian.view_mut((R * k, R * j), (R, R)).copy_from(&m);
         }

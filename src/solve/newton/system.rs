@@ -25,7 +25,9 @@ pub(super) struct System<'a, const R: usize> {
     pub(super) problem: &'a LocalProblem<R>,
     pub(super) b: DVector<f64>,
     pub(super) laws: Vec<Law>,
-    /// Row scales a_r = W_rr (1 where W_rr = 0: a row no impulse can move).
+    /// Row scales a_r = W_rr (1 where W_rr is zero or round-off, at most
+    /// [`crate::solve::residual::ROUND_OFF_DIAGONAL`] times W's largest diagonal entry: a row
+    /// no impulse of its own can move).
     pub(super) scales: DVector<f64>,
     /// Rows up to which the Newton system is factorised densely.
     pub(super) dense_rows: usize,
@@ -34,19 +36,20 @@ pub(super) struct System<'a, const R: usize> {
 impl<'a, const R: usize> System<'a, R> {
     pub(super) fn of(problem: &'a LocalProblem<R>, dense_rows: usize) -> Self {
         let n = R * problem.contacts.len();
+        let floor = crate::solve::residual::diagonal_floor(problem);
         let mut scales = DVector::zeros(n);
         let mut laws = Vec::with_capacity(problem.contacts.len());
         for (k, c) in problem.contacts.iter().enumerate() {
             let block = problem.diagonal_block(k);
             for r in 0..R {
                 let d = block[(r, r)];
-                scales[R * k + r] = if d > 0.0 { d } else { 1.0 };
+                scales[R * k + r] = if d > floor { d } else { 1.0 };
             }
             laws.push(match (c.bounds, problem.friction) {
                 (RowBounds::Free, _) => Law::Free,
                 (RowBounds::Contact, FrictionModel::Cone) if R == 3 => Law::Disk {
                     mu: c.mu,
-                    rho: tangent_scale(&((block + block.transpose()) * 0.5)),
+                    rho: tangent_scale(&((block + block.transpose()) * 0.5), floor),
                 },
                 (RowBounds::Contact, _) => Law::Box { mu: c.mu },
             });

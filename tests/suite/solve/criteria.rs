@@ -145,3 +145,63 @@ fn complementarity_is_the_sum_of_its_three_parts() {
         prop_assert!(k.signorini >= 0.0 && k.cone_boundary >= 0.0 && k.primal >= 0.0 && k.dual >= 0.0);
     });
 }
+
+#[test]
+fn box_answers_cancel_on_an_axis_slide_with_a_loaded_row_and_not_on_the_diagonal() {
+    // μ = 0.5, λn = 1 N·s. An axis slide c_T = (v, 0) with the other row loaded (τ = 0.3):
+    // ‖λ_T‖ = √(0.25 + 0.09) > μλn, so the middle part −v(‖λ_T‖ − μλn) and the last
+    // +v(‖λ_T‖ − μλn) cancel and the complementarity is zero though neither part is.
+    let (v, tau) = (2.0, 0.3);
+    let excess = (0.25f64 + tau * tau).sqrt() - 0.5;
+    let axis = at([1.0, -0.5, tau], [0.0, v, 0.0]);
+    assert!(axis.complementarity <= 1e-15, "{axis:?}");
+    assert!((axis.cone_boundary - v * excess).abs() <= 1e-15, "{axis:?}");
+    assert!(
+        (axis.max_dissipation - v * excess).abs() <= 1e-15,
+        "{axis:?}"
+    );
+    assert!(axis.primal > 0.05, "{axis:?}");
+    // The diagonal slide c_T = (v, v), both rows at their bounds: nothing cancels. The middle
+    // part is (√2 − 2) μλn v (reported as its magnitude), the last is zero, and the
+    // complementarity is the middle part's magnitude.
+    let diagonal = at([1.0, -0.5, -0.5], [0.0, v, v]);
+    let middle = (2.0 - 2f64.sqrt()) * 0.5 * v;
+    assert!(
+        (diagonal.cone_boundary - middle).abs() <= 1e-15,
+        "{diagonal:?}"
+    );
+    assert!(diagonal.max_dissipation.abs() <= 1e-15, "{diagonal:?}");
+    assert!(
+        (diagonal.complementarity - middle).abs() <= 1e-15,
+        "{diagonal:?}"
+    );
+}
+
+#[test]
+fn the_dual_criterion_holds_for_friction_coefficients_down_to_the_smallest_double() {
+    // K* = {c_n ≥ μ‖c_T‖}; for μ → 0 it tends to the half-space c_n ≥ 0, so the distance of an
+    // approaching contact's ĉ = (−1 + μ·5, 3, 4) tends to 1. Computing it through the cone of
+    // opening 1/μ overflowed below μ ≈ 1e-154 (μ⁻² = ∞) and gave ‖ĉ‖ = √26.
+    for mu in [0.0, 1e-300, 1e-200, 1e-155, 1e-100, 1e-20] {
+        let c = contact_criteria(
+            mu,
+            &SVector::from([0.0, 0.0, 0.0]),
+            &SVector::from([-1.0, 3.0, 4.0]),
+        );
+        // Exact: the distance from (−1 + 5μ, 3, 4) to the cone ‖x_T‖ ≤ x_n/μ is 1 − 5μ to
+        // first order in μ.
+        assert!(
+            (c.dual - 1.0).abs() <= 1e-15 + 10.0 * mu,
+            "μ = {mu:e}: {c:?}"
+        );
+        // Inside K*: separating with a small slip, the dual criterion is zero.
+        let inside = contact_criteria(mu, &SVector::zeros(), &SVector::from([1.0, 1e-3, 0.0]));
+        assert_eq!(inside.dual, 0.0, "μ = {mu:e}");
+    }
+    // And it agrees with the distance computed through K* directly where that does not
+    // overflow (μ = 0.5: K* has opening 2).
+    let c = at([0.0; 3], [-1.0, 3.0, 4.0]);
+    let c_hat = SVector::<f64, 3>::from([-1.0 + 0.5 * 5.0, 3.0, 4.0]);
+    let direct = (c_hat - rigidref::solve::residual::project_cone(&c_hat, 2.0)).norm();
+    assert!((c.dual - direct).abs() <= 1e-15, "{} {direct}", c.dual);
+}

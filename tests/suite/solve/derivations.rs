@@ -42,7 +42,7 @@ pub(super) fn turn_tangents(
 /// The 2D example of docs/contact-problem-format.md with right-hand side `b` (m/s): one body,
 /// M⁻¹ = diag(0.1, 0.1, 1), against the static world; normal row [0, 1, 0.9], tangent row
 /// [−1, 0, −2], μ = 1, so A = [[0.91, −1.8], [−1.8, 4.1]] kg⁻¹.
-fn painleve(b: [f64; 2]) -> ContactProblem<3, 2> {
+pub(super) fn painleve(b: [f64; 2]) -> ContactProblem<3, 2> {
     let mut inverse_mass = SMatrix::<f64, 3, 3>::zeros();
     inverse_mass.set_diagonal(&nalgebra::Vector3::new(0.1, 0.1, 1.0));
     ContactProblem::<3, 2> {

@@ -8,9 +8,11 @@ mod lanes;
 mod local_form;
 mod local_solve;
 mod newton;
+mod newton_properties;
 mod pgs;
 mod problem;
 mod qp;
+mod siconos_error;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.
 fn local_solve_problem(
