@@ -7,7 +7,7 @@ and the 0.8 at which the largest nuts count as risen (docs/blocks2d.md §"Shakin
 FREQUENCY is the shake's f (cycles per time unit), so that t becomes cycles t·f."""
 import csv, sys
 
-COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"]
+COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf", "#000000", "#bcbd22"]
 
 
 def main(out, runs):
