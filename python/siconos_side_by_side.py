@@ -229,7 +229,11 @@ def main():
             dim, contacts, lambda0 = local
             print(f"{path.name} ({dim}D, {contacts} contacts)", file=sys.stderr, flush=True)
             ours = rigidref_solve(args.rigidref, path, args.tolerance, args.timeout)
-            source, converted = siconos_input(args.rigidref, path, dim, scratch)
+            try:
+                source, converted = siconos_input(args.rigidref, path, dim, scratch)
+            except RuntimeError as e:
+                notes.append(f"{path.name}: skipped ({e})")
+                continue
             lambda0_path = ""
             if any(x != 0.0 for x in lambda0):
                 lambda0_path = str(scratch / "lambda0.json")
