@@ -33,7 +33,8 @@ seconds of each other on the same machine):
 
 It prints a Markdown table: per problem its contacts, each solver's result (✓/✗, iterations,
 time; PROX's iterations are outer / cumulative inner), Siconos' fastest converged solver, and
-the ratio rigidref time ÷ that solver's time, "tie" where both are under 1 ms.
+the ratio rigidref time ÷ that solver's time, "tie" where both are under 1 ms. Files that cannot
+be read are skipped with a note under the table; the exit status is 1 only when none could be.
 """
 import argparse
 import ctypes
@@ -272,6 +273,8 @@ def main():
         with open(args.json, "w") as f:
             json.dump({"tolerance": args.tolerance, "problems": rows, "skipped": notes}, f,
                       indent=1)
+    if not rows:
+        sys.exit("siconos_side_by_side: no problem could be read (see the notes above)")
 
 
 def child():
