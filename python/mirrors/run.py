@@ -66,6 +66,12 @@ def run_jobs(path):
     for job in jobs["jobs"]:
         try:
             scene = load_description(job["description"])
+            if hasattr(mirror_module, "run_job"):  # a 2D mirror writes its own 2D trace
+                model = mirror_module.run_job(scene, job["settings"], job["trace"])
+                model.update({"engine": engine, "version": mirror_module.version(),
+                              "settings_name": job["settings"]})
+                write_json(job["model"], model)
+                continue
             workdir = os.path.dirname(os.path.abspath(job["trace"]))
             mirror = mirror_module.Mirror(scene, job["settings"], workdir)
             bodies = [(b["name"], b["mass"], b["inertia"]) for b in scene["bodies"]]

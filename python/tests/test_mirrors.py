@@ -4,7 +4,7 @@ masses, inertias, friction and step of the rigidref scene, and flies a free body
 to the engine's integrator order.
 
 The engines must be installed in this interpreter (`.ci/run` installs them into target/venv:
-pip install mujoco pybullet drake); a missing engine fails these tests, it is not skipped. The
+pip install mujoco pybullet drake pymunk); a missing engine fails these tests, it is not skipped. The
 rigidref binary as in test_rigidref_trace.py.
 """
 
@@ -125,3 +125,41 @@ def test_free_flight_agrees_with_rigidref_to_the_engines_integrator_order(engine
             # term, as Drake's rotation does).
             order = np.log2(coarse / fine)
             assert order > 0.8, (engine, what, coarse, fine, order)
+
+
+def test_pymunk_reads_back_the_2d_scenes_masses_moments_mu_and_step_and_writes_the_2d_rows(tmp_path):
+    """`rigidref validate --engines pymunk` runs the three 2D scenes in pymunk (both settings):
+    pymunk's model read back has every body's mass and moment (to the bit), static for pinned, one
+    circle of radius sqrt(2)/2 per block at the block's offset, Chipmunk's product of the shapes'
+    frictions equal to the scene's mu to 1e-15, the scene's gravity and step; every run is judged."""
+    try:
+        importlib.import_module("pymunk")
+    except ImportError as e:
+        pytest.fail(f"pymunk is not installed in {sys.executable} ({e}): pip install pymunk (.ci/run does)")
+    out = tmp_path / "out"
+    report = validate("pymunk", ["block_slide", "bar_topple", "stack_rest"], out)
+    assert [s["file"] for s in report["scenes"]] == ["block_slide.json", "bar_topple.json", "stack_rest.json"]
+    for s in report["scenes"]:
+        stem = s["file"][:-5]
+        desc = json.loads((out / "descriptions" / f"{stem}.mirror.json").read_text())
+        for r in runs(report, stem, "pymunk"):
+            assert r["status"]["status"] == "ran", r["status"]
+            assert all(m["passed"] is not None for m in r["measured"]), r["measured"]
+            model = json.loads((out / r["trace"]).with_suffix(".model.json").read_text())
+            settings = model["settings"]
+            assert settings["h"] == desc["h"] == desc["dt"] / desc["substeps"]
+            assert settings["gravity"] == desc["gravity"]
+            assert settings["iterations"] == (10 if r["settings"] == "default" else 100)
+            if r["settings"] == "accurate":
+                assert settings["collision_slop"] == desc["slop"]
+            for b, got in zip(desc["bodies"], model["readback"]):
+                assert got["static"] == b["pinned"]
+                if not b["pinned"]:
+                    assert (got["mass"], got["moment"]) == (b["mass"], b["inertia"])
+                assert got["shapes"] == len(b["blocks"])
+                assert got["radius"] == desc["block_radius"] == 2 ** -0.5
+                assert got["offsets"] == b["blocks"]
+                assert abs(got["pair_friction"] - desc["mu"]) <= 1e-15
+                assert got["pair_elasticity"] == 0.0
+            header, records = trace(out / r["trace"])
+            assert header["dimension"] == 2 and len(records) == desc["frames"] + 1

@@ -25,12 +25,18 @@ OUT gets report.md, report.json, plots/SCENE.svg, traces/ENGINE-SETTINGS/SCENE.j
 Python engine's SCENE.model.json: its settings and its model read back), descriptions/ (what
 every mirror was given) and mirrors/ (the Python code that ran). MuJoCo, PyBullet and Drake run
 through --python (their PyPI packages mujoco, pybullet, drake); an engine that is not installed
-is reported as such. Exit status 0 when everything ran (whatever the verdicts), 1 on an error.")]
+is reported as such. Exit status 0 when everything ran (whatever the verdicts), 1 on an error.
+
+pymunk (Chipmunk2D, PyPI package pymunk) runs the 2D scenes instead (scenes/blocks/block_slide,
+bar_topple, stack_rest): each block a circle of radius sqrt(2)/2 (rigidref's contact disc), the
+bodies' masses and moments, mu, gravity and step of the scene; the slide and the topple are
+judged against rigidref's exact run, the stack's rest absolutely (docs/validation.md §\"2D:
+pymunk\"). `--engines pymunk` alone runs the 2D scenes only.")]
 pub struct ValidateArgs {
-    /// Engines, comma-separated: rapier, mujoco, pybullet, drake (default: all four).
+    /// Engines, comma-separated: rapier, mujoco, pybullet, drake (3D), pymunk (2D) (default: the four 3D engines).
     #[arg(long, value_delimiter = ',')]
     pub engines: Vec<String>,
-    /// Scenes of the known-answer set, comma-separated (default: all).
+    /// Scenes of the known-answer set, comma-separated (default: the 3D set for the 3D engines, the 2D set for pymunk).
     #[arg(long, value_delimiter = ',')]
     pub scenes: Vec<String>,
     /// The folder holding rigidref's scenes.

@@ -57,6 +57,11 @@ impl Engine {
         })
     }
 
+    /// Whether it mirrors the 2D block scenes (pymunk) rather than the 3D ones.
+    pub fn is_2d(self) -> bool {
+        self == Engine::Pymunk
+    }
+
     /// Whether it runs through the Python mirrors.
     pub fn is_python(self) -> bool {
         matches!(self, Engine::Mujoco | Engine::Pybullet | Engine::Drake | Engine::Pymunk)
@@ -98,12 +103,13 @@ pub struct EngineStatus {
 }
 
 /// The mirror files, compiled in: (file name, text).
-pub const MIRROR_FILES: [(&str, &str); 6] = [
+pub const MIRROR_FILES: [(&str, &str); 7] = [
     ("run.py", include_str!("../../../python/mirrors/run.py")),
     ("common.py", include_str!("../../../python/mirrors/common.py")),
     ("mujoco_mirror.py", include_str!("../../../python/mirrors/mujoco_mirror.py")),
     ("pybullet_mirror.py", include_str!("../../../python/mirrors/pybullet_mirror.py")),
     ("drake_mirror.py", include_str!("../../../python/mirrors/drake_mirror.py")),
+    ("pymunk_mirror.py", include_str!("../../../python/mirrors/pymunk_mirror.py")),
     ("rigidref_trace.py", include_str!("../../../python/rigidref_trace.py")),
 ];
 

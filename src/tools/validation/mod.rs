@@ -16,6 +16,7 @@ pub mod observe;
 pub mod report;
 pub mod runs;
 pub mod scenes;
+pub mod two_d;
 
 use engines::{Engine, EngineStatus, Job, Settings};
 use judge::Expected;
@@ -113,6 +114,8 @@ pub struct SceneResult {
     pub name: String,
     /// The scene file as read.
     pub source: String,
+    /// 3 (a mesh scene) or 2 (a 2D block scene).
+    pub dimension: u32,
     /// Frames run, and the frame step (s).
     pub frames: u64,
     /// Frame step, s.
@@ -132,19 +135,41 @@ pub struct Validation {
     pub scenes: Vec<SceneResult>,
 }
 
-fn scene_list(names: &[String]) -> Result<Vec<KnownScene>, String> {
+/// The scenes to run: those named, else the 3D set when a 3D engine (or none) is asked for and
+/// the 2D set when pymunk is.
+fn scene_list(names: &[String], engines: &[Engine]) -> Result<(Vec<KnownScene>, Vec<two_d::KnownScene2>), String> {
     if names.is_empty() {
-        return Ok(SCENES_3D.to_vec());
+        let three = engines.is_empty() || engines.iter().any(|e| !e.is_2d());
+        let two = engines.iter().any(|e| e.is_2d());
+        return Ok((if three { SCENES_3D.to_vec() } else { Vec::new() }, if two { two_d::SCENES_2D.to_vec() } else { Vec::new() }));
     }
-    names
-        .iter()
-        .map(|n| {
-            scenes::known_scene(n).ok_or_else(|| {
-                let known: Vec<&str> = SCENES_3D.iter().map(|s| s.file.trim_end_matches(".json")).collect();
-                format!("--scenes: {n:?} is not a known-answer scene (known: {})", known.join(", "))
-            })
+    let (mut three, mut two) = (Vec::new(), Vec::new());
+    for n in names {
+        if let Some(k) = scenes::known_scene(n) {
+            three.push(k);
+        } else if let Some(k) = two_d::known_scene2(n) {
+            two.push(k);
+        } else {
+            let known: Vec<&str> = SCENES_3D
+                .iter()
+                .map(|s| s.file.trim_end_matches(".json"))
+                .chain(two_d::SCENES_2D.iter().map(|s| two_d::stem(s.file)))
+                .collect();
+            return Err(format!("--scenes: {n:?} is not a known-answer scene (known: {})", known.join(", ")));
+        }
+    }
+    Ok((three, two))
+}
+
+/// A Python mirror's model file: its content, or the error it records.
+fn read_model(model_path: &Path) -> Result<Option<serde_json::Value>, String> {
+    std::fs::read_to_string(model_path)
+        .map_err(|e| format!("{}: not written: {e}", model_path.display()))
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).map_err(|e| format!("{}: {e}", model_path.display())))
+        .and_then(|v| match v["error"].as_str() {
+            Some(err) => Err(err.to_string()),
+            None => Ok(Some(v)),
         })
-        .collect()
 }
 
 fn create(dir: &Path) -> Result<(), String> {
@@ -189,7 +214,7 @@ fn judged(expected: &[Expected], measured: &[Measured], reference: &[Measured]) 
 /// Runs the validation and writes its report (report.md, report.json, plots/) into
 /// `options.out`.
 pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
-    let known = scene_list(&options.scenes)?;
+    let (known, known_2d) = scene_list(&options.scenes, &options.engines)?;
     let out = &options.out;
     create(out)?;
     let python_engines: Vec<Engine> = options.engines.iter().copied().filter(|e| e.is_python()).collect();
@@ -209,8 +234,6 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
     for &engine in &asked {
         if engine == Engine::Rapier {
             statuses.push(EngineStatus { engine, version: Some("rapier3d-f64 0.36.1 (built in)".into()), missing: None });
-        } else if engine == Engine::Pymunk {
-            statuses.push(EngineStatus { engine, version: None, missing: Some("pymunk mirrors the 2D scenes, which validate does not run yet (docs/validation.md §\"Not yet done\")".into()) });
         } else if let Some(s) = probed.iter().find(|s| s.engine == engine) {
             statuses.push(s.clone());
         }
@@ -232,6 +255,10 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         std::fs::write(&dpath, text + "\n").map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
         loaded.push((*k, scene, frames, dpath));
     }
+    let loaded_2d = known_2d
+        .iter()
+        .map(|k| two_d::load(*k, &options.scene_dir, &out.join("descriptions")))
+        .collect::<Result<Vec<_>, String>>()?;
     // The Python engines: one process each, every scene and setting.
     let mut python_failures: Vec<(Engine, String)> = Vec::new();
     for status in statuses.iter().filter(|s| s.engine.is_python() && s.missing.is_none()) {
@@ -239,8 +266,12 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         for settings in Settings::BOTH {
             let dir = out.join("traces").join(format!("{}-{}", status.engine.name(), settings.name()));
             create(&dir)?;
-            for (k, _, _, dpath) in &loaded {
-                let stem = k.file.trim_end_matches(".json");
+            let described: Vec<(&str, &PathBuf)> = if status.engine.is_2d() {
+                loaded_2d.iter().map(|l| (two_d::stem(l.known.file), &l.description)).collect()
+            } else {
+                loaded.iter().map(|(k, _, _, d)| (k.file.trim_end_matches(".json"), d)).collect()
+            };
+            for (stem, dpath) in described {
                 jobs.push(Job {
                     description: std::fs::canonicalize(dpath).unwrap_or(dpath.clone()),
                     settings: settings.name(),
@@ -248,6 +279,9 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
                     model: dir.join(format!("{stem}.model.json")),
                 });
             }
+        }
+        if jobs.is_empty() {
+            continue;
         }
         let jobs_file = out.join("traces").join(format!("{}-jobs.json", status.engine.name()));
         if let Err(e) = engines::run_python_jobs(&options.python, &run_py, status.engine, &jobs, &jobs_file) {
@@ -274,7 +308,7 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
             measured: judged(&expected, &reference, &reference),
             records: Some(trace),
         });
-        for status in &statuses {
+        for status in statuses.iter().filter(|s| !s.engine.is_2d()) {
             for settings in Settings::BOTH {
                 let engine = status.engine;
                 let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), records: None };
@@ -291,14 +325,7 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
                 } else if let Some((_, e)) = python_failures.iter().find(|(f, _)| *f == engine) {
                     Err(e.clone())
                 } else {
-                    let model_path = dir.join(format!("{stem}.model.json"));
-                    std::fs::read_to_string(&model_path)
-                        .map_err(|e| format!("{}: not written: {e}", model_path.display()))
-                        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).map_err(|e| format!("{}: {e}", model_path.display())))
-                        .and_then(|v| match v["error"].as_str() {
-                            Some(err) => Err(err.to_string()),
-                            None => Ok(Some(v)),
-                        })
+                    read_model(&dir.join(format!("{stem}.model.json")))
                 };
                 match outcome.and_then(|model| measure(scene, k, &path).map(|m| (model, m))) {
                     Ok((model, (measured, trace))) => {
@@ -316,12 +343,15 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
             file: k.file.to_string(),
             name: scene.params.name.clone(),
             source: options.scene_dir.join(k.file).display().to_string(),
+            dimension: 3,
             frames: *frames,
             dt: scene.params.dt,
             expected,
             runs,
         });
     }
+    let statuses_2d: Vec<EngineStatus> = statuses.iter().filter(|s| s.engine.is_2d()).cloned().collect();
+    results.extend(two_d::results(&loaded_2d, &statuses_2d, &python_failures, out)?);
     let validation = Validation { engines: statuses, scenes: results };
     report::write_report(&validation, out)?;
     Ok(validation)

@@ -45,19 +45,26 @@ pub fn markdown(v: &Validation) -> String {
         };
         let _ = writeln!(s, "| {} | {what} |", e.engine.name());
     }
-    let _ = writeln!(s, "\n## Headline: observables within tolerance of the closed form (passed/judged)\n");
-    if let Some(first) = v.scenes.first() {
+    for dimension in [3, 2] {
+        let scenes: Vec<&super::SceneResult> = v.scenes.iter().filter(|s| s.dimension == dimension).collect();
+        let Some(first) = scenes.first() else { continue };
+        let what = if dimension == 3 { "3D scenes" } else { "2D scenes (docs/validation.md §\"2D: pymunk\"; judged against the closed form where the disc model has one, else rigidref's exact run)" };
+        let _ = writeln!(s, "\n## Headline, {what}: observables within tolerance (passed/judged)\n");
         let labels: Vec<String> = first.runs.iter().map(|r| r.label()).collect();
         let _ = writeln!(s, "| scene | {} |", labels.join(" | "));
         let _ = writeln!(s, "|---|{}", "---|".repeat(labels.len()));
-        for scene in &v.scenes {
+        for scene in &scenes {
             let cells: Vec<String> = scene.runs.iter().map(cell).collect();
             let _ = writeln!(s, "| {} | {} |", scene.file.trim_end_matches(".json"), cells.join(" | "));
         }
     }
     for scene in &v.scenes {
         let _ = writeln!(s, "\n## {} — {}\n", scene.file.trim_end_matches(".json"), scene.name);
-        let _ = writeln!(s, "{} frames of {} s. Plots: `plots/{}.svg`.\n", scene.frames, scene.dt, scene.file.trim_end_matches(".json"));
+        if scene.dimension == 2 {
+            let _ = writeln!(s, "{} steps of {} time units. No plots for 2D scenes (`rigidref plot` reads the traces).\n", scene.frames, scene.dt);
+        } else {
+            let _ = writeln!(s, "{} frames of {} s. Plots: `plots/{}.svg`.\n", scene.frames, scene.dt, scene.file.trim_end_matches(".json"));
+        }
         let labels: Vec<String> = scene.runs.iter().map(|r| r.label()).collect();
         let _ = writeln!(s, "| observable | closed form | tolerance | {} |", labels.join(" | "));
         let _ = writeln!(s, "|---|---|---|{}", "---|".repeat(labels.len()));
@@ -96,8 +103,8 @@ pub fn markdown(v: &Validation) -> String {
         }
     }
     let _ = writeln!(s, "\n## Settings as applied\n");
-    let _ = writeln!(s, "Each engine's settings read back from its model after building it (the Python mirrors' `*.model.json`, rapier's integration parameters), for the first scene.\n");
-    if let Some(scene) = v.scenes.first() {
+    let _ = writeln!(s, "Each engine's settings read back from its model after building it (the Python mirrors' `*.model.json`, rapier's integration parameters), for the first scene of each dimension.\n");
+    for scene in [v.scenes.iter().find(|s| s.dimension == 3), v.scenes.iter().find(|s| s.dimension == 2)].into_iter().flatten() {
         for r in scene.runs.iter().filter(|r| r.model.is_some()) {
             let model = r.model.as_ref().unwrap();
             let settings = if model.get("settings").is_some() { &model["settings"] } else { model };
@@ -150,7 +157,7 @@ pub fn write_report(v: &Validation, out: &Path) -> Result<(), String> {
     write("report.json", json + "\n")?;
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| format!("{}: cannot create: {e}", plots.display()))?;
-    for scene in &v.scenes {
+    for scene in v.scenes.iter().filter(|s| s.dimension == 3) {
         // The scene was loaded from this path moments ago; a plot needs it for the penetration.
         let loaded = crate::rigid3d::scene::load_scene(Path::new(&scene.source)).map_err(|e| e.to_string())?;
         let runs: Vec<PlottedRun> = scene

@@ -253,3 +253,64 @@ fn unknown_engines_and_scenes_are_one_line_errors() {
         assert_eq!(err.trim().lines().count(), 1, "{err}");
     }
 }
+
+/// The 2D set run with pymunk asked for but no Python: rigidref's exact run of each 2D scene
+/// is written, measured and judged (the stack rests to round-off, the slide rides the discs and
+/// stops short of the flat Coulomb distance), pymunk's rows say not installed, and no 3D scene
+/// runs.
+#[test]
+fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = validate(&out, &["--engines", "pymunk", "--python", "/nonexistent/python3"]);
+    common::assert_success(&o);
+    let r = report(&out);
+    let files: Vec<&str> = r["scenes"].as_array().unwrap().iter().map(|s| s["file"].as_str().unwrap()).collect();
+    assert_eq!(files, ["block_slide.json", "bar_topple.json", "stack_rest.json"]);
+    for file in &files {
+        let s = scene(&r, file);
+        assert_eq!(s["dimension"], 2);
+        let reference = run(s, "rigidref", None);
+        for m in reference["measured"].as_array().unwrap() {
+            assert_eq!(m["passed"], true, "{file}: {m}");
+        }
+        for settings in ["default", "accurate"] {
+            assert_eq!(run(s, "pymunk", Some(settings))["status"]["status"], "not_installed");
+        }
+    }
+    // The stack stays put to round-off once settled; the slide over the ground's discs stops
+    // short of the flat slide's v0²/(2μg) = 1/(2·0.33·1) (it climbs their bumps).
+    assert!(value(run(scene(&r, "stack_rest.json"), "rigidref", None), "rest_drift") < 1e-9);
+    let slide = value(run(scene(&r, "block_slide.json"), "rigidref", None), "stop_distance");
+    assert!(slide > 0.1 && slide < 0.9 / 0.66, "{slide}");
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("## Headline, 2D scenes"), "{md}");
+    assert!(md.contains("| block_slide | 3/3 ✓ | not installed | not installed |"), "{md}");
+    assert!(!md.contains("Headline, 3D scenes"), "{md}");
+    assert!(out.join("mirrors/pymunk_mirror.py").is_file());
+}
+
+/// The 2D description is the loaded scene's: every body's mass, moment, pin, pose and block
+/// offsets, μ, gravity and the step h = dt / substeps, equal to the bit.
+#[test]
+fn the_2d_mirror_description_carries_every_bodys_mass_moment_blocks_mu_gravity_and_step() {
+    use rigidref::tools::validation::two_d::{MirrorScene2, SCENES_2D, stem};
+    for k in SCENES_2D {
+        let path = common::project_root().join("scenes").join(k.file);
+        let world = rigidref::blocks2d::scene::load_scene2(&path).unwrap().world;
+        let d = MirrorScene2::of_world(&world, "x", stem(k.file), 10).unwrap();
+        let p = &world.params;
+        assert_eq!((d.dt, d.substeps, d.h, d.mu, d.slop), (p.dt, p.substeps, p.dt / f64::from(p.substeps), p.mu, p.slop));
+        assert_eq!(d.gravity, [p.gravity_vector().x, p.gravity_vector().y]);
+        assert_eq!(d.block_radius, std::f64::consts::FRAC_1_SQRT_2);
+        assert_eq!(d.bodies.len(), world.bodies.len());
+        for (m, b) in d.bodies.iter().zip(&world.bodies) {
+            assert_eq!((m.mass, m.inertia, m.pinned, m.x0, m.theta0), (b.mass, b.inertia, b.pinned, [b.x.x, b.x.y], b.theta));
+            assert_eq!(m.blocks.len(), b.blocks.len());
+            for (q, block) in m.blocks.iter().zip(&b.blocks) {
+                assert_eq!(*q, [block.local.x, block.local.y]);
+            }
+        }
+        assert_eq!(d.impulses.len(), world.impulses.len());
+    }
+}
