@@ -12,6 +12,7 @@ mod arrays;
 mod errors;
 mod grading;
 mod problem;
+mod validation;
 mod world;
 
 use pyo3::prelude::*;
@@ -34,6 +35,7 @@ fn _rigidref(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(problem::solvers::siconos_error, m)?)?;
     m.add_function(wrap_pyfunction!(grading::compare_traces, m)?)?;
     m.add_function(wrap_pyfunction!(grading::grade, m)?)?;
+    m.add_function(wrap_pyfunction!(validation::validate, m)?)?;
     m.add("DENSE_LIMIT", arrays::DENSE_LIMIT)?;
     Ok(())
 }

@@ -35,6 +35,7 @@ from ._rigidref import (
     solve_clarabel,
     solve_newton,
     solve_pgs,
+    validate,
 )
 from .trace import TraceWriter, write_problem
 
@@ -59,5 +60,6 @@ __all__ = [
     "solve_clarabel",
     "solve_newton",
     "solve_pgs",
+    "validate",
     "write_problem",
 ]

@@ -242,3 +242,11 @@ def grade(
     max_file_mb: int = 512,
     jobs: Optional[int] = None,
 ) -> Dict[str, Any]: ...
+
+def validate(
+    out: _Path,
+    engines: Optional[Sequence[str]] = None,
+    scenes: Optional[Sequence[str]] = None,
+    scene_dir: _Path = "scenes",
+    python: Optional[_Path] = None,
+) -> Dict[str, Any]: ...
