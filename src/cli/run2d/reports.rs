@@ -13,6 +13,8 @@ pub(super) struct Reports2 {
     pub(super) nut_points: Option<(std::path::PathBuf, Vec<(f64, f64)>)>,
     /// The first recorded time a nut was outside the bag and the most outside at once.
     pub(super) nuts_outside: Option<(f64, usize)>,
+    /// The nut report's own path (the warning names it).
+    pub(super) nut_csv: Option<std::path::PathBuf>,
 }
 
 impl Reports2 {
@@ -23,6 +25,7 @@ impl Reports2 {
             nuts: None,
             nut_points: None,
             nuts_outside: None,
+            nut_csv: None,
         };
         if let Some(p) = &asked.scaling_csv {
             let mut f = crate::cli::common::create_file(p)?;
@@ -37,6 +40,7 @@ impl Reports2 {
             )?;
             reports.nuts = Some(f);
             reports.nut_points = Some((p.with_extension("svg"), Vec::new()));
+            reports.nut_csv = Some(p.clone());
         }
         Ok(reports)
     }
@@ -115,7 +119,7 @@ impl Reports2 {
                 Some((t, most)) => {
                     eprintln!(
                         "warning: {}: a nut left the bag at t = {t} (at most {most} outside at once): the step let it pass through the wall; `--max-travel 1` takes substeps so that no block moves more than a block per substep",
-                        path.with_extension("csv").display()
+                        self.nut_csv.as_deref().unwrap_or(path).display()
                     );
                     format!("{most} nuts outside the bag at most, the first at t = {t}")
                 }
