@@ -16,7 +16,9 @@ collision_bias (1 - 0.1)^60, no damping, no sleeping); `accurate` sets 100 itera
 collision_slop to rigidref's own slop (the overlap it lets stand).
 
 Writes a rigidref 2D trace (docs/trace-format.md §"2D traces") whose energy, momentum, contact
-count and deepest overlap (Chipmunk's own contact depths) are computed here from pymunk's state.
+count and deepest overlap (Chipmunk's own contact depths) are computed here from pymunk's state,
+and whose contacts carry Chipmunk's per-point impulses and the contact velocity after them
+(`arbiter_contacts`), for the physical criteria.
 """
 
 import json
@@ -103,6 +105,67 @@ def readback(scene, bodies, shapes):
     return out
 
 
+def arbiter_contacts(bodies, space):
+    """Every contact point of the arbiters the last space.step solved, as rigidref 2D trace
+    contacts (docs/trace-format.md §"2D traces"), each with Chipmunk's own per-point accumulated
+    impulses and the contact velocity after them.
+
+    Chipmunk keeps, per contact point of an arbiter (cpContact), the lever arms r1, r2 from body a's
+    and body b's centres and the accumulated normal and tangent impulses jnAcc, jtAcc it applied to
+    body b (and their opposite to body a) along the arbiter's normal n (from shape a to shape b) and
+    its perpendicular t = (-n_y, n_x). pymunk's public API gives only their sum
+    (Arbiter.total_impulse) and the points (contact_point_set); the per-point values are read from
+    the cpArbiter struct that pymunk's cffi binding exposes (pymunk's own pickling reads them the
+    same way). In rigidref's convention (body 1 pushed along n by lambda_n) body 1 is b, body 2 is a,
+    lambda = (jnAcc, jtAcc), and n and t are the same vectors. The contact velocity is
+    c = (v_b + w_b x r2 - v_a - w_a x r1) . (n, t): Chipmunk integrates the positions at the start
+    of its step and then collides and solves, so the bodies' positions after the step are those the
+    lever arms were measured from, and these velocities are the ones its impulses produced (its
+    overlap correction goes into separate bias velocities, not into these).
+    """
+    index = {body._body: i for i, body in enumerate(bodies)}
+    out = []
+    seen = set()
+    for body in bodies:
+        for arbiter in _arbiters(body):
+            raw = arbiter._arbiter
+            key = (int(pymunk._chipmunk.ffi.cast("uintptr_t", raw.a)), int(pymunk._chipmunk.ffi.cast("uintptr_t", raw.b)))
+            if key in seen:
+                continue
+            seen.add(key)
+            a, b = index[raw.body_a], index[raw.body_b]
+            body_a, body_b = bodies[a], bodies[b]
+            n = (raw.n.x, raw.n.y)
+            t = (-n[1], n[0])
+            for k in range(raw.count):
+                contact = raw.contacts[k]
+                r1 = (contact.r1.x, contact.r1.y)
+                r2 = (contact.r2.x, contact.r2.y)
+                pa = (body_a.position.x + r1[0], body_a.position.y + r1[1])
+                pb = (body_b.position.x + r2[0], body_b.position.y + r2[1])
+                def at(body, r):
+                    w = body.angular_velocity
+                    return (body.velocity.x - w * r[1], body.velocity.y + w * r[0])
+                va, vb = at(body_a, r1), at(body_b, r2)
+                rel = (vb[0] - va[0], vb[1] - va[1])
+                out.append({
+                    "bodies": [b, a],
+                    "p": [(pa[0] + pb[0]) / 2, (pa[1] + pb[1]) / 2],
+                    "n": [n[0], n[1]],
+                    # Chipmunk's distance (pb - pa) . n, negative when overlapping.
+                    "depth": -((pb[0] - pa[0]) * n[0] + (pb[1] - pa[1]) * n[1]),
+                    "lambda": [contact.jnAcc, contact.jtAcc],
+                    "c": [rel[0] * n[0] + rel[1] * n[1], rel[0] * t[0] + rel[1] * t[1]],
+                })
+    return out
+
+
+def _arbiters(body):
+    found = []
+    body.each_arbiter(found.append)
+    return found
+
+
 def record(scene, step, bodies, space):
     g = scene["gravity"]
     kinetic = potential = 0.0
@@ -119,27 +182,17 @@ def record(scene, step, bodies, space):
         px += m * v.x
         py += m * v.y
         angular += m * (x.x * v.y - x.y * v.x) + inertia * body.angular_velocity
-    count, deepest = 0, 0.0
-    seen = set()
-    for body in bodies:
-        def visit(arbiter):
-            nonlocal count, deepest
-            key = tuple(sorted((id(arbiter.shapes[0]), id(arbiter.shapes[1]))))
-            if key in seen:
-                return
-            seen.add(key)
-            for p in arbiter.contact_point_set.points:
-                count += 1
-                deepest = max(deepest, -p.distance)
-        body.each_arbiter(visit)
+    contacts = arbiter_contacts(bodies, space)
+    deepest = max((c["depth"] for c in contacts), default=0.0)
     return {
         "step": step,
         "t": step * scene["dt"],
         "bodies": states,
         "energy": {"kinetic": kinetic, "potential": potential, "total": kinetic + potential},
         "momentum": {"linear": [px, py], "angular": angular},
-        "contact_count": count,
+        "contact_count": len(contacts),
         "deepest_overlap": deepest,
+        "contacts": contacts,
     }
 
 

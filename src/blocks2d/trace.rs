@@ -98,6 +98,12 @@ pub struct Contact2Record {
     pub depth: f64,
     /// (λn, λt) impulses.
     pub lambda: [f64; 2],
+    /// (c_n, c_t): body 1's contact-point velocity relative to body 2's along (n, t) after the
+    /// impulses, with the lever arms the writer's engine used; present only where the writer
+    /// gives it (`rigidref validate`'s runs), for the physical criteria (docs/validation.md
+    /// §"2D: pymunk").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub c: Option<[f64; 2]>,
 }
 
 impl TraceHeader2 {
@@ -169,6 +175,7 @@ impl Record2 {
                             n: [c.normal.x, c.normal.y],
                             depth: c.depth,
                             lambda: l,
+                            c: None,
                         }
                     })
                     .collect()

@@ -87,6 +87,7 @@ pub fn validate(args: ValidateArgs) -> anyhow::Result<()> {
                 }
                 RunStatus::NotInstalled(_) => format!("{} not installed", r.label()),
                 RunStatus::Failed(why) => format!("{} failed: {why}", r.label()),
+                RunStatus::Pending => format!("{} pending", r.label()),
             })
             .collect();
         println!("{}: {}", scene.file.trim_end_matches(".json"), cells.join("; "));

@@ -51,6 +51,9 @@ pub enum RunStatus {
     NotInstalled(String),
     /// It failed (one line).
     Failed(String),
+    /// Not run yet: a report written while the validation runs (or left by one that stopped
+    /// midway) lists the runs still to come so.
+    Pending,
 }
 
 /// One engine × settings on one scene.
@@ -69,9 +72,10 @@ pub struct RunResult {
     pub model: Option<serde_json::Value>,
     /// The observables.
     pub measured: Vec<MeasuredJudged>,
-    /// The trace, for plots (not in the JSON).
+    /// Its plotted series (each observable against time), drawn into the scene's SVG (not in
+    /// the JSON).
     #[serde(skip)]
-    pub records: Option<crate::rigid3d::trace::Trace>,
+    pub plotted: Option<crate::tools::viewing::plot::PlottedRun>,
 }
 
 /// A measured value with its judgement.
@@ -211,8 +215,33 @@ fn judged(expected: &[Expected], measured: &[Measured], reference: &[Measured]) 
         .collect()
 }
 
+/// A run not yet done: rigidref's reference run is done first, then each engine in turn, so a
+/// report written midway lists the rest as pending.
+fn pending(engine: Engine, settings: Settings, status: &EngineStatus) -> RunResult {
+    let status = match &status.missing {
+        Some(why) => RunStatus::NotInstalled(why.clone()),
+        None => RunStatus::Pending,
+    };
+    RunResult { engine, settings: Some(settings), status, trace: None, model: None, measured: Vec::new(), plotted: None }
+}
+
+/// The measured values of a scene's reference run (its first), as measured.
+fn reference_of(scene: &SceneResult) -> Vec<Measured> {
+    scene.runs[0].measured.iter().map(|m| Measured { key: m.key, value: m.value }).collect()
+}
+
+/// Puts `run` in its row of `scene` (the engine × settings row written pending).
+fn place(scene: &mut SceneResult, run: RunResult) {
+    if let Some(slot) = scene.runs.iter_mut().find(|r| r.engine == run.engine && r.settings == run.settings) {
+        *slot = run;
+    }
+}
+
 /// Runs the validation and writes its report (report.md, report.json, plots/) into
-/// `options.out`.
+/// `options.out`. The report is rewritten after every run (rigidref's reference run of each scene
+/// first, then each engine's runs scene by scene, each Python engine after its one process), so a
+/// validation that stops midway leaves every run finished so far, the rest marked pending
+/// (docs/validation.md §"The report").
 pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
     let (known, known_2d) = scene_list(&options.scenes, &options.engines)?;
     let out = &options.out;
@@ -259,87 +288,29 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         .iter()
         .map(|k| two_d::load(*k, &options.scene_dir, &out.join("descriptions")))
         .collect::<Result<Vec<_>, String>>()?;
-    // The Python engines: one process each, every scene and setting.
-    let mut python_failures: Vec<(Engine, String)> = Vec::new();
-    for status in statuses.iter().filter(|s| s.engine.is_python() && s.missing.is_none()) {
-        let mut jobs = Vec::new();
-        for settings in Settings::BOTH {
-            let dir = out.join("traces").join(format!("{}-{}", status.engine.name(), settings.name()));
-            create(&dir)?;
-            let described: Vec<(&str, &PathBuf)> = if status.engine.is_2d() {
-                loaded_2d.iter().map(|l| (two_d::stem(l.known.file), &l.description)).collect()
-            } else {
-                loaded.iter().map(|(k, _, _, d)| (k.file.trim_end_matches(".json"), d)).collect()
-            };
-            for (stem, dpath) in described {
-                jobs.push(Job {
-                    description: std::fs::canonicalize(dpath).unwrap_or(dpath.clone()),
-                    settings: settings.name(),
-                    trace: dir.join(format!("{stem}.jsonl")),
-                    model: dir.join(format!("{stem}.model.json")),
-                });
-            }
-        }
-        if jobs.is_empty() {
-            continue;
-        }
-        let jobs_file = out.join("traces").join(format!("{}-jobs.json", status.engine.name()));
-        if let Err(e) = engines::run_python_jobs(&options.python, &run_py, status.engine, &jobs, &jobs_file) {
-            python_failures.push((status.engine, e));
-        }
-    }
-    let mut results = Vec::new();
+    let mut v = Validation { engines: statuses.clone(), scenes: Vec::new() };
+    // rigidref's reference runs, every other row pending.
     for (k, scene, frames, _) in &loaded {
         let stem = k.file.trim_end_matches(".json");
         let expected = judge::expectations(scene, k);
-        let mut runs: Vec<RunResult> = Vec::new();
-        // rigidref's reference run.
         let dir = out.join("traces").join("rigidref");
         create(&dir)?;
         let path = dir.join(format!("{stem}.jsonl"));
         runs::run_rigidref(scene, *frames, &path)?;
         let (reference, trace) = measure(scene, k, &path)?;
-        runs.push(RunResult {
+        let mut runs: Vec<RunResult> = vec![RunResult {
             engine: Engine::Rigidref,
             settings: None,
             status: RunStatus::Ran,
             trace: Some(relative(out, &path)),
             model: None,
             measured: judged(&expected, &reference, &reference),
-            records: Some(trace),
-        });
+            plotted: Some(report::plotted_3d(format!("{} (Newton)", Engine::Rigidref.name()), &trace, scene)),
+        }];
         for status in statuses.iter().filter(|s| !s.engine.is_2d()) {
-            for settings in Settings::BOTH {
-                let engine = status.engine;
-                let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), records: None };
-                if let Some(why) = &status.missing {
-                    run.status = RunStatus::NotInstalled(why.clone());
-                    runs.push(run);
-                    continue;
-                }
-                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
-                create(&dir)?;
-                let path = dir.join(format!("{stem}.jsonl"));
-                let outcome: Result<Option<serde_json::Value>, String> = if engine == Engine::Rapier {
-                    runs::run_rapier(scene, settings, *frames, &path).map(Some)
-                } else if let Some((_, e)) = python_failures.iter().find(|(f, _)| *f == engine) {
-                    Err(e.clone())
-                } else {
-                    read_model(&dir.join(format!("{stem}.model.json")))
-                };
-                match outcome.and_then(|model| measure(scene, k, &path).map(|m| (model, m))) {
-                    Ok((model, (measured, trace))) => {
-                        run.model = model;
-                        run.trace = Some(relative(out, &path));
-                        run.measured = judged(&expected, &measured, &reference);
-                        run.records = Some(trace);
-                    }
-                    Err(e) => run.status = RunStatus::Failed(e),
-                }
-                runs.push(run);
-            }
+            runs.extend(Settings::BOTH.map(|settings| pending(status.engine, settings, status)));
         }
-        results.push(SceneResult {
+        v.scenes.push(SceneResult {
             file: k.file.to_string(),
             name: scene.params.name.clone(),
             source: options.scene_dir.join(k.file).display().to_string(),
@@ -349,10 +320,87 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
             expected,
             runs,
         });
+        report::write_progress(&v, v.scenes.len() - 1, out)?;
     }
     let statuses_2d: Vec<EngineStatus> = statuses.iter().filter(|s| s.engine.is_2d()).cloned().collect();
-    results.extend(two_d::results(&loaded_2d, &statuses_2d, &python_failures, out)?);
-    let validation = Validation { engines: statuses, scenes: results };
-    report::write_report(&validation, out)?;
-    Ok(validation)
+    for l in &loaded_2d {
+        let mut scene = two_d::reference(l, out)?;
+        for status in &statuses_2d {
+            scene.runs.extend(Settings::BOTH.map(|settings| pending(status.engine, settings, status)));
+        }
+        v.scenes.push(scene);
+        report::write_progress(&v, v.scenes.len() - 1, out)?;
+    }
+    let first_2d = loaded.len();
+    // Each engine in turn: its runs measured and written one by one.
+    for status in statuses.iter().filter(|s| s.missing.is_none()) {
+        let engine = status.engine;
+        let mut failure: Option<String> = None;
+        if engine.is_python() {
+            let mut jobs = Vec::new();
+            for settings in Settings::BOTH {
+                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+                create(&dir)?;
+                let described: Vec<(&str, &PathBuf)> = if engine.is_2d() {
+                    loaded_2d.iter().map(|l| (two_d::stem(l.known.file), &l.description)).collect()
+                } else {
+                    loaded.iter().map(|(k, _, _, d)| (k.file.trim_end_matches(".json"), d)).collect()
+                };
+                for (stem, dpath) in described {
+                    jobs.push(Job {
+                        description: std::fs::canonicalize(dpath).unwrap_or(dpath.clone()),
+                        settings: settings.name(),
+                        trace: dir.join(format!("{stem}.jsonl")),
+                        model: dir.join(format!("{stem}.model.json")),
+                    });
+                }
+            }
+            if jobs.is_empty() {
+                continue;
+            }
+            let jobs_file = out.join("traces").join(format!("{}-jobs.json", engine.name()));
+            failure = engines::run_python_jobs(&options.python, &run_py, engine, &jobs, &jobs_file).err();
+        }
+        if engine.is_2d() {
+            for (i, l) in loaded_2d.iter().enumerate() {
+                for settings in Settings::BOTH {
+                    let scene = &mut v.scenes[first_2d + i];
+                    let run = two_d::engine_run(l, scene, engine, settings, failure.as_deref(), out);
+                    place(scene, run);
+                    report::write_progress(&v, first_2d + i, out)?;
+                }
+            }
+            continue;
+        }
+        for (i, (k, scene, frames, _)) in loaded.iter().enumerate() {
+            let stem = k.file.trim_end_matches(".json");
+            for settings in Settings::BOTH {
+                let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), plotted: None };
+                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+                create(&dir)?;
+                let path = dir.join(format!("{stem}.jsonl"));
+                let outcome: Result<Option<serde_json::Value>, String> = if engine == Engine::Rapier {
+                    runs::run_rapier(scene, settings, *frames, &path).map(Some)
+                } else if let Some(e) = &failure {
+                    Err(e.clone())
+                } else {
+                    read_model(&dir.join(format!("{stem}.model.json")))
+                };
+                let result = &mut v.scenes[i];
+                match outcome.and_then(|model| measure(scene, k, &path).map(|m| (model, m))) {
+                    Ok((model, (measured, trace))) => {
+                        run.model = model;
+                        run.trace = Some(relative(out, &path));
+                        run.measured = judged(&result.expected, &measured, &reference_of(result));
+                        run.plotted = Some(report::plotted_3d(run.label(), &trace, scene));
+                    }
+                    Err(e) => run.status = RunStatus::Failed(e),
+                }
+                place(result, run);
+                report::write_progress(&v, i, out)?;
+            }
+        }
+    }
+    report::write_report(&v, out)?;
+    Ok(v)
 }

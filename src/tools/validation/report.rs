@@ -3,7 +3,7 @@
 //! SVG per scene with each observable against time, the runs overlaid (docs/validation.md
 //! §"The report").
 
-use super::{RunStatus, Validation};
+use super::{RunStatus, SceneResult, Validation};
 use crate::rigid3d::trace::Trace;
 use crate::tools::viewing::plot::{PlottedRun, plot_runs};
 use crate::tools::viewing::series::{Plot, Series};
@@ -23,6 +23,7 @@ fn cell(run: &super::RunResult) -> String {
     match &run.status {
         RunStatus::NotInstalled(_) => "not installed".into(),
         RunStatus::Failed(_) => "failed".into(),
+        RunStatus::Pending => "pending".into(),
         RunStatus::Ran => {
             let (passed, judged) = run.score();
             format!("{passed}/{judged}{}", if passed == judged { " ✓" } else { " ✗" })
@@ -60,11 +61,9 @@ pub fn markdown(v: &Validation) -> String {
     }
     for scene in &v.scenes {
         let _ = writeln!(s, "\n## {} — {}\n", scene.file.trim_end_matches(".json"), scene.name);
-        if scene.dimension == 2 {
-            let _ = writeln!(s, "{} steps of {} time units. No plots for 2D scenes (`rigidref plot` reads the traces).\n", scene.frames, scene.dt);
-        } else {
-            let _ = writeln!(s, "{} frames of {} s. Plots: `plots/{}.svg`.\n", scene.frames, scene.dt, scene.file.trim_end_matches(".json"));
-        }
+        let stem = scene.file.trim_end_matches(".json");
+        let unit = if scene.dimension == 2 { "time units" } else { "s" };
+        let _ = writeln!(s, "{} steps of {} {unit}. Plots: [`plots/{stem}.svg`](plots/{stem}.svg).\n", scene.frames, scene.dt);
         let labels: Vec<String> = scene.runs.iter().map(|r| r.label()).collect();
         let _ = writeln!(s, "| observable | closed form | tolerance | {} |", labels.join(" | "));
         let _ = writeln!(s, "|---|---|---|{}", "---|".repeat(labels.len()));
@@ -97,8 +96,14 @@ pub fn markdown(v: &Validation) -> String {
             let _ = writeln!(s, "- {}: {}", e.name, e.note);
         }
         for r in &scene.runs {
-            if let RunStatus::Failed(why) | RunStatus::NotInstalled(why) = &r.status {
-                let _ = writeln!(s, "- {}: {why}", r.label());
+            match &r.status {
+                RunStatus::Failed(why) | RunStatus::NotInstalled(why) => {
+                    let _ = writeln!(s, "- {}: {why}", r.label());
+                }
+                RunStatus::Pending => {
+                    let _ = writeln!(s, "- {}: pending (not run yet: the validation is running, or stopped before it)", r.label());
+                }
+                RunStatus::Ran => {}
             }
         }
     }
@@ -121,7 +126,9 @@ const PANELS: [(&str, &str, &str); 4] = [
     ("energy", "total energy", "J"),
 ];
 
-fn plotted(label: String, trace: &Trace, scene: &crate::rigid3d::scene::Scene) -> PlottedRun {
+/// A 3D run's series for the scene's plot ([`PANELS`]; the penetration only where the scene
+/// checks collisions), each against time.
+pub fn plotted_3d(label: String, trace: &Trace, scene: &crate::rigid3d::scene::Scene) -> PlottedRun {
     let records = &trace.records;
     let last = records.first().map_or(0, |r| r.bodies.len().saturating_sub(1));
     let start = records.first().map(|r| r.bodies[last].x).unwrap_or([0.0; 3]);
@@ -130,7 +137,7 @@ fn plotted(label: String, trace: &Trace, scene: &crate::rigid3d::scene::Scene) -
         values: records.iter().map(|r| Some(f(r))).collect(),
     };
     let penetration = super::observe::penetrations(scene, records).unwrap_or_default();
-    let plots = vec![
+    let mut plots = vec![
         Plot { key: PANELS[0].0, title: PANELS[0].1.into(), unit: PANELS[0].2.into(), log: false,
             series: vec![series(&|r| {
                 let x = r.bodies[last].x;
@@ -143,30 +150,47 @@ fn plotted(label: String, trace: &Trace, scene: &crate::rigid3d::scene::Scene) -
         Plot { key: PANELS[3].0, title: PANELS[3].1.into(), unit: PANELS[3].2.into(), log: false,
             series: vec![series(&|r| r.energy.total)] },
     ];
+    if !scene.params.check_collisions {
+        plots.retain(|p| p.key != "penetration");
+    }
     PlottedRun { label, t: records.iter().map(|r| r.t).collect(), plots }
 }
 
-/// Writes report.md, report.json and plots/SCENE.svg into `out`.
-pub fn write_report(v: &Validation, out: &Path) -> Result<(), String> {
+/// Writes report.md and report.json into `out`.
+pub fn write_tables(v: &Validation, out: &Path) -> Result<(), String> {
     let write = |name: &str, text: String| {
         let path = out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))
     };
     write("report.md", markdown(v))?;
     let json = serde_json::to_string_pretty(v).map_err(|e| e.to_string())?;
-    write("report.json", json + "\n")?;
+    write("report.json", json + "\n")
+}
+
+/// Draws plots/SCENE.svg of `scene` into `out`: each observable's series against time, the
+/// runs that have finished overlaid (rigidref's first).
+pub fn write_plot(scene: &SceneResult, out: &Path) -> Result<(), String> {
     let plots = out.join("plots");
     std::fs::create_dir_all(&plots).map_err(|e| format!("{}: cannot create: {e}", plots.display()))?;
-    for scene in v.scenes.iter().filter(|s| s.dimension == 3) {
-        // The scene was loaded from this path moments ago; a plot needs it for the penetration.
-        let loaded = crate::rigid3d::scene::load_scene(Path::new(&scene.source)).map_err(|e| e.to_string())?;
-        let runs: Vec<PlottedRun> = scene
-            .runs
-            .iter()
-            .filter_map(|r| r.records.as_ref().map(|t| plotted(r.label(), t, &loaded)))
-            .collect();
-        let keys: Vec<&str> = if loaded.params.check_collisions { PANELS.iter().map(|p| p.0).collect() } else { vec!["position", "speed", "energy"] };
-        plot_runs(&runs, &keys, &plots.join(format!("{}.svg", scene.file.trim_end_matches(".json"))), &scene.name)?;
+    let runs: Vec<PlottedRun> = scene.runs.iter().filter_map(|r| r.plotted.clone()).filter(|p| !p.t.is_empty()).collect();
+    if runs.is_empty() {
+        return Ok(());
+    }
+    plot_runs(&runs, &[], &plots.join(format!("{}.svg", scene.file.trim_end_matches(".json"))), &scene.name)
+}
+
+/// Writes the report as it stands after a run of scene `index` finished: report.md, report.json
+/// and that scene's plot.
+pub fn write_progress(v: &Validation, index: usize, out: &Path) -> Result<(), String> {
+    write_tables(v, out)?;
+    write_plot(&v.scenes[index], out)
+}
+
+/// Writes report.md, report.json and plots/SCENE.svg of every scene into `out`.
+pub fn write_report(v: &Validation, out: &Path) -> Result<(), String> {
+    write_tables(v, out)?;
+    for scene in &v.scenes {
+        write_plot(scene, out)?;
     }
     Ok(())
 }

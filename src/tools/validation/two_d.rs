@@ -10,17 +10,20 @@
 //! judged against rigidref's exact run (which has no tuning: an exact solve of each step's
 //! problem), and the stack's rest (no drift, overlap within the slop) is judged absolutely.
 
-use super::engines::{Engine, EngineStatus, Settings};
+use super::engines::{Engine, Settings};
 use super::judge::Expected;
 use super::observe::Measured;
 use super::{RunResult, RunStatus, SceneResult};
 use crate::blocks2d::collide::{Contact2, detect_contacts};
 use crate::blocks2d::disc_tree::BLOCK_RADIUS;
-use crate::blocks2d::trace::{Record2, TraceHeader2};
+use crate::blocks2d::trace::{Contact2Record, Record2, TraceHeader2};
+use crate::solve::criteria::contact_criteria;
 use crate::blocks2d::world::World2;
 use crate::sim::{Flow, drive};
-use nalgebra::Vector2;
+use nalgebra::{SVector, Vector2};
 use serde::Serialize;
+use crate::tools::viewing::plot::PlottedRun;
+use crate::tools::viewing::series::{Plot, Series};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -258,12 +261,57 @@ pub fn run_rigidref_2d(loaded: &Loaded2, path: &Path) -> Result<(), String> {
         out.write_all(b"\n")
     }
     line(&mut out, &header).map_err(io)?;
-    line(&mut out, &Record2::of_world(&world, false)).map_err(io)?;
+    line(&mut out, &record_with_contacts(&world)).map_err(io)?;
     drive(&mut world, loaded.frames, |w, _| {
-        line(&mut out, &Record2::of_world(w, false)).map_err(io)?;
+        line(&mut out, &record_with_contacts(w)).map_err(io)?;
         Ok::<_, String>(Flow::Continue)
     })?;
     out.flush().map_err(io)
+}
+
+/// The record of `world` with its last substep's contacts, each with its impulse λ and its
+/// contact velocity after the impulses c = (A + C) λ + b of the problem that substep solved (the
+/// solver's own lever arms, from the bodies' positions at the substep's start; restitution is 0
+/// in the set, so c is J u⁺). docs/validation.md §"2D: pymunk".
+pub fn record_with_contacts(world: &World2) -> Record2 {
+    let mut record = Record2::of_world(world, false);
+    let solve = world.solves.last().filter(|s| s.substep + 1 == world.substeps_in_step);
+    record.contacts = Some(match solve {
+        None => Vec::new(),
+        Some(s) => {
+            let velocity = s.problem.constraint_velocity(&s.lambda);
+            s.contacts
+                .iter()
+                .zip(&s.lambda)
+                .zip(&velocity)
+                .map(|((k, l), c)| Contact2Record {
+                    bodies: [k.body1 as i64, k.body2 as i64],
+                    p: [k.point.x, k.point.y],
+                    n: [k.normal.x, k.normal.y],
+                    depth: k.depth,
+                    lambda: [l[0], l[1]],
+                    c: Some([c[0], c[1]]),
+                })
+                .collect()
+        }
+    });
+    record
+}
+
+/// The physical criteria (ContactBench; src/solve/criteria.rs::contact_criteria, as 3D's
+/// `super::observe::criteria`) of every contact of `records` that carries its contact velocity
+/// after the step: their largest (primal, dual, complementarity). Each record holds its step's
+/// last substep's contacts, so these are the last substep's. `None` when no contact carries one.
+pub fn criteria_2d(mu: f64, records: &[Record2]) -> Option<[f64; 3]> {
+    let mut worst = [0.0f64; 3];
+    let mut any = false;
+    for c in records.iter().flat_map(|r| r.contacts.iter().flatten()) {
+        let Some(velocity) = c.c else { continue };
+        let k = contact_criteria(mu, &SVector::<f64, 2>::from(c.lambda), &SVector::<f64, 2>::from(velocity));
+        worst = [worst[0].max(k.primal), worst[1].max(k.dual), worst[2].max(k.complementarity)];
+        any = true;
+    }
+    any.then_some(worst)
 }
 
 /// The records of a 2D trace file (its header checked to be a 2D trace of `bodies` bodies).
@@ -313,7 +361,7 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
     let speed = |r: &Record2| (r.bodies[0].v[0].powi(2) + r.bodies[0].v[1].powi(2)).sqrt();
     let m = |key, value| Measured { key, value };
     let push = push_time(&loaded.world);
-    match loaded.known.known {
+    let mut out = match loaded.known.known {
         Known2::Slide => {
             let start = records.iter().rev().find(|r| r.t <= push + 1e-9);
             let stop = records.iter().find(|r| r.t > push + 1e-9 && speed(r) < STOP_SPEED_2D);
@@ -343,7 +391,13 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
             });
             vec![m("rest_drift", drift), m("penetration", Some(deepest(REST_FROM)))]
         }
+    };
+    if let Some([primal, dual, complementarity]) = criteria_2d(loaded.world.params.mu, records) {
+        out.push(m("criterion_primal", Some(primal)));
+        out.push(m("criterion_dual", Some(dual)));
+        out.push(m("criterion_complementarity", Some(complementarity)));
     }
+    out
 }
 
 /// The angle at which the toppling bar counts as having hit the ground, rad (80°: lying on its
@@ -364,7 +418,7 @@ pub fn expectations_2d(loaded: &Loaded2, reference: &[Measured]) -> Vec<Expected
         x("penetration", "deepest disc overlap", "blocks", Some(0.0), Some(2.0 * slop),
             format!("rigidref's disc overlap on the run's poses{from}; within twice rigidref's slop {slop} (the overlap its post-stabilisation lets stand)"))
     };
-    match loaded.known.known {
+    let mut out = match loaded.known.known {
         Known2::Slide => {
             let b = &loaded.world.bodies[0];
             let v0 = loaded.world.impulses.first().map_or(0.0, |i| i.impulse.norm() / b.mass);
@@ -394,73 +448,110 @@ pub fn expectations_2d(loaded: &Loaded2, reference: &[Measured]) -> Vec<Expected
                 format!("0 from t = {REST_FROM} on (a stack at rest stays); within 0.01 block")),
             pen(&format!(" from t = {REST_FROM} on")),
         ],
-    }
+    };
+    out.push(x("criterion_primal", "primal criterion (max)", "mass·block/time", None, None,
+        "reported: 0 for Coulomb's law (ContactBench), on each step's last substep's contacts and impulses".to_string()));
+    out.push(x("criterion_dual", "dual criterion (max)", "block/time", None, None, "reported: 0 for Coulomb's law".to_string()));
+    out.push(x("criterion_complementarity", "complementarity (max)", "mass·block²/time²", None, None, "reported: 0 for Coulomb's law".to_string()));
+    out
 }
 
-/// The runs of the 2D scenes: rigidref's, then each 2D engine's two settings (their traces
-/// already written by the Python mirrors under `out/traces/ENGINE-SETTINGS/`).
-pub fn results(
-    loaded: &[Loaded2],
-    statuses: &[EngineStatus],
-    failures: &[(Engine, String)],
-    out: &Path,
-) -> Result<Vec<SceneResult>, String> {
-    let mut results = Vec::new();
-    for l in loaded {
-        let name = stem(l.known.file);
-        let bodies = l.world.bodies.len();
-        let dir = out.join("traces").join("rigidref");
-        super::create(&dir)?;
-        let path = dir.join(format!("{name}.jsonl"));
-        run_rigidref_2d(l, &path)?;
-        let reference = observe_2d(l, &read_trace_2d(&path, bodies)?);
-        let expected = expectations_2d(l, &reference);
-        let mut runs = vec![RunResult {
-            engine: Engine::Rigidref,
-            settings: None,
-            status: RunStatus::Ran,
-            trace: Some(super::relative(out, &path)),
-            model: None,
-            measured: super::judged(&expected, &reference, &reference),
-            records: None,
-        }];
-        for status in statuses {
-            for settings in Settings::BOTH {
-                let engine = status.engine;
-                let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), records: None };
-                if let Some(why) = &status.missing {
-                    run.status = RunStatus::NotInstalled(why.clone());
-                    runs.push(run);
-                    continue;
-                }
-                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
-                let path = dir.join(format!("{name}.jsonl"));
-                let model_path = dir.join(format!("{name}.model.json"));
-                let outcome = match failures.iter().find(|(f, _)| *f == engine) {
-                    Some((_, e)) => Err(e.clone()),
-                    None => super::read_model(&model_path),
-                };
-                match outcome.and_then(|model| read_trace_2d(&path, bodies).map(|r| (model, r))) {
-                    Ok((model, records)) => {
-                        run.model = model;
-                        run.trace = Some(super::relative(out, &path));
-                        run.measured = super::judged(&expected, &observe_2d(l, &records), &reference);
-                    }
-                    Err(e) => run.status = RunStatus::Failed(e),
-                }
-                runs.push(run);
-            }
+/// rigidref's exact run of a 2D scene, measured and judged: the scene's result with that one run
+/// (the engines' rows are added to it by [`engine_run`]).
+pub fn reference(l: &Loaded2, out: &Path) -> Result<SceneResult, String> {
+    let name = stem(l.known.file);
+    let dir = out.join("traces").join("rigidref");
+    super::create(&dir)?;
+    let path = dir.join(format!("{name}.jsonl"));
+    run_rigidref_2d(l, &path)?;
+    let records = read_trace_2d(&path, l.world.bodies.len())?;
+    let reference = observe_2d(l, &records);
+    let expected = expectations_2d(l, &reference);
+    let run = RunResult {
+        engine: Engine::Rigidref,
+        settings: None,
+        status: RunStatus::Ran,
+        trace: Some(super::relative(out, &path)),
+        model: None,
+        measured: super::judged(&expected, &reference, &reference),
+        plotted: Some(plotted_2d(format!("{} (Newton)", Engine::Rigidref.name()), &records, l)),
+    };
+    Ok(SceneResult {
+        file: format!("{name}.json"),
+        name: name.to_string(),
+        source: l.path.display().to_string(),
+        dimension: 2,
+        frames: l.frames,
+        dt: l.world.params.dt,
+        expected,
+        runs: vec![run],
+    })
+}
+
+/// A 2D engine's run of `settings` on `l` (its trace already written by the Python mirror under
+/// `out/traces/ENGINE-SETTINGS/`), measured and judged against `scene`'s expectations and
+/// rigidref's run; `failure`: the engine's process failed as a whole.
+pub fn engine_run(l: &Loaded2, scene: &SceneResult, engine: Engine, settings: Settings, failure: Option<&str>, out: &Path) -> RunResult {
+    let name = stem(l.known.file);
+    let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), plotted: None };
+    let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+    let path = dir.join(format!("{name}.jsonl"));
+    let model_path = dir.join(format!("{name}.model.json"));
+    let outcome = match failure {
+        Some(e) => Err(e.to_string()),
+        None => super::read_model(&model_path),
+    };
+    match outcome.and_then(|model| read_trace_2d(&path, l.world.bodies.len()).map(|r| (model, r))) {
+        Ok((model, records)) => {
+            run.model = model;
+            run.trace = Some(super::relative(out, &path));
+            run.measured = super::judged(&scene.expected, &observe_2d(l, &records), &super::reference_of(scene));
+            run.plotted = Some(plotted_2d(run.label(), &records, l));
         }
-        results.push(SceneResult {
-            file: format!("{name}.json"),
-            name: name.to_string(),
-            source: l.path.display().to_string(),
-            dimension: 2,
-            frames: l.frames,
-            dt: l.world.params.dt,
-            expected,
-            runs,
-        });
+        Err(e) => run.status = RunStatus::Failed(e),
     }
-    Ok(results)
+    run
+}
+
+/// The panels of a 2D scene's plot: what its observables are measured from.
+pub const PANELS_2D: [(&str, &str, &str); 5] = [
+    ("position", "largest displacement of a body from its start", "blocks"),
+    ("speed", "largest speed of a body", "blocks/time"),
+    ("angle", "largest |θ| of a body", "rad"),
+    ("penetration", "deepest disc overlap (rigidref's detection)", "blocks"),
+    ("energy", "total energy", "mass·block²/time²"),
+];
+
+/// A 2D run's series for the scene's plot ([`PANELS_2D`], bodies that are not pinned), each
+/// against time: the quantities its observables are measured from.
+pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun {
+    let moving: Vec<usize> = (0..l.world.bodies.len()).filter(|&i| !l.world.bodies[i].pinned).collect();
+    let Some(first) = records.first() else {
+        return PlottedRun { label, t: Vec::new(), plots: Vec::new() };
+    };
+    let largest = |r: &Record2, f: &dyn Fn(&Record2, usize) -> f64| moving.iter().map(|&i| f(r, i)).fold(0.0, f64::max);
+    let mut world = l.world.clone();
+    let mut contacts = Vec::new();
+    let values: [Vec<Option<f64>>; 5] = [
+        records.iter().map(|r| Some(largest(r, &|r, i| {
+            let (a, b) = (r.bodies[i].x, first.bodies[i].x);
+            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+        }))).collect(),
+        records.iter().map(|r| Some(largest(r, &|r, i| (r.bodies[i].v[0].powi(2) + r.bodies[i].v[1].powi(2)).sqrt()))).collect(),
+        records.iter().map(|r| Some(largest(r, &|r, i| r.bodies[i].theta.abs()))).collect(),
+        records.iter().map(|r| Some(overlap_at(&mut world, r, &mut contacts))).collect(),
+        records.iter().map(|r| Some(r.energy.total)).collect(),
+    ];
+    let plots = PANELS_2D
+        .iter()
+        .zip(values)
+        .map(|(&(key, title, unit), values)| Plot {
+            key,
+            title: title.into(),
+            unit: unit.into(),
+            log: false,
+            series: vec![Series { name: String::new(), values }],
+        })
+        .collect();
+    PlottedRun { label, t: records.iter().map(|r| r.t).collect(), plots }
 }

@@ -283,7 +283,25 @@ fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
     assert!(value(run(scene(&r, "stack_rest.json"), "rigidref", None), "rest_drift") < 1e-9);
     let slide = value(run(scene(&r, "block_slide.json"), "rigidref", None), "stop_distance");
     assert!(slide > 0.1 && slide < 0.9 / 0.66, "{slide}");
+    // rigidref's exact run meets Coulomb's law on its own impulses to round-off: the criteria on
+    // each step's last substep's contacts (their impulses and the solved problem's contact
+    // velocity, written into the trace). 1e-9: the Newton solve's tolerance is far below it, and
+    // the velocities are O(1) blocks/time.
+    for file in &files {
+        let reference = run(scene(&r, file), "rigidref", None);
+        for key in ["criterion_primal", "criterion_dual", "criterion_complementarity"] {
+            let k = value(reference, key);
+            assert!(k <= 1e-9, "{file}: {key} = {k:e}");
+        }
+        // One plot per 2D scene, each observable's series against time, linked from report.md.
+        let stem = file.trim_end_matches(".json");
+        let svg = std::fs::read_to_string(out.join("plots").join(format!("{stem}.svg"))).unwrap();
+        for title in ["largest displacement of a body", "deepest disc overlap", "rigidref (Newton)"] {
+            assert!(svg.contains(title), "{stem}.svg lacks {title:?}");
+        }
+    }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("Plots: [`plots/block_slide.svg`](plots/block_slide.svg)"), "{md}");
     assert!(md.contains("## Headline, 2D scenes"), "{md}");
     assert!(md.contains("| block_slide | 3/3 ✓ | not installed | not installed |"), "{md}");
     assert!(!md.contains("Headline, 3D scenes"), "{md}");
@@ -313,4 +331,37 @@ fn the_2d_mirror_description_carries_every_bodys_mass_moment_blocks_mu_gravity_a
         }
         assert_eq!(d.impulses.len(), world.impulses.len());
     }
+}
+
+/// A validation that stops midway leaves what it finished: the report is rewritten after every
+/// run, so when the process dies during an engine's runs (here a stand-in Python that kills
+/// rigidref as soon as it is asked to run MuJoCo's jobs), report.md, report.json and the scene's
+/// plot hold rigidref's and rapier's finished runs and mark MuJoCo's pending. Were the report
+/// written only at the end, there would be no report at all.
+#[cfg(unix)]
+#[test]
+fn a_validation_that_stops_midway_keeps_the_runs_it_finished() {
+    use std::os::unix::fs::PermissionsExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let python = tmp.path().join("python");
+    std::fs::write(
+        &python,
+        "#!/bin/sh\ncase \"$2\" in\n  probe) echo '{\"mujoco\":{\"installed\":true,\"version\":\"stand-in\"}}' ;;\n  run) kill -9 $PPID; exit 1 ;;\nesac\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&python, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let out = tmp.path().join("out");
+    let o = validate(&out, &["--engines", "rapier,mujoco", "--scenes", "projectile", "--python", python.to_str().unwrap()]);
+    assert!(!o.status.success(), "the stand-in Python was to stop the validation");
+    let r = report(&out);
+    let s = scene(&r, "projectile.json");
+    assert_eq!(run(s, "rigidref", None)["status"]["status"], "ran");
+    for settings in ["default", "accurate"] {
+        assert_eq!(run(s, "rapier", Some(settings))["status"]["status"], "ran");
+        assert_eq!(run(s, "mujoco", Some(settings))["status"]["status"], "pending");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("| projectile | 2/2 ✓ | 2/2 ✓ | 2/2 ✓ | pending | pending |"), "{md}");
+    let svg = std::fs::read_to_string(out.join("plots/projectile.svg")).unwrap();
+    assert!(svg.contains("rapier (accurate)"), "the plot lacks rapier's finished run");
 }
