@@ -127,7 +127,7 @@ const PANELS: [(&str, &str, &str); 4] = [
 ];
 
 /// A 3D run's series for the scene's plot ([`PANELS`]; the penetration only where the scene
-/// checks collisions), each against time.
+/// checks collisions), each against time. docs/validation.md §"The report".
 pub fn plotted_3d(label: String, trace: &Trace, scene: &crate::rigid3d::scene::Scene) -> PlottedRun {
     let records = &trace.records;
     let last = records.first().map_or(0, |r| r.bodies.len().saturating_sub(1));
@@ -180,7 +180,7 @@ pub fn write_plot(scene: &SceneResult, out: &Path) -> Result<(), String> {
 }
 
 /// Writes the report as it stands after a run of scene `index` finished: report.md, report.json
-/// and that scene's plot.
+/// and that scene's plot. docs/validation.md §"The report".
 pub fn write_progress(v: &Validation, index: usize, out: &Path) -> Result<(), String> {
     write_tables(v, out)?;
     write_plot(&v.scenes[index], out)

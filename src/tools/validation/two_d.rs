@@ -302,6 +302,7 @@ pub fn record_with_contacts(world: &World2) -> Record2 {
 /// `super::observe::criteria`) of every contact of `records` that carries its contact velocity
 /// after the step: their largest (primal, dual, complementarity). Each record holds its step's
 /// last substep's contacts, so these are the last substep's. `None` when no contact carries one.
+/// docs/validation.md §"2D: pymunk".
 pub fn criteria_2d(mu: f64, records: &[Record2]) -> Option<[f64; 3]> {
     let mut worst = [0.0f64; 3];
     let mut any = false;
@@ -523,7 +524,8 @@ pub const PANELS_2D: [(&str, &str, &str); 5] = [
 ];
 
 /// A 2D run's series for the scene's plot ([`PANELS_2D`], bodies that are not pinned), each
-/// against time: the quantities its observables are measured from.
+/// against time: the quantities its observables are measured from. docs/validation.md
+/// §"The report".
 pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun {
     let moving: Vec<usize> = (0..l.world.bodies.len()).filter(|&i| !l.world.bodies[i].pinned).collect();
     let Some(first) = records.first() else {
