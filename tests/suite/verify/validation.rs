@@ -271,8 +271,11 @@ fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
         let s = scene(&r, file);
         assert_eq!(s["dimension"], 2);
         let reference = run(s, "rigidref", None);
+        // Every judged observable passes; the criteria are reported (checked below).
         for m in reference["measured"].as_array().unwrap() {
-            assert_eq!(m["passed"], true, "{file}: {m}");
+            if !m["key"].as_str().unwrap().starts_with("criterion_") {
+                assert_eq!(m["passed"], true, "{file}: {m}");
+            }
         }
         for settings in ["default", "accurate"] {
             assert_eq!(run(s, "pymunk", Some(settings))["status"]["status"], "not_installed");
