@@ -299,7 +299,7 @@ fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
         // One plot per 2D scene, each observable's series against time, linked from report.md.
         let stem = file.trim_end_matches(".json");
         let svg = std::fs::read_to_string(out.join("plots").join(format!("{stem}.svg"))).unwrap();
-        for title in ["largest displacement of a body", "deepest disc overlap", "rigidref (Newton)"] {
+        for title in ["largest displacement of a body", "largest |θ| of a body", "deepest disc overlap"] {
             assert!(svg.contains(title), "{stem}.svg lacks {title:?}");
         }
     }
