@@ -11,9 +11,9 @@
 //! the body form's is its two bodies.
 
 use super::local::LocalSolve;
-use super::pgs::{
-    ContactOrder, ContactRows, PgsSettings, RowLaw, solve_contact, solve_free_rows, visit_exactly,
-};
+use super::pgs_settings::{ContactOrder, PgsSettings};
+use super::pgs_visit::{ContactRows, solve_contact, solve_free_rows, visit_exactly};
+use super::sweep_entry::RowLaw;
 use super::projection::project_feasible;
 use super::residual::{RowScales, coulomb_residual, residual, row_scales};
 use crate::problem::{FrictionModel, LocalProblem, RowBounds, SolveMethod, SolveReport};

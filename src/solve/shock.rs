@@ -13,7 +13,9 @@
 //! feel the reaction of that pass), so a stack is stiffer than it is, and after the pass λ no
 //! longer gives the velocities through u⁺ = u + M⁻¹Jᵀλ.
 
-use super::pgs::{ContactOrder, PgsSettings, PgsWorkspace, visit};
+use super::pgs_settings::{ContactOrder, PgsSettings};
+use super::pgs_sweep::visit;
+use super::pgs_workspace::PgsWorkspace;
 use super::residual::RowScales;
 use crate::problem::ContactProblem;
 use nalgebra::{SMatrix, SVector};
