@@ -12,11 +12,12 @@
 //! ([`super::pgs_visit`]), a sweep ([`super::pgs_sweep`]), the residual after a sweep
 //! ([`super::pgs_residual`]); here the driver, [`solve_pgs`].
 
+use super::local::LocalSolve;
 pub use super::pgs_settings::{
     ContactOrder, Lanes, MAX_CONTACTS_IN_GROUPS, MIN_CONTACTS_PER_THREAD, PgsSettings,
+    max_contacts_in_groups,
 };
 pub use super::pgs_workspace::PgsWorkspace;
-use super::local::LocalSolve;
 use super::projection::project_feasible;
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::SVector;
@@ -31,6 +32,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
     workspace.prepare(problem, settings.order);
+    workspace.draw_sweep_colours(settings.order, settings.max_iterations);
     lambda.clear();
     for (k, c) in problem.contacts.iter().enumerate() {
         let start = match c.bounds {
@@ -58,19 +60,19 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     // average: below that, starting them and meeting at every colour's barrier costs more than
     // the visits (the result is the same bits either way).
     let colours = workspace.colours().max(1);
-    let threaded = settings.order == ContactOrder::Coloured
+    let threaded = settings.order.is_coloured()
         && settings.local == LocalSolve::Rows
         && workspace.threads > 1
         && !self_contact
         && problem.contacts.len() >= MIN_CONTACTS_PER_THREAD * workspace.threads * colours;
     workspace.last_threads = if threaded { workspace.threads } else { 1 };
-    let lanes = settings.order == ContactOrder::Coloured
+    let lanes = settings.order.is_coloured()
         && settings.local == LocalSolve::Rows
         && workspace.lanes != Lanes::Off
         && !crate::common::faults::fault!(stale_friction_bound)
         && !self_contact
         && !joint
-        && problem.contacts.len() <= MAX_CONTACTS_IN_GROUPS
+        && problem.contacts.len() <= max_contacts_in_groups::<D, R>()
         && super::pgs_lanes::dimensions_fit::<D, R>();
     workspace.groups.clear();
     if lanes {
@@ -89,7 +91,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         (iterations, converged) = workspace.sweep_in_threads(problem, settings, lanes, lambda);
     }
     while !threaded && iterations < settings.max_iterations {
-        workspace.sweep(problem, settings, lanes, lambda);
+        workspace.sweep(problem, settings, iterations as usize, lanes, lambda);
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
             && workspace.residual(problem, lambda) <= tolerance

@@ -22,7 +22,11 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         SVector::<f64, R>::from_fn(|r, _| self.row_velocity(k, r) + c.row_compliance(r) * lambda[r])
     }
 
-    pub(super) fn coulomb_residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
+    pub(super) fn coulomb_residual(
+        &self,
+        problem: &ContactProblem<D, R>,
+        lambda: &[SVector<f64, R>],
+    ) -> f64 {
         (0..problem.contacts.len())
             .map(|k| {
                 let w = self.contact_velocity(problem, k, &lambda[k]);
@@ -35,7 +39,11 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             .fold(0.0, f64::max)
     }
 
-    pub(super) fn residual(&self, problem: &ContactProblem<D, R>, lambda: &[SVector<f64, R>]) -> f64 {
+    pub(super) fn residual(
+        &self,
+        problem: &ContactProblem<D, R>,
+        lambda: &[SVector<f64, R>],
+    ) -> f64 {
         row_residual(
             problem,
             &self.entries,

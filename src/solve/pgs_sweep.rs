@@ -3,21 +3,28 @@
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
 
 use super::local::LocalSolve;
+use super::pgs_residual::row_residual;
 use super::pgs_settings::{ContactOrder, Lanes, PgsSettings};
 use super::pgs_threads::share;
 use super::pgs_visit::{solve_contact, solve_free_rows, visit_exactly};
-use super::pgs_residual::row_residual;
-use super::pgs_workspace::{CachedRows, PgsWorkspace};
+use super::pgs_workspace::{CachedRows, PgsWorkspace, colour_at};
 use super::sweep_entry::{Entry, Shared};
 use crate::problem::{ContactProblem, RowBounds};
 use nalgebra::SVector;
 use rand::seq::SliceRandom;
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
-    /// One coloured sweep with the contacts four at a time: per colour its groups, then the
-    /// rest of the colour one at a time (docs/contact.md §"Four contacts per lane").
-    pub(super) fn sweep_in_lanes(&mut self, problem: &ContactProblem<D, R>, lambda: &mut [SVector<f64, R>]) {
-        for colour in 0..self.colours() {
+    /// Coloured sweep number `sweep` with the contacts four at a time: per colour (in the
+    /// sweep's order of the colours) its groups, then the rest of the colour one at a time
+    /// (docs/contact.md §"Four contacts per lane").
+    pub(super) fn sweep_in_lanes(
+        &mut self,
+        problem: &ContactProblem<D, R>,
+        sweep: usize,
+        lambda: &mut [SVector<f64, R>],
+    ) {
+        for i in 0..self.colours() {
+            let colour = self.colour_at(sweep, i);
             let (a, b) = (self.colour_starts[colour], self.colour_starts[colour + 1]);
             let grouped = super::pgs_lanes::grouped(b - a);
             let groups = &self.groups[self.group_starts[colour]..self.group_starts[colour + 1]];
@@ -55,97 +62,105 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         lambda: &mut [SVector<f64, R>],
     ) -> (u32, bool) {
         let lanes_setting = self.lanes;
-            let PgsWorkspace {
-                entries,
-                slot,
-                scales,
-                order,
-                colour_starts,
-                moving,
-                delta_velocity,
-                threads,
-                groups,
-                group_starts,
-                ..
-            } = self;
-            let threads = *threads;
-            let (bodies, contacts) = (delta_velocity.len(), lambda.len());
-            let shared = Shared {
-                delta_velocity: delta_velocity.as_mut_ptr(),
-                lambda: lambda.as_mut_ptr(),
+        let PgsWorkspace {
+            entries,
+            slot,
+            scales,
+            order,
+            colour_starts,
+            moving,
+            delta_velocity,
+            threads,
+            groups,
+            group_starts,
+            sweep_colours,
+            ..
+        } = self;
+        let threads = *threads;
+        let (bodies, contacts) = (delta_velocity.len(), lambda.len());
+        let shared = Shared {
+            delta_velocity: delta_velocity.as_mut_ptr(),
+            lambda: lambda.as_mut_ptr(),
+        };
+        let (entries, order, moving, starts) = (&*entries, &*order, &*moving, &*colour_starts);
+        let (groups, group_starts) = (&*groups, &*group_starts);
+        let (sweep_colours, colours) = (&*sweep_colours, colour_starts.len().saturating_sub(1));
+        let native = lanes_setting == Lanes::Native;
+        // The closures take `shared` whole (a reference), not its pointer fields, which are
+        // not Sync on their own.
+        let shared = &shared;
+        let visit = |position: usize| {
+            // The entries are laid out in visiting order: entry `position` is contact
+            // order[position].
+            let k = order[position];
+            // SAFETY: see `Shared`: within a colour no other visit touches contact k's λ or
+            // its moving bodies' Δu, and the threads meet at a barrier between colours.
+            unsafe {
+                visit_shared(
+                    problem,
+                    &entries[position],
+                    k,
+                    moving,
+                    shared,
+                    bodies,
+                    contacts,
+                )
             };
-            let (entries, order, moving, starts) = (&*entries, &*order, &*moving, &*colour_starts);
-            let (groups, group_starts) = (&*groups, &*group_starts);
-            let native = lanes_setting == Lanes::Native;
-            // The closures take `shared` whole (a reference), not its pointer fields, which are
-            // not Sync on their own.
-            let shared = &shared;
-            let visit = |position: usize| {
-                // The entries are laid out in visiting order: entry `position` is contact
-                // order[position].
-                let k = order[position];
-                // SAFETY: see `Shared`: within a colour no other visit touches contact k's λ or
-                // its moving bodies' Δu, and the threads meet at a barrier between colours.
+        };
+        // Thread t's share of the sweep's i-th colour: a contiguous part of its groups and of
+        // the rest (with four at a time), or of its contacts.
+        let visit_share = |sweep: usize, i: usize, t: usize| {
+            let colour = colour_at(sweep_colours, colours, sweep, i);
+            let (a, b) = (starts[colour], starts[colour + 1]);
+            let mut rest = a..b;
+            if lanes {
+                let mine = share(group_starts[colour]..group_starts[colour + 1], t, threads);
+                // SAFETY: as for `visit`; the groups were laid out from this problem.
                 unsafe {
-                    visit_shared(
-                        problem,
-                        &entries[position],
-                        k,
-                        moving,
-                        shared,
-                        bodies,
-                        contacts,
-                    )
+                    super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared, native)
                 };
+                rest = a + super::pgs_lanes::grouped(b - a)..b;
+            }
+            share(rest, t, threads).for_each(visit);
+        };
+        let reached = std::sync::atomic::AtomicBool::new(false);
+        let after_sweep = || {
+            let Some(tolerance) = settings.tolerance else {
+                return false;
             };
-            // Thread t's share of colour c: a contiguous part of its groups and of the rest (with
-            // four at a time), or of its contacts.
-            let visit_share = |colour: usize, t: usize| {
-                let (a, b) = (starts[colour], starts[colour + 1]);
-                let mut rest = a..b;
-                if lanes {
-                    let mine = share(group_starts[colour]..group_starts[colour + 1], t, threads);
-                    // SAFETY: as for `visit`; the groups were laid out from this problem.
-                    unsafe {
-                        super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared, native)
-                    };
-                    rest = a + super::pgs_lanes::grouped(b - a)..b;
-                }
-                share(rest, t, threads).for_each(visit);
+            // SAFETY: every other thread waits at the barrier while thread 0 runs this.
+            let (dv, l) = unsafe {
+                (
+                    std::slice::from_raw_parts(shared.delta_velocity, bodies),
+                    std::slice::from_raw_parts(shared.lambda, contacts),
+                )
             };
-            let reached = std::sync::atomic::AtomicBool::new(false);
-            let after_sweep = || {
-                let Some(tolerance) = settings.tolerance else {
-                    return false;
-                };
-                // SAFETY: every other thread waits at the barrier while thread 0 runs this.
-                let (dv, l) = unsafe {
-                    (
-                        std::slice::from_raw_parts(shared.delta_velocity, bodies),
-                        std::slice::from_raw_parts(shared.lambda, contacts),
-                    )
-                };
-                let done = row_residual(problem, entries, slot, scales, dv, l) <= tolerance;
-                reached.store(done, std::sync::atomic::Ordering::Relaxed);
-                done
-            };
-            let iterations = super::pgs_threads::sweep_in_threads(
-                settings.max_iterations,
-                colour_starts.len().saturating_sub(1),
-                threads,
-                &visit_share,
-                &after_sweep,
-            );
-            (iterations, reached.load(std::sync::atomic::Ordering::Relaxed))
+            let done = row_residual(problem, entries, slot, scales, dv, l) <= tolerance;
+            reached.store(done, std::sync::atomic::Ordering::Relaxed);
+            done
+        };
+        let iterations = super::pgs_threads::sweep_in_threads(
+            settings.max_iterations,
+            colours,
+            threads,
+            &visit_share,
+            &after_sweep,
+        );
+        (
+            iterations,
+            reached.load(std::sync::atomic::Ordering::Relaxed),
+        )
     }
 
-    /// One sweep on one thread: every contact visited once in the workspace's order (a fresh
-    /// permutation first for the random order), the coloured order's groups four at a time
+    /// Sweep number `sweep` on one thread: every contact visited once in the workspace's order
+    /// (a fresh permutation first for the random order; colour by colour in the sweep's order
+    /// of the colours for the random coloured order), a coloured order's groups four at a time
     /// where `lanes` (the groups laid out).
     pub(super) fn sweep(
         &mut self,
         problem: &ContactProblem<D, R>,
         settings: &PgsSettings,
+        sweep: usize,
         lanes: bool,
         lambda: &mut [SVector<f64, R>],
     ) {
@@ -154,7 +169,15 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             order.shuffle(rng);
         }
         if lanes {
-            self.sweep_in_lanes(problem, lambda);
+            self.sweep_in_lanes(problem, sweep, lambda);
+        } else if settings.order == ContactOrder::RandomColoured {
+            for i in 0..self.colours() {
+                let colour = self.colour_at(sweep, i);
+                for position in self.colour_starts[colour]..self.colour_starts[colour + 1] {
+                    let k = self.order[position];
+                    visit(problem, settings.local, self, k, &mut lambda[k]);
+                }
+            }
         } else {
             for i in 0..problem.contacts.len() {
                 let k = self.order[i];
@@ -166,7 +189,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         }
     }
 }
-
 
 /// One visit of entry `k`: the update its bounds and the local-solve setting call for.
 pub(super) fn visit<const D: usize, const R: usize>(

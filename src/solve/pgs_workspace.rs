@@ -10,8 +10,8 @@ use super::sweep_entry::{Entry, RowLaw};
 use crate::problem::ContactProblem;
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
+use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
-
 
 /// Buffers PGS reuses from solve to solve, so that a solve does not allocate once they have
 /// grown to the problem's size; also the random generator, so a run's orders are reproducible.
@@ -48,11 +48,15 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) groups: Vec<LaneGroup<D, R>>,
     pub(super) group_starts: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
+    /// With the random coloured order: the random permutation of the contacts the solve's
+    /// colouring takes them in, and each sweep's order of the colours (sweep s's being
+    /// `sweep_colours[s * colours..(s + 1) * colours]`); empty otherwise.
+    pub(super) shuffled: Vec<usize>,
+    pub(super) sweep_colours: Vec<usize>,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
     pub(super) local_fallbacks: u32,
 }
-
 
 /// A contact of the body form with the bodies' Δu, borrowed apart.
 pub(super) struct BodyRows<'a, const D: usize, const R: usize> {
@@ -123,6 +127,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             groups: Vec::new(),
             group_starts: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
+            shuffled: Vec::new(),
+            sweep_colours: Vec::new(),
             local_fallbacks: 0,
         }
     }
@@ -132,7 +138,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         &self.delta_velocity[i]
     }
 
-    /// Builds the entries for `problem`. With the coloured order the contacts are coloured
+    /// Builds the entries for `problem`. With a coloured order the contacts are coloured
     /// first and the entries laid out in visiting order (`slot[k]` is contact k's place), so a
     /// sweep reads them front to back; otherwise in problem order.
     pub(super) fn prepare(&mut self, problem: &ContactProblem<D, R>, order: ContactOrder) {
@@ -143,10 +149,11 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.scales.clear();
         self.order.clear();
         self.colour_starts.clear();
+        self.sweep_colours.clear();
         self.local_fallbacks = 0;
         let count = problem.contacts.len();
-        if order == ContactOrder::Coloured {
-            self.colour(problem);
+        if order.is_coloured() {
+            self.colour(problem, order);
         } else {
             self.order.extend(0..count);
         }
@@ -208,21 +215,31 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         &mut self.entries[i]
     }
 
-    /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]): a body moves when
-    /// its inverse mass is not zero.
-    pub(super) fn colour(&mut self, problem: &ContactProblem<D, R>) {
+    /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]: coloured in problem
+    /// order; [`ContactOrder::RandomColoured`]: in a fresh random permutation from the
+    /// workspace's generator): a body moves when its inverse mass is not zero.
+    pub(super) fn colour(&mut self, problem: &ContactProblem<D, R>, kind: ContactOrder) {
         let PgsWorkspace {
             order,
             colour_starts,
             colour_masks,
             colour_of,
             moving,
+            shuffled,
+            rng,
             ..
         } = self;
         moving.clear();
         moving.extend((problem.bodies.iter()).map(|b| b.inverse_mass.iter().any(|&m| m != 0.0)));
-        super::colour::colour_contacts(
-            problem.contacts.len(),
+        let count = problem.contacts.len();
+        shuffled.clear();
+        shuffled.extend(0..count);
+        if kind == ContactOrder::RandomColoured {
+            shuffled.shuffle(rng);
+        }
+        super::colour::colour_contacts_in(
+            count,
+            |i| shuffled[i],
             |k| problem.contacts[k].bodies,
             moving,
             colour_masks,
@@ -230,6 +247,43 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             order,
             colour_starts,
         );
+    }
+
+    /// With the random coloured order, draws each of `sweeps` sweeps' order of the colours
+    /// from the workspace's generator (before the sweeps, so that the orders do not depend on
+    /// the threads); otherwise every sweep takes the colours in turn.
+    pub(super) fn draw_sweep_colours(&mut self, order: ContactOrder, sweeps: u32) {
+        self.sweep_colours.clear();
+        if order != ContactOrder::RandomColoured {
+            return;
+        }
+        let colours = self.colours();
+        for _ in 0..sweeps {
+            let start = self.sweep_colours.len();
+            self.sweep_colours.extend(0..colours);
+            self.sweep_colours[start..].shuffle(&mut self.rng);
+        }
+    }
+
+    /// The `i`-th colour sweep `sweep` visits.
+    #[inline(always)]
+    pub(super) fn colour_at(&self, sweep: usize, i: usize) -> usize {
+        colour_at(&self.sweep_colours, self.colours(), sweep, i)
+    }
+
+    /// The contacts in the order the last solve's sweep `sweep` visited them, colour by colour
+    /// (one list for the problem and random orders; the random order's is its last sweep's,
+    /// drawn afresh each sweep). For checking an order, not for a hot loop: it allocates.
+    pub fn sweep_colours(&self, sweep: usize) -> Vec<Vec<usize>> {
+        if self.colour_starts.is_empty() {
+            return vec![self.order.clone()];
+        }
+        (0..self.colours())
+            .map(|i| {
+                let c = self.colour_at(sweep, i);
+                self.order[self.colour_starts[c]..self.colour_starts[c + 1]].to_vec()
+            })
+            .collect()
     }
 
     /// Runs the sweeps of coloured solves on `threads` threads (at least 1): bit for bit the
@@ -256,7 +310,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub fn last_groups(&self) -> usize {
         self.groups.len()
     }
-
 
     /// The number of colours of the last coloured solve.
     pub fn colours(&self) -> usize {
@@ -316,5 +369,15 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn apply(&mut self, k: usize, r: usize, delta: f64) {
         self.rows(k).apply(r, delta);
     }
+}
 
+/// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
+/// it is empty (every order but the random coloured one).
+#[inline(always)]
+pub(super) fn colour_at(sweep_colours: &[usize], colours: usize, sweep: usize, i: usize) -> usize {
+    if sweep_colours.is_empty() {
+        i
+    } else {
+        sweep_colours[sweep * colours + i]
+    }
 }
