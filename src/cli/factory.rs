@@ -5,7 +5,7 @@
 use super::progress::Progress;
 use clap::Args;
 use rigidref::tools::experiments::factory::{
-    FACTORY_ITERATIONS, FactoryReport, FactorySettings, Pieces, run_factory,
+    FACTORY_ITERATIONS, FACTORY_ORDER, FactoryReport, FactorySettings, Pieces, run_factory,
 };
 use std::path::{Path, PathBuf};
 
@@ -79,9 +79,11 @@ pub struct FactoryArgs {
     /// Substeps per step.
     #[arg(long, default_value_t = 1)]
     pub substeps: u32,
-    /// PGS's contact order: random (a fresh seeded permutation per sweep), sequential, or
-    /// coloured (docs/contact.md §"Coloured order").
-    #[arg(long, value_enum, default_value_t = rigidref::solve::ContactOrder::Random)]
+    /// PGS's contact order: random-coloured (the factory's default: a fresh seeded colouring
+    /// per solve and order of the colours per sweep, the colours' contacts four at a time;
+    /// docs/contact.md §"Random coloured order"), random (a fresh seeded permutation per sweep),
+    /// sequential, or coloured (docs/contact.md §"Coloured order").
+    #[arg(long, value_enum, default_value_t = FACTORY_ORDER)]
     pub order: rigidref::solve::ContactOrder,
     /// Threads of the coloured order's sweeps (the same bits on any number).
     #[arg(long, default_value_t = 1)]

@@ -23,6 +23,25 @@ pub fn colour_contacts(
     order: &mut Vec<usize>,
     starts: &mut Vec<usize>,
 ) {
+    colour_contacts_in(count, |i| i, sides, moving, masks, colour_of, order, starts);
+}
+
+/// [`colour_contacts`] with the contacts taken in the sequence `contact_at(0)`, …,
+/// `contact_at(count - 1)` (a permutation of the contacts) instead of problem order: each
+/// given the smallest colour its moving bodies do not have yet, and each colour's contacts in
+/// that sequence. With a random permutation this is the random coloured order's colouring
+/// (docs/contact.md §"Random coloured order").
+#[allow(clippy::too_many_arguments)]
+pub fn colour_contacts_in(
+    count: usize,
+    contact_at: impl Fn(usize) -> usize,
+    sides: impl Fn(usize) -> [Option<usize>; 2],
+    moving: &[bool],
+    masks: &mut Vec<u64>,
+    colour_of: &mut Vec<usize>,
+    order: &mut Vec<usize>,
+    starts: &mut Vec<usize>,
+) {
     let moving_sides = |k: usize| sides(k).map(|b| b.filter(|&b| moving[b]));
     // Words of colour bits per body: grown (and the masks laid out again) when a contact needs
     // a colour beyond them.
@@ -31,8 +50,8 @@ pub fn colour_contacts(
     masks.resize(moving.len() * words, 0);
     colour_of.clear();
     let mut colours = 0;
-    for k in 0..count {
-        let sides = moving_sides(k);
+    for i in 0..count {
+        let sides = moving_sides(contact_at(i));
         let taken = |w: usize, masks: &[u64]| {
             sides
                 .iter()
@@ -64,7 +83,7 @@ pub fn colour_contacts(
         colours = colours.max(colour + 1);
         colour_of.push(colour);
     }
-    // Counting sort by colour, stable: problem order within a colour.
+    // Counting sort by colour, stable: the sequence's order within a colour.
     starts.clear();
     starts.resize(colours + 1, 0);
     for &c in colour_of.iter() {
@@ -77,8 +96,8 @@ pub fn colour_contacts(
     // is then moved back by one colour.
     order.clear();
     order.resize(colour_of.len(), 0);
-    for (k, &c) in colour_of.iter().enumerate() {
-        order[starts[c]] = k;
+    for (i, &c) in colour_of.iter().enumerate() {
+        order[starts[c]] = contact_at(i);
         starts[c] += 1;
     }
     for c in (1..=colours).rev() {

@@ -11,11 +11,11 @@
 //! the body form's is its two bodies.
 
 use super::local::LocalSolve;
-use super::pgs::{
-    ContactOrder, ContactRows, PgsSettings, RowLaw, solve_contact, solve_free_rows, visit_exactly,
-};
+use super::pgs_settings::{ContactOrder, PgsSettings};
+use super::pgs_visit::{ContactRows, solve_contact, solve_free_rows, visit_exactly};
 use super::projection::project_feasible;
 use super::residual::{RowScales, coulomb_residual, residual, row_scales};
+use super::sweep_entry::RowLaw;
 use crate::problem::{FrictionModel, LocalProblem, RowBounds, SolveMethod, SolveReport};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
@@ -98,7 +98,8 @@ fn pgs_local<const R: usize>(
     let mut iterations = 0;
     let mut converged = false;
     while iterations < settings.max_iterations {
-        if settings.order == ContactOrder::Random {
+        // The local form has no groups of four: its random coloured order is the random order.
+        if settings.order.is_random() {
             order.shuffle(&mut rng);
         }
         for &k in &order {

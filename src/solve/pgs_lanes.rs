@@ -3,7 +3,7 @@
 //! the four stored lane by lane (struct of arrays within a group of four, as Box2D v3's wide
 //! constraints). docs/contact.md §"Four contacts per lane".
 //!
-//! Each lane takes exactly the steps of the one-contact visit ([`super::pgs::solve_contact`] with
+//! Each lane takes exactly the steps of the one-contact visit ([`super::pgs_visit::solve_contact`] with
 //! its bodies' Δu copied once and written back once): the same products, summed in the same
 //! order as nalgebra's dot product, the same branches taken as selects, so every lane's result is
 //! the one-contact visit's, bit for bit, and the sweep's result is the coloured sweep's. What
@@ -182,7 +182,7 @@ fn apply<const D: usize, const R: usize>(
 }
 
 /// One visit of the group's four contacts, each lane the steps of
-/// [`super::pgs::solve_contact`]: normal row, then the friction rows bounded by μ times the
+/// [`super::pgs_visit::solve_contact`]: normal row, then the friction rows bounded by μ times the
 /// normal impulse just computed (box or disk).
 ///
 /// # Safety

@@ -1,6 +1,6 @@
 //! The schedule of PGS sweeps in the coloured order on several threads (`threads: N`):
 //! which thread visits which contacts, and the barriers between colours. docs/contact.md
-//! §"Coloured order". The visits themselves are [`super::pgs`]'s (one contact) and
+//! §"Coloured order". The visits themselves are [`super::pgs_sweep`]'s (one contact) and
 //! [`super::pgs_lanes`]'s (four, §"Four contacts per lane").
 //!
 //! The contacts of one colour share no moving body, so their visits are independent: each reads
@@ -51,15 +51,16 @@ impl SpinBarrier {
     }
 }
 
-/// Runs up to `sweeps` sweeps on `threads` threads: for each of `colours` colours, thread t
-/// visits its share of the colour with `visit(colour, t)` ([`share`] splits a range), and all
+/// Runs up to `sweeps` sweeps on `threads` threads: in sweep s, for each i of `colours`
+/// colours, thread t visits its share of the sweep's i-th colour with `visit(s, i, t)`
+/// ([`share`] splits a range), and all
 /// meet at a barrier before the next colour. After each sweep thread 0 calls `after_sweep`
 /// while the others wait; it returns true to stop. Returns the sweeps done.
 pub(super) fn sweep_in_threads(
     sweeps: u32,
     colours: usize,
     threads: usize,
-    visit: &(dyn Fn(usize, usize) + Sync),
+    visit: &(dyn Fn(usize, usize, usize) + Sync),
     after_sweep: &(dyn Fn() -> bool + Sync),
 ) -> u32 {
     let barrier = SpinBarrier::new(threads);
@@ -67,8 +68,8 @@ pub(super) fn sweep_in_threads(
     let done = AtomicUsize::new(0);
     let work = |t: usize| {
         for sweep in 0..sweeps {
-            for colour in 0..colours {
-                visit(colour, t);
+            for i in 0..colours {
+                visit(sweep as usize, i, t);
                 barrier.wait();
             }
             if t == 0 {

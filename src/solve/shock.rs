@@ -13,7 +13,9 @@
 //! feel the reaction of that pass), so a stack is stiffer than it is, and after the pass λ no
 //! longer gives the velocities through u⁺ = u + M⁻¹Jᵀλ.
 
-use super::pgs::{ContactOrder, PgsSettings, PgsWorkspace, visit};
+use super::pgs_settings::PgsSettings;
+use super::pgs_sweep::visit;
+use super::pgs_workspace::PgsWorkspace;
 use super::residual::RowScales;
 use crate::problem::ContactProblem;
 use nalgebra::{SMatrix, SVector};
@@ -112,7 +114,7 @@ pub fn propagate_shock<const D: usize, const R: usize>(
         for _ in 0..settings.max_iterations {
             // The solve's own order: a fixed order within a layer pushes every bar the same way
             // each sweep (sequential sweeps at 2 or 3 per layer toppled tower100).
-            if settings.order == ContactOrder::Random {
+            if settings.order.is_random() {
                 members.shuffle(&mut workspace.rng);
             }
             for &k in &members {

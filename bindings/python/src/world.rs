@@ -320,6 +320,7 @@ impl World {
                 rigidref::solve::ContactOrder::Sequential => "sequential",
                 rigidref::solve::ContactOrder::Random => "random",
                 rigidref::solve::ContactOrder::Coloured => "coloured",
+                rigidref::solve::ContactOrder::RandomColoured => "random_coloured",
             },
         )?;
         pgs.set_item("local", s.pgs.local.name())?;

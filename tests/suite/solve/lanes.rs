@@ -289,17 +289,26 @@ fn four_contacts_per_lane_keep_the_sign_of_a_zero_velocity() {
 
 /// Where a contact joins a body to itself, or a constraint is a joint, the sweep goes one at a
 /// time (the groups' copies of Δu could not see each other's writes; a joint's rows are not a
-/// contact's), and so does a problem of more than `MAX_CONTACTS_IN_GROUPS` contacts (where
-/// laying out the groups costs more than they gain): the workspace says so.
+/// contact's), and so does a 3D problem of more than `MAX_CONTACTS_IN_GROUPS` contacts (where
+/// laying out the groups costs more than they gain): the workspace says so. A 2D problem of
+/// that size keeps its groups (`max_contacts_in_groups`: no limit in 2D).
 #[test]
 fn self_contacts_joints_and_large_problems_keep_the_one_at_a_time_sweep() {
     let limit = rigidref::solve::pgs::MAX_CONTACTS_IN_GROUPS;
+    assert_eq!(
+        rigidref::solve::pgs::max_contacts_in_groups::<6, 3>(),
+        limit
+    );
     let mut numbers = Numbers(11);
-    let at_limit = random_problem::<3, 2>(&mut numbers, 500, limit, FrictionModel::Box);
+    let at_limit = random_problem::<6, 3>(&mut numbers, 500, limit, FrictionModel::Box);
     assert!(solve(&at_limit, 1, Lanes::Native).3 > 0);
     let mut above = at_limit.clone();
     above.contacts.push(above.contacts[0].clone());
     assert_eq!(solve(&above, 1, Lanes::Native).3, 0);
+    let mut numbers = Numbers(11);
+    let mut planar = random_problem::<3, 2>(&mut numbers, 500, limit, FrictionModel::Box);
+    planar.contacts.push(planar.contacts[0].clone());
+    assert!(solve(&planar, 1, Lanes::Native).3 > 0);
     let mut numbers = Numbers(7);
     let mut problem = random_problem::<6, 3>(&mut numbers, 10, 40, FrictionModel::Box);
     assert!(solve(&problem, 1, Lanes::Native).3 > 0);

@@ -12,6 +12,7 @@ mod newton_properties;
 mod pgs;
 mod problem;
 mod qp;
+mod random_coloured;
 mod siconos_error;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.

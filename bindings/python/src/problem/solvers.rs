@@ -93,7 +93,7 @@ fn warm<const R: usize, P: WarmStart<R>>(
 /// Projected Gauss–Seidel (src/solve/pgs.rs, docs/contact.md §"Projected Gauss–Seidel"): at most
 /// `iterations` sweeps, stopping at `tolerance` (m/s) when given; warm_start (contacts × R)
 /// replaces the problem's λ0 (None keeps it: the step's own warm start); order "sequential"
-/// (also "found"), "random" (seeded by `seed`) or "coloured" (docs/contact.md §"Coloured order"); local "rows" (the assignment's) or "exact". With the settings of
+/// (also "found"), "random" (seeded by `seed`), "coloured" (docs/contact.md §"Coloured order") or "random_coloured" (§"Random coloured order"; on the local form the random order); local "rows" (the assignment's) or "exact". With the settings of
 /// `World.solver_settings()` it reproduces a step's λ to the bit.
 #[pyfunction]
 #[allow(clippy::too_many_arguments)]
@@ -112,9 +112,10 @@ pub fn solve_pgs(
         "sequential" | "found" => ContactOrder::Sequential,
         "random" => ContactOrder::Random,
         "coloured" => ContactOrder::Coloured,
+        "random_coloured" => ContactOrder::RandomColoured,
         o => {
             return Err(errors::problem(format!(
-                "order {o:?}: expected \"sequential\", \"random\" or \"coloured\""
+                "order {o:?}: expected \"sequential\", \"random\", \"coloured\" or \"random_coloured\""
             )));
         }
     };

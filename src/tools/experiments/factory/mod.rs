@@ -39,6 +39,12 @@ type Tetromino = ([(i64, i64); 4], [f64; 3]);
 /// 10 000 bricks give way at about 9 000 (docs/blocks2d.md §"Challenges").
 pub const FACTORY_ITERATIONS: u32 = 20;
 
+/// The factory's PGS contact order by default: the random coloured order, a fresh random
+/// colouring per solve and a fresh order of the colours per sweep, whose colours' contacts go
+/// four at a time (docs/blocks2d.md §"Challenges", docs/contact.md §"Random coloured order").
+/// The 2D scenes keep the random order (`order: random`, the demonstration default).
+pub const FACTORY_ORDER: crate::solve::ContactOrder = crate::solve::ContactOrder::RandomColoured;
+
 /// Drops in a row that place nothing before the container counts as full.
 pub const FULL_AFTER: u32 = 20;
 
@@ -294,7 +300,7 @@ pub fn run_factory(
 /// 0.001 blocks higher, one in the next column at least 0.999 higher (their discs, of diameter
 /// √2, overlap by at most a thousandth of a block, less than the slop), so that the pile is in
 /// contact from its first step. At rest, with the factory's default settings ([`FACTORY_ITERATIONS`] sweeps in
-/// seeded random order, 1 substep, the rest [`Params2::default`]).
+/// the [`FACTORY_ORDER`], 1 substep, the rest [`Params2::default`]).
 pub fn packed_pile(bodies: usize, pieces: Pieces, seed: u64) -> World2 {
     let above = std::f64::consts::SQRT_2 - 1e-3;
     let beside = 1.0 - 1e-3;
@@ -354,7 +360,7 @@ pub fn packed_pile(bodies: usize, pieces: Pieces, seed: u64) -> World2 {
     let params = Params2 {
         iterations: FACTORY_ITERATIONS,
         substeps: 1,
-        order: crate::solve::ContactOrder::Random,
+        order: FACTORY_ORDER,
         seed,
         ..Params2::default()
     };

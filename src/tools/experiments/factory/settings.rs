@@ -40,8 +40,8 @@ pub struct FactorySettings {
     pub iterations: u32,
     /// Substeps per step.
     pub substeps: u32,
-    /// PGS's contact order (random, the factory's default; or coloured, docs/contact.md
-    /// §"Coloured order").
+    /// PGS's contact order (random coloured, the factory's default `FACTORY_ORDER`; random,
+    /// sequential or coloured: docs/contact.md §"Coloured order", §"Random coloured order").
     pub order: crate::solve::ContactOrder,
     /// Threads of the coloured order's sweeps.
     pub threads: u32,
