@@ -8,6 +8,7 @@
 
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, NearestTriangle, vertex_contact};
+use super::persistent::KeptFeatures;
 use super::pieces::pose;
 use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::Contact;
@@ -21,14 +22,15 @@ use nalgebra::{Matrix3, Vector3};
 pub const MARGIN_FRACTION: f64 = 0.05;
 
 /// A candidate of a pair (i, j), i < j.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Candidate {
     /// A vertex of body i, against body j, and what is known of its nearest triangle of j.
     VertexOfFirst(u32, NearestTriangle),
     /// A vertex of body j, against body i, and what is known of its nearest triangle of i.
     VertexOfSecond(u32, NearestTriangle),
-    /// Piece a of body i with piece b of body j.
-    Pieces(u32, u32),
+    /// Piece a of body i with piece b of body j, and what it keeps of its last separating-axis
+    /// search (persistent manifolds; else [`KeptFeatures::Unknown`]).
+    Pieces(u32, u32, KeptFeatures),
 }
 
 /// The poses a pair's list was found at, and its margin.
@@ -50,6 +52,15 @@ fn relative(bi: &RigidBody, bj: &RigidBody) -> (Matrix3<f64>, Vector3<f64>) {
 }
 
 impl Anchor {
+    /// The pair's relative motion since the anchor, m: a bound on how far any vertex of either
+    /// body has moved in the other's frame, ‖ΔR‖ (max(ρ_i, ρ_j) + |t₀|) + |Δt| ([`Self::holds`]);
+    /// exactly 0 at the anchor's poses.
+    fn motion(&self, bi: &RigidBody, bj: &RigidBody, radii: (f64, f64)) -> f64 {
+        let (r_rel, t_rel) = relative(bi, bj);
+        (r_rel - self.r_rel).norm() * (radii.0.max(radii.1) + self.t_rel.norm())
+            + (t_rel - self.t_rel).norm()
+    }
+
     fn of(bi: &RigidBody, bj: &RigidBody, margin: f64) -> Anchor {
         let (r_rel, t_rel) = relative(bi, bj);
         Anchor {
@@ -68,10 +79,7 @@ impl Anchor {
     /// origin) by at most |Δx| + ‖ΔR_world‖ ρ each (Frobenius norms bound the spectral ones).
     /// False when any of it is NaN.
     fn holds(&self, bi: &RigidBody, bj: &RigidBody, radii: (f64, f64), pieces: bool) -> bool {
-        let (r_rel, t_rel) = relative(bi, bj);
-        let relative_motion = (r_rel - self.r_rel).norm()
-            * (radii.0.max(radii.1) + self.t_rel.norm())
-            + (t_rel - self.t_rel).norm();
+        let relative_motion = self.motion(bi, bj, radii);
         let world_motion = |b: &RigidBody, k: usize, radius: f64| {
             (b.x - self.x[k]).norm() + (b.rotation - self.r[k]).norm() * radius
         };
@@ -136,7 +144,7 @@ fn find_candidates(
                         margin,
                     )
                 {
-                    out.push(Candidate::Pieces(a as u32, b as u32));
+                    out.push(Candidate::Pieces(a as u32, b as u32, KeptFeatures::Unknown));
                 }
             }
         }
@@ -146,12 +154,16 @@ fn find_candidates(
 
 /// The contacts of pair (i, j) (neither with an analytic ellipsoid) from its kept candidates,
 /// or from fresh ones when the pair has moved too far: exactly fresh detection's contacts for the
-/// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`).
+/// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`);
+/// `persistent`: each piece pair's manifold from its kept features where they serve
+/// (docs/contact.md §"Persistent manifolds": then not always fresh detection's manifold).
+#[allow(clippy::too_many_arguments)]
 pub fn cached_pair_contacts(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
+    persistent: bool,
     cache: &mut PairCache<Anchor, Candidate>,
     manifold: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
@@ -193,8 +205,8 @@ pub fn cached_pair_contacts(
         nearest_kept += (queried && kept) as u64;
     }
     if pieces {
-        let piece_pairs = candidates.iter().filter_map(|c| match *c {
-            Candidate::Pieces(a, b) => Some((a as usize, b as usize)),
+        let piece_pairs = candidates.iter_mut().filter_map(|c| match c {
+            Candidate::Pieces(a, b, kept) => Some((*a as usize, *b as usize, kept)),
             _ => None,
         });
         manifold_contacts_among(
@@ -203,6 +215,7 @@ pub fn cached_pair_contacts(
             colliders,
             piece_pairs,
             pair_start,
+            persistent,
             manifold,
             out,
         );
