@@ -22,15 +22,15 @@ use nalgebra::{Matrix3, Vector3};
 pub const MARGIN_FRACTION: f64 = 0.05;
 
 /// A candidate of a pair (i, j), i < j.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Candidate {
     /// A vertex of body i, against body j, and what is known of its nearest triangle of j.
     VertexOfFirst(u32, NearestTriangle),
     /// A vertex of body j, against body i, and what is known of its nearest triangle of i.
     VertexOfSecond(u32, NearestTriangle),
-    /// Piece a of body i with piece b of body j, and what it keeps of its last separating-axis
-    /// search (persistent manifolds; else [`KeptFeatures::Unknown`]).
-    Pieces(u32, u32, KeptFeatures),
+    /// Piece a of body i with piece b of body j (with persistent manifolds, what it keeps of its
+    /// last separating-axis search is in a list of its own, [`KeptFeatures`], in the same order).
+    Pieces(u32, u32),
 }
 
 /// The poses a pair's list was found at, and its margin.
@@ -144,7 +144,7 @@ fn find_candidates(
                         margin,
                     )
                 {
-                    out.push(Candidate::Pieces(a as u32, b as u32, KeptFeatures::Unknown));
+                    out.push(Candidate::Pieces(a as u32, b as u32));
                 }
             }
         }
@@ -155,25 +155,30 @@ fn find_candidates(
 /// The contacts of pair (i, j) (neither with an analytic ellipsoid) from its kept candidates,
 /// or from fresh ones when the pair has moved too far: exactly fresh detection's contacts for the
 /// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`);
-/// `persistent`: each piece pair's manifold from its kept features where they serve
-/// (docs/contact.md §"Persistent manifolds": then not always fresh detection's manifold).
+/// `kept`: with persistent manifolds, each pair's piece-pair features (one per piece candidate,
+/// in order; found anew with the candidates), each piece pair's manifold from them where they
+/// serve (docs/contact.md §"Persistent manifolds": then not always fresh detection's manifold).
 #[allow(clippy::too_many_arguments)]
 pub fn cached_pair_contacts(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
-    persistent: bool,
+    kept: Option<&mut PairCache<(), KeptFeatures>>,
     cache: &mut PairCache<Anchor, Candidate>,
     manifold: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let radii = (colliders[i].radius(), colliders[j].radius());
+    let found = std::cell::Cell::new(false);
     let candidates = cache.candidates(
         (i, j),
         |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
-        |_, list| find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list),
+        |_, list| {
+            found.set(true);
+            find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list)
+        },
     );
     let pair_start = out.len();
     // A triangle kept at any step of the list's life keeps for the rest of it: the vertex is
@@ -205,8 +210,25 @@ pub fn cached_pair_contacts(
         nearest_kept += (queried && kept) as u64;
     }
     if pieces {
-        let piece_pairs = candidates.iter_mut().filter_map(|c| match c {
-            Candidate::Pieces(a, b, kept) => Some((*a as usize, *b as usize, kept)),
+        let count = candidates
+            .iter()
+            .filter(|c| matches!(c, Candidate::Pieces(..)))
+            .count();
+        // The features are kept while the candidates are (a fresh list starts unknown).
+        let features = kept.map(|kept| {
+            kept.candidates(
+                (i, j),
+                |_| !found.get(),
+                |_, list| list.extend(std::iter::repeat_n(KeptFeatures::Unknown, count)),
+            )
+        });
+        let mut features = features.filter(|f| f.len() == count).map(|f| f.iter_mut());
+        let piece_pairs = candidates.iter().filter_map(move |c| match *c {
+            Candidate::Pieces(a, b) => Some((
+                a as usize,
+                b as usize,
+                features.as_mut().and_then(|f| f.next()),
+            )),
             _ => None,
         });
         manifold_contacts_among(
@@ -215,7 +237,6 @@ pub fn cached_pair_contacts(
             colliders,
             piece_pairs,
             pair_start,
-            persistent,
             manifold,
             out,
         );

@@ -96,6 +96,8 @@ pub struct Detector {
     check: bool,
     /// Keep each piece pair's separating-axis features (`persistent_manifolds`).
     persistent: bool,
+    /// Those features, per body pair, one per piece candidate in order.
+    features: PairCache<(), super::persistent::KeptFeatures>,
     /// The check's oracle, for contacts that differ as kept manifolds may.
     oracle: super::sat::OracleBuffers,
     /// The check's first disagreement with persistent manifolds, said.
@@ -183,6 +185,7 @@ impl Detector {
         self.find_pairs(bodies, colliders);
         if self.use_cache {
             self.cache.begin();
+            self.features.begin();
         }
         for &(i, j) in &self.pairs {
             let analytic = bodies[i].ellipsoid.is_some() || bodies[j].ellipsoid.is_some();
@@ -192,7 +195,7 @@ impl Detector {
                     bodies,
                     colliders,
                     method == CollisionMethod::Complete,
-                    self.persistent,
+                    self.persistent.then_some(&mut self.features),
                     &mut self.cache,
                     &mut self.manifold,
                     out,
@@ -215,6 +218,7 @@ impl Detector {
         }
         if self.use_cache {
             self.cache.end();
+            self.features.end();
             if self.check {
                 let mut fresh = std::mem::take(&mut self.fresh);
                 detect_contacts(bodies, colliders, method, &mut fresh);

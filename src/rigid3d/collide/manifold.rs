@@ -67,16 +67,16 @@ pub fn manifold_contacts(
 
 /// [`manifold_contacts`] over the piece pairs `candidates` only (in their order, ascending),
 /// each tested by its world boxes as there: the same contacts when `candidates` holds every
-/// piece pair whose boxes overlap (docs/contact.md §"Temporal coherence"). With `persistent`,
-/// each piece pair's manifold comes from its kept features where they serve ([`kept_contact`];
-/// docs/contact.md §"Persistent manifolds"), and a pair whose boxes are apart forgets them.
+/// piece pair whose boxes overlap (docs/contact.md §"Temporal coherence"). A piece pair given
+/// its kept features (persistent manifolds) has its manifold from them where they serve
+/// ([`kept_contact`]; docs/contact.md §"Persistent manifolds"), and forgets them when its boxes
+/// are apart.
 pub fn manifold_contacts_among<'k>(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
-    candidates: impl Iterator<Item = (usize, usize, &'k mut KeptFeatures)>,
+    candidates: impl Iterator<Item = (usize, usize, Option<&'k mut KeptFeatures>)>,
     pair_start: usize,
-    persistent: bool,
     buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
@@ -88,9 +88,8 @@ pub fn manifold_contacts_among<'k>(
             &piece_b.world_aabb(&pair.pose_j),
             pair.margin,
         ) {
-            let kept = persistent.then_some(kept);
             piece_pair_contacts(&pair, (a, b), pair_start, buffers, kept, out);
-        } else {
+        } else if let Some(kept) = kept {
             *kept = KeptFeatures::Unknown;
         }
     }
