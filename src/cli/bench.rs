@@ -59,6 +59,11 @@ pub struct BenchArgs {
     /// rapier runs on one thread either way).
     #[arg(long, default_value_t = 1)]
     pub threads: u32,
+    /// Persistent manifolds in the `collision: complete` scenes (the cube grids and pyramids):
+    /// each piece pair's separating-axis features kept between substeps (docs/contact.md
+    /// §"Persistent manifolds").
+    #[arg(long)]
+    pub persistent_manifolds: bool,
     /// The project root (holding scenes/).
     #[arg(long, default_value = ".")]
     pub root: PathBuf,
@@ -100,6 +105,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 iterations: args.iterations,
                 contact_order: args.contact_order,
                 threads: args.threads,
+                persistent_manifolds: args.persistent_manifolds,
             },
         )
     } else {
@@ -117,6 +123,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<()> {
                 iterations: args.iterations,
                 contact_order: args.contact_order,
                 threads: args.threads,
+                persistent_manifolds: args.persistent_manifolds,
             },
         )
     };

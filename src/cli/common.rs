@@ -193,8 +193,21 @@ pub(crate) fn detection_check(
         ),
         _ => String::new(),
     };
+    let manifolds = match stats.manifold_rate() {
+        Some(rate) => format!(
+            "; kept features gave {:.1} % of piece-pair manifolds, and the contacts differed within the bound of docs/contact.md §\"Persistent manifolds\" on {} substeps",
+            100.0 * rate,
+            stats.kept_differs
+        ),
+        None => String::new(),
+    };
+    let same = if stats.kept_differs > 0 {
+        "fresh detection's up to kept manifolds"
+    } else {
+        "fresh detection's, bit for bit"
+    };
     Ok(Some(format!(
-        "detection      checked on {} substeps: the cached contacts are fresh detection's, bit for bit{kept}",
+        "detection      checked on {} substeps: the cached contacts are {same}{kept}{manifolds}",
         stats.checked
     )))
 }

@@ -28,6 +28,14 @@ pub struct CacheStats {
     /// Of those, the ones answered on a nearest triangle kept from an earlier step, without
     /// the BVH search.
     pub nearest_kept: u64,
+    /// 3D, persistent manifolds: piece-pair manifolds re-derived from kept features.
+    pub manifolds_kept: u64,
+    /// 3D, persistent manifolds: piece-pair manifolds found by the full separating-axis search.
+    pub manifolds_searched: u64,
+    /// 3D, persistent manifolds: of the checked steps, those whose contacts differed from fresh
+    /// detection's only as a kept manifold may (docs/contact.md §"Persistent manifolds"); not
+    /// mismatches.
+    pub kept_differs: u64,
 }
 
 impl CacheStats {
@@ -35,6 +43,13 @@ impl CacheStats {
     pub fn hit_rate(&self) -> Option<f64> {
         let all = self.reused + self.refreshed;
         (all > 0).then(|| self.reused as f64 / all as f64)
+    }
+
+    /// The share of piece-pair manifolds re-derived from kept features, or `None` when none was
+    /// asked for (persistent manifolds off).
+    pub fn manifold_rate(&self) -> Option<f64> {
+        let all = self.manifolds_kept + self.manifolds_searched;
+        (all > 0).then(|| self.manifolds_kept as f64 / all as f64)
     }
 
     /// The share of kept candidates' signed-distance queries answered on a kept nearest
@@ -52,6 +67,9 @@ impl CacheStats {
             mismatches: self.mismatches - before.mismatches,
             queries: self.queries - before.queries,
             nearest_kept: self.nearest_kept - before.nearest_kept,
+            manifolds_kept: self.manifolds_kept - before.manifolds_kept,
+            manifolds_searched: self.manifolds_searched - before.manifolds_searched,
+            kept_differs: self.kept_differs - before.kept_differs,
         }
     }
 }

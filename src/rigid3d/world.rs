@@ -135,6 +135,7 @@ impl World {
             colliders,
             detector: if scene.params.detection_cache {
                 Detector::cached(scene.params.check_detection)
+                    .with_persistent_manifolds(scene.params.persistent_manifolds)
             } else {
                 Detector::default()
             },
@@ -157,6 +158,12 @@ impl World {
     /// (`check_detection`). docs/contact.md §"Temporal coherence".
     pub fn detection_stats(&self) -> crate::common::pair_cache::CacheStats {
         self.detector.stats()
+    }
+
+    /// The debug check's first difference from fresh detection that is not allowed, said
+    /// (`None` when there was none). docs/contact.md §"Persistent manifolds".
+    pub fn detection_check_example(&self) -> Option<&str> {
+        self.detector.check_example()
     }
 
     /// From now on, hold detection against the separating-axis oracle on every substep

@@ -195,3 +195,94 @@ impl DetectionAudit {
         }
     }
 }
+
+/// With persistent manifolds (docs/contact.md §"Persistent manifolds"): whether cached
+/// detection's contacts `cached` differ from fresh detection's `fresh` only as kept manifolds
+/// may. The ground and vertex-rule contacts must be the same, bit for bit, in the same order; a
+/// body pair whose manifold contacts differ must meet the bounds fresh detection meets: for two
+/// convex bodies every check of [`check_pair`] (none missed, none too deep, along an axis of
+/// least penetration within the preferences' bound), otherwise each manifold contact no deeper
+/// than [`preferred_depth_bound`] of its piece pair's oracle depth, nor its pieces overlapping
+/// by more along its normal. `Err` names the first difference that is not allowed.
+pub fn kept_manifolds_agree(
+    bodies: &[RigidBody],
+    colliders: &[MeshCollider],
+    cached: &[Contact],
+    fresh: &[Contact],
+    oracle: &mut OracleBuffers,
+) -> Result<(), String> {
+    let manifold = |c: &&Contact| matches!(c.feature, Feature::Manifold { .. });
+    if !cached
+        .iter()
+        .filter(|c| !manifold(c))
+        .eq(fresh.iter().filter(|c| !manifold(c)))
+    {
+        return Err("the ground or vertex-rule contacts differ from fresh detection's".into());
+    }
+    let pair_of = |c: &Contact| {
+        let other = c.body2.unwrap_or(usize::MAX);
+        (c.body1.min(other), c.body1.max(other))
+    };
+    let mut pairs: Vec<(usize, usize)> = cached
+        .iter()
+        .chain(fresh)
+        .filter(manifold)
+        .map(pair_of)
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    for (i, j) in pairs {
+        let of_pair = |contacts: &[Contact]| -> Vec<Contact> {
+            contacts.iter().filter(|c| pair_of(c) == (i, j)).copied().collect()
+        };
+        let (ours, theirs) = (of_pair(cached), of_pair(fresh));
+        if ours == theirs {
+            continue;
+        }
+        let radius = colliders[i].radius().max(colliders[j].radius());
+        let convex = colliders[i].pieces.convex
+            && colliders[j].pieces.convex
+            && bodies[i].ellipsoid.is_none()
+            && bodies[j].ellipsoid.is_none();
+        if convex {
+            let check = check_pair(
+                [&bodies[i], &bodies[j]],
+                [&colliders[i], &colliders[j]],
+                &ours,
+                true,
+                oracle,
+            );
+            if !check.disagreements.is_empty() {
+                return Err(format!(
+                    "bodies {i} and {j}: {}",
+                    check.disagreements.join("; ")
+                ));
+            }
+            continue;
+        }
+        for c in ours.iter() {
+            let Feature::Manifold { piece1, piece2, .. } = c.feature else {
+                continue;
+            };
+            let Some(body2) = c.body2 else { continue };
+            let placed = |body: usize, piece: u32| {
+                (
+                    &colliders[body].pieces.pieces[piece as usize],
+                    &bodies[body].rotation,
+                    &bodies[body].x,
+                )
+            };
+            let (a, b) = (placed(c.body1, piece1), placed(body2, piece2));
+            let depth = oracle.depth(a, b, true);
+            let bound = preferred_depth_bound(depth, radius);
+            let along = oracle.overlap_along(a, b, &c.frame.n);
+            if c.depth > bound || along > bound {
+                return Err(format!(
+                    "bodies {i} and {j}: a kept manifold contact {:.3e} m deep, its pieces overlapping by {along:.3e} m along its normal, where they overlap by {depth:.3e} m (allowed {bound:.3e} m)",
+                    c.depth
+                ));
+            }
+        }
+    }
+    Ok(())
+}

@@ -8,6 +8,7 @@
 
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, NearestTriangle, vertex_contact};
+use super::persistent::KeptFeatures;
 use super::pieces::pose;
 use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::Contact;
@@ -27,7 +28,8 @@ pub enum Candidate {
     VertexOfFirst(u32, NearestTriangle),
     /// A vertex of body j, against body i, and what is known of its nearest triangle of i.
     VertexOfSecond(u32, NearestTriangle),
-    /// Piece a of body i with piece b of body j.
+    /// Piece a of body i with piece b of body j (with persistent manifolds, what it keeps of its
+    /// last separating-axis search is in a list of its own, [`KeptFeatures`], in the same order).
     Pieces(u32, u32),
 }
 
@@ -50,6 +52,15 @@ fn relative(bi: &RigidBody, bj: &RigidBody) -> (Matrix3<f64>, Vector3<f64>) {
 }
 
 impl Anchor {
+    /// The pair's relative motion since the anchor, m: a bound on how far any vertex of either
+    /// body has moved in the other's frame, ‖ΔR‖ (max(ρ_i, ρ_j) + |t₀|) + |Δt| ([`Self::holds`]);
+    /// exactly 0 at the anchor's poses.
+    fn motion(&self, bi: &RigidBody, bj: &RigidBody, radii: (f64, f64)) -> f64 {
+        let (r_rel, t_rel) = relative(bi, bj);
+        (r_rel - self.r_rel).norm() * (radii.0.max(radii.1) + self.t_rel.norm())
+            + (t_rel - self.t_rel).norm()
+    }
+
     fn of(bi: &RigidBody, bj: &RigidBody, margin: f64) -> Anchor {
         let (r_rel, t_rel) = relative(bi, bj);
         Anchor {
@@ -68,10 +79,7 @@ impl Anchor {
     /// origin) by at most |Δx| + ‖ΔR_world‖ ρ each (Frobenius norms bound the spectral ones).
     /// False when any of it is NaN.
     fn holds(&self, bi: &RigidBody, bj: &RigidBody, radii: (f64, f64), pieces: bool) -> bool {
-        let (r_rel, t_rel) = relative(bi, bj);
-        let relative_motion = (r_rel - self.r_rel).norm()
-            * (radii.0.max(radii.1) + self.t_rel.norm())
-            + (t_rel - self.t_rel).norm();
+        let relative_motion = self.motion(bi, bj, radii);
         let world_motion = |b: &RigidBody, k: usize, radius: f64| {
             (b.x - self.x[k]).norm() + (b.rotation - self.r[k]).norm() * radius
         };
@@ -146,22 +154,31 @@ fn find_candidates(
 
 /// The contacts of pair (i, j) (neither with an analytic ellipsoid) from its kept candidates,
 /// or from fresh ones when the pair has moved too far: exactly fresh detection's contacts for the
-/// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`).
+/// pair, appended to `out`. `pieces`: with the convex pieces' manifolds (`collision: complete`);
+/// `kept`: with persistent manifolds, each pair's piece-pair features (one per piece candidate,
+/// in order; found anew with the candidates), each piece pair's manifold from them where they
+/// serve (docs/contact.md §"Persistent manifolds": then not always fresh detection's manifold).
+#[allow(clippy::too_many_arguments)]
 pub fn cached_pair_contacts(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
+    kept: Option<&mut PairCache<(), KeptFeatures>>,
     cache: &mut PairCache<Anchor, Candidate>,
     manifold: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let (bi, bj) = (&bodies[i], &bodies[j]);
     let radii = (colliders[i].radius(), colliders[j].radius());
+    let found = std::cell::Cell::new(false);
     let candidates = cache.candidates(
         (i, j),
         |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
-        |_, list| find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list),
+        |_, list| {
+            found.set(true);
+            find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list)
+        },
     );
     let pair_start = out.len();
     // A triangle kept at any step of the list's life keeps for the rest of it: the vertex is
@@ -193,8 +210,25 @@ pub fn cached_pair_contacts(
         nearest_kept += (queried && kept) as u64;
     }
     if pieces {
-        let piece_pairs = candidates.iter().filter_map(|c| match *c {
-            Candidate::Pieces(a, b) => Some((a as usize, b as usize)),
+        let count = candidates
+            .iter()
+            .filter(|c| matches!(c, Candidate::Pieces(..)))
+            .count();
+        // The features are kept while the candidates are (a fresh list starts unknown).
+        let features = kept.map(|kept| {
+            kept.candidates(
+                (i, j),
+                |_| !found.get(),
+                |_, list| list.extend(std::iter::repeat_n(KeptFeatures::Unknown, count)),
+            )
+        });
+        let mut features = features.filter(|f| f.len() == count).map(|f| f.iter_mut());
+        let piece_pairs = candidates.iter().filter_map(move |c| match *c {
+            Candidate::Pieces(a, b) => Some((
+                a as usize,
+                b as usize,
+                features.as_mut().and_then(|f| f.next()),
+            )),
             _ => None,
         });
         manifold_contacts_among(

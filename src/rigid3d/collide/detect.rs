@@ -94,6 +94,14 @@ pub struct Detector {
     use_cache: bool,
     /// Compare with fresh detection on every call (`check_detection`).
     check: bool,
+    /// Keep each piece pair's separating-axis features (`persistent_manifolds`).
+    persistent: bool,
+    /// Those features, per body pair, one per piece candidate in order.
+    features: PairCache<(), super::persistent::KeptFeatures>,
+    /// The check's oracle, for contacts that differ as kept manifolds may.
+    oracle: super::sat::OracleBuffers,
+    /// The check's first disagreement with persistent manifolds, said.
+    check_example: Option<String>,
     cache: PairCache<Anchor, Candidate>,
     fresh: Vec<Contact>,
     /// The broad phase's grown pairs and each body's pose then (with the cache).
@@ -113,9 +121,26 @@ impl Detector {
         }
     }
 
+    /// This detector with persistent manifolds (`persistent_manifolds`, with the cache and
+    /// `collision: complete`): each piece pair's manifold from its kept features where they serve
+    /// (docs/contact.md §"Persistent manifolds").
+    pub fn with_persistent_manifolds(mut self, on: bool) -> Detector {
+        self.persistent = on;
+        self
+    }
+
+    /// The debug check's first difference that is not allowed, said (`None` when none).
+    pub fn check_example(&self) -> Option<&str> {
+        self.check_example.as_deref()
+    }
+
     /// How often the kept candidates served a pair, and the debug check's counts.
     pub fn stats(&self) -> CacheStats {
-        self.cache.stats
+        CacheStats {
+            manifolds_kept: self.manifold.kept.served,
+            manifolds_searched: self.manifold.kept.searched,
+            ..self.cache.stats
+        }
     }
 
     /// Finds all contacts of `bodies` (with the ground and with each other), replacing `out`, in
@@ -160,6 +185,7 @@ impl Detector {
         self.find_pairs(bodies, colliders);
         if self.use_cache {
             self.cache.begin();
+            self.features.begin();
         }
         for &(i, j) in &self.pairs {
             let analytic = bodies[i].ellipsoid.is_some() || bodies[j].ellipsoid.is_some();
@@ -169,6 +195,7 @@ impl Detector {
                     bodies,
                     colliders,
                     method == CollisionMethod::Complete,
+                    self.persistent.then_some(&mut self.features),
                     &mut self.cache,
                     &mut self.manifold,
                     out,
@@ -191,12 +218,33 @@ impl Detector {
         }
         if self.use_cache {
             self.cache.end();
+            self.features.end();
             if self.check {
                 let mut fresh = std::mem::take(&mut self.fresh);
                 detect_contacts(bodies, colliders, method, &mut fresh);
                 self.cache.stats.checked += 1;
                 if fresh != *out {
-                    self.cache.stats.mismatches += 1;
+                    // Kept manifolds may differ from fresh ones, within the bound the oracle
+                    // checks; anything else is a bug.
+                    let agree = if self.persistent {
+                        super::audit::kept_manifolds_agree(
+                            bodies,
+                            colliders,
+                            out,
+                            &fresh,
+                            &mut self.oracle,
+                        )
+                    } else {
+                        Err("the contacts differ".to_string())
+                    };
+                    if let Err(e) = &agree {
+                        self.check_example.get_or_insert_with(|| e.clone());
+                    }
+                    if agree.is_ok() {
+                        self.cache.stats.kept_differs += 1;
+                    } else {
+                        self.cache.stats.mismatches += 1;
+                    }
                 }
                 self.fresh = fresh;
             }

@@ -4,6 +4,7 @@
 //! [`super::separating_axes`]). docs/contact.md §"Complete collision detection".
 
 use super::mesh_pair::MeshCollider;
+use super::persistent::{KeptCounts, KeptFeatures, kept_contact};
 use super::pieces::{ConvexPieces, pose};
 use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::{Contact, Feature};
@@ -33,6 +34,8 @@ pub fn speculative_margin(radius: f64) -> f64 {
 pub struct ManifoldBuffers {
     /// The separating-axis query's buffers.
     pub sat: SatBuffers,
+    /// How often kept features served (persistent manifolds).
+    pub kept: KeptCounts,
 }
 
 /// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
@@ -56,7 +59,7 @@ pub fn manifold_contacts(
         let box_a = piece_a.world_aabb(&pair.pose_i);
         for (b, piece_b) in pair.pieces_j.pieces.iter().enumerate() {
             if within(&box_a, &piece_b.world_aabb(&pair.pose_j), pair.margin) {
-                piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
+                piece_pair_contacts(&pair, (a, b), pair_start, buffers, None, out);
             }
         }
     }
@@ -64,25 +67,30 @@ pub fn manifold_contacts(
 
 /// [`manifold_contacts`] over the piece pairs `candidates` only (in their order, ascending),
 /// each tested by its world boxes as there: the same contacts when `candidates` holds every
-/// piece pair whose boxes overlap (docs/contact.md §"Temporal coherence").
-pub fn manifold_contacts_among(
+/// piece pair whose boxes overlap (docs/contact.md §"Temporal coherence"). A piece pair given
+/// its kept features (persistent manifolds) has its manifold from them where they serve
+/// ([`kept_contact`]; docs/contact.md §"Persistent manifolds"), and forgets them when its boxes
+/// are apart.
+pub fn manifold_contacts_among<'k>(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
-    candidates: impl Iterator<Item = (usize, usize)>,
+    candidates: impl Iterator<Item = (usize, usize, Option<&'k mut KeptFeatures>)>,
     pair_start: usize,
     buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
 ) {
     let pair = PairPoses::new((i, j), bodies, colliders);
-    for (a, b) in candidates {
+    for (a, b, kept) in candidates {
         let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
         if within(
             &piece_a.world_aabb(&pair.pose_i),
             &piece_b.world_aabb(&pair.pose_j),
             pair.margin,
         ) {
-            piece_pair_contacts(&pair, (a, b), pair_start, buffers, out);
+            piece_pair_contacts(&pair, (a, b), pair_start, buffers, kept, out);
+        } else if let Some(kept) = kept {
+            *kept = KeptFeatures::Unknown;
         }
     }
 }
@@ -110,6 +118,8 @@ struct PairPoses<'a> {
     tolerance: f64,
     /// The speculative margin, m.
     margin: f64,
+    /// The larger bounding radius of the two bodies, m.
+    radius: f64,
 }
 
 impl<'a> PairPoses<'a> {
@@ -131,33 +141,47 @@ impl<'a> PairPoses<'a> {
             pose_j: pose(bj),
             tolerance: SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius()),
             margin: speculative_margin(colliders[i].radius().min(colliders[j].radius())),
+            radius: colliders[i].radius().max(colliders[j].radius()),
         }
     }
 }
 
 /// The contacts of piece a of body i with piece b of body j that `out[pair_start..]` does not
-/// already hold.
+/// already hold; with `kept` (the piece pair's kept features), from them where they serve.
 fn piece_pair_contacts(
     pair: &PairPoses,
     (a, b): (usize, usize),
     pair_start: usize,
     buffers: &mut ManifoldBuffers,
+    kept: Option<&mut KeptFeatures>,
     out: &mut Vec<Contact>,
 ) {
     let (i, j, tolerance, margin) = (pair.i, pair.j, pair.tolerance, pair.margin);
     let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
-    // Afresh each time (the buffers reused): no history, so detection depends on the state only.
-    // Pieces apart by more than the margin have no contact, so such a gap stops it.
-    let Some(found) = buffers.sat.contact(
-        &piece_a.polytope,
-        &piece_b.polytope,
-        &pair.placement,
-        margin,
-    ) else {
+    // Without kept features, afresh each time (the buffers reused): no history, so detection
+    // depends on the state only. Pieces apart by more than the margin have no contact, so such
+    // a gap stops it.
+    let polytopes = (&piece_a.polytope, &piece_b.polytope);
+    let found = match kept {
+        Some(kept) => kept_contact(
+            &mut buffers.sat,
+            polytopes,
+            &pair.placement,
+            margin,
+            pair.radius,
+            kept,
+            &mut buffers.kept,
+        ),
+        None => buffers
+            .sat
+            .contact(polytopes.0, polytopes.1, &pair.placement, margin)
+            .map(|found| found.normal),
+    };
+    let Some(normal) = found else {
         return;
     };
     // n₁ points out of piece a toward piece b (body i's frame); ours points from j into i.
-    let n = -(pair.rotation_i * found.normal);
+    let n = -(pair.rotation_i * normal);
     let world = |p: &nalgebra::Vector3<f64>| pair.x_i + pair.rotation_i * p;
     for point in &buffers.sat.points {
         // Apart by more than the margin (or NaN): not a contact. Within it, a speculative

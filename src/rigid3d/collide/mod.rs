@@ -41,6 +41,7 @@ pub mod ground;
 pub mod manifold;
 pub mod mesh_pair;
 pub mod penetration;
+pub mod persistent;
 pub mod pieces;
 pub mod polytope;
 pub mod sat;

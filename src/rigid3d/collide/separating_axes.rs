@@ -168,7 +168,7 @@ pub struct SatBuffers {
 
 impl SatBuffers {
     /// Places B's vertices and face normals in A's frame.
-    fn place(&mut self, b: &Polytope, at: &Placement) {
+    pub(super) fn place(&mut self, b: &Polytope, at: &Placement) {
         self.b_vertices.clear();
         self.b_vertices
             .extend(b.vertices.iter().map(|v| at.rotation * v + at.translation));
@@ -177,16 +177,16 @@ impl SatBuffers {
             .extend(b.faces.iter().map(|f| at.rotation * f.normal));
     }
 
-    /// The axis of least penetration of A and B (B placed by `at`), or `None` as soon as some
-    /// axis shows a gap larger than `stop_above` (m): the pieces are then apart by more than
-    /// that. Reads [`Self::place`]'s buffers.
+    /// The axis of least penetration of A and B (B placed by `at`), or, as soon as some axis
+    /// shows a gap larger than `stop_above` (m), that axis (`Err`): the pieces are then apart by
+    /// more than that. Reads [`Self::place`]'s buffers.
     fn least_penetration(
         &self,
         a: &Polytope,
         b: &Polytope,
         at: &Placement,
         stop_above: f64,
-    ) -> Option<LeastPenetration> {
+    ) -> Result<LeastPenetration, Axis> {
         let bv = &self.b_vertices;
         let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
             points.iter().map(|p| n.dot(p)).fold(f64::INFINITY, f64::min)
@@ -202,7 +202,7 @@ impl SatBuffers {
         for (f, face) in a.faces.iter().enumerate() {
             let gap = lowest(bv, &face.normal) - face.offset;
             if gap > stop_above {
-                return None;
+                return Err(Axis::FaceOfA(f));
             }
             let better = if wrong {
                 face_a.0 == usize::MAX || gap < face_a.1
@@ -215,7 +215,7 @@ impl SatBuffers {
         }
         if wrong {
             let (f, gap) = face_a;
-            return Some(LeastPenetration {
+            return Ok(LeastPenetration {
                 axis: Axis::FaceOfA(f),
                 normal: a.faces[f].normal,
                 gap,
@@ -230,7 +230,7 @@ impl SatBuffers {
             let offset = face.offset + n.dot(&at.translation);
             let gap = lowest(&a.vertices, &n) - offset;
             if gap > stop_above {
-                return None;
+                return Err(Axis::FaceOfB(g));
             }
             if gap > face_b.1 {
                 face_b = (g, gap);
@@ -267,7 +267,7 @@ impl SatBuffers {
                 let gap = lowest(bv, &l) - highest(&a.vertices, &l);
                 let normal = l;
                 if gap > stop_above {
-                    return None;
+                    return Err(Axis::Edges(ea, eb));
                 }
                 if gap > edges.2 {
                     edges = (ea, eb, gap, normal);
@@ -299,7 +299,7 @@ impl SatBuffers {
         } else {
             face
         };
-        Some(LeastPenetration {
+        Ok(LeastPenetration {
             axis,
             normal,
             gap,
@@ -319,7 +319,7 @@ impl SatBuffers {
         distance: f64,
     ) -> bool {
         self.place(b, at);
-        self.least_penetration(a, b, at, distance).is_none()
+        self.least_penetration(a, b, at, distance).is_err()
     }
 
     /// The contact of pieces A and B (B placed by `at`): the axis of least penetration, with
@@ -333,6 +333,18 @@ impl SatBuffers {
         at: &Placement,
         stop_above: f64,
     ) -> Option<LeastPenetration> {
+        self.contact_or_apart(a, b, at, stop_above).ok()
+    }
+
+    /// [`Self::contact`], naming the separating axis (`Err`) when the pieces are apart by more
+    /// than `stop_above`.
+    pub fn contact_or_apart(
+        &mut self,
+        a: &Polytope,
+        b: &Polytope,
+        at: &Placement,
+        stop_above: f64,
+    ) -> Result<LeastPenetration, Axis> {
         self.points.clear();
         self.place(b, at);
         let mut found = self.least_penetration(a, b, at, stop_above)?;
@@ -352,12 +364,55 @@ impl SatBuffers {
             (found.axis, found.normal, found.gap) =
                 (found.exact_axis, found.exact_normal, found.exact_gap);
         }
-        Some(found)
+        Ok(found)
+    }
+
+    /// The unit normal n₁ (out of A toward B) and the gap of one axis, computed as
+    /// [`Self::least_penetration`] computes it (the same bits), after [`Self::place`]; `None`
+    /// for an edge pair that has become parallel (no axis of its own).
+    pub(super) fn axis_gap(
+        &self,
+        a: &Polytope,
+        b: &Polytope,
+        at: &Placement,
+        axis: Axis,
+    ) -> Option<(Vector3<f64>, f64)> {
+        let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
+            points.iter().map(|p| n.dot(p)).fold(f64::INFINITY, f64::min)
+        };
+        let highest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
+            points.iter().map(|p| n.dot(p)).fold(f64::NEG_INFINITY, f64::max)
+        };
+        let bv = &self.b_vertices;
+        match axis {
+            Axis::FaceOfA(f) => {
+                let face = &a.faces[f];
+                Some((face.normal, lowest(bv, &face.normal) - face.offset))
+            }
+            Axis::FaceOfB(g) => {
+                let n = self.b_normals[g];
+                let offset = b.faces[g].offset + n.dot(&at.translation);
+                Some((-n, lowest(&a.vertices, &n) - offset))
+            }
+            Axis::Edges(ea, eb) => {
+                let (edge_a, edge_b) = (&a.edges[ea], &b.edges[eb]);
+                let da = a.vertices[edge_a.vertices[1]] - a.vertices[edge_a.vertices[0]];
+                let db = bv[edge_b.vertices[1]] - bv[edge_b.vertices[0]];
+                let cross = da.cross(&db);
+                let length = cross.norm();
+                if length <= PARALLEL_SINE * da.norm() * db.norm() {
+                    return None;
+                }
+                let at_edge = a.vertices[edge_a.vertices[0]] - a.centroid;
+                let l = if cross.dot(&at_edge) < 0.0 { -cross / length } else { cross / length };
+                Some((l, lowest(bv, &l) - highest(&a.vertices, &l)))
+            }
+        }
     }
 
     /// The contact points along `axis` (normal n₁ out of A), into `points`; returns the deepest
     /// depth among them, m (−∞ when there are none).
-    fn points_along(&mut self, a: &Polytope, b: &Polytope, axis: Axis, normal: &Vector3<f64>) -> f64 {
+    pub(super) fn points_along(&mut self, a: &Polytope, b: &Polytope, axis: Axis, normal: &Vector3<f64>) -> f64 {
         match axis {
             Axis::FaceOfA(f) => self.clip(a, f, b, false),
             Axis::FaceOfB(g) => self.clip(b, g, a, true),

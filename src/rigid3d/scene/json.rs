@@ -55,6 +55,7 @@ pub(super) struct SimParametersJson {
     tangents: Option<Tangents>,
     culling: Option<Culling>,
     detection_cache: Option<bool>,
+    persistent_manifolds: Option<bool>,
     check_detection: Option<bool>,
 }
 
@@ -108,6 +109,7 @@ impl SimParametersJson {
             }),
             culling: self.culling.unwrap_or_default(),
             detection_cache: self.detection_cache.unwrap_or(true),
+            persistent_manifolds: self.persistent_manifolds.unwrap_or(false),
             check_detection: self.check_detection.unwrap_or(false),
         }
     }

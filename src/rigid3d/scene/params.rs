@@ -79,6 +79,11 @@ pub struct SimParameters {
     /// `detection_cache`: keep each body pair's candidates from step to step (default true):
     /// the same contacts, found faster (docs/contact.md §"Temporal coherence").
     pub detection_cache: bool,
+    /// `persistent_manifolds`: with `collision: complete` and the detection cache, keep each
+    /// convex piece pair's separating-axis features between substeps and re-derive its manifold
+    /// from them while they serve (default false; docs/contact.md §"Persistent manifolds"):
+    /// faster, but then a manifold is not always fresh detection's.
+    pub persistent_manifolds: bool,
     /// `check_detection`: run fresh detection beside the cached one every substep and count any
     /// difference (default false): the cache's debug check.
     pub check_detection: bool,

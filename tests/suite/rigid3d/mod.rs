@@ -12,6 +12,7 @@ mod dzhanibekov;
 mod exact_contact;
 mod integrators;
 mod massprops;
+mod persistent;
 mod projectile;
 mod rattleback;
 mod rotation;

@@ -19,6 +19,9 @@ pub struct BenchSettings {
     pub contact_order: crate::solve::ContactOrder,
     /// Threads of rigidref's coloured sweeps in the 3D scenes (`--threads`; rapier runs on one).
     pub threads: u32,
+    /// `persistent_manifolds` in the 3D scenes (`--persistent-manifolds`; it acts on the
+    /// `collision: complete` ones).
+    pub persistent_manifolds: bool,
 }
 
 impl BenchSettings {
@@ -161,6 +164,7 @@ pub(super) fn run_3d(
     scene.params.pgs_iterations = s.iterations;
     scene.params.pgs_order = s.contact_order;
     scene.params.threads = s.threads;
+    scene.params.persistent_manifolds = s.persistent_manifolds;
     let mut ours = World::new(&scene)?;
     let mut mirror = RapierMirror::new(&scene)?;
     mirror.set_solver_iterations(s.iterations as usize);
