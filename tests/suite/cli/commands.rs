@@ -830,7 +830,8 @@ fn every_option_a_subcommand_lists_is_accepted_by_it() {
                 | "--strict"
                 | "--rapier"
                 | "--update"
-                | "--all-contacts",
+                | "--all-contacts"
+                | "--persistent-manifolds",
             ) => &[],
             ("factory", "--container") => {
                 return tube.iter().map(|p| p.display().to_string()).collect();
