@@ -352,6 +352,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             && residual(judge, &l) <= floor
             && (!cone || coulomb_residual(judge, &l) <= floor)
     };
+    let start = x.clone();
     let first = iterate(
         &system,
         &mut x,
@@ -383,11 +384,33 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         reached = again.reached || within_floor(&x);
     }
     if !reached && n > 0 {
-        let (extra, _, improved) = proximal_point(&system, &mut x, settings, &mut accept);
+        let (extra, solved, improved) = proximal_point(&system, &mut x, settings, &mut accept);
         iterations += extra;
+        reached = solved || within_floor(&x);
         // The fallback is named only where its answer is the one returned.
         if improved {
             method = SolveMethod::Proximal;
+        }
+    }
+    // Last: plain Newton from the start without the stall rule (a run that wanders for a while
+    // and then converges; seen on spheres-in-a-box-98 of Siconos' data, which the stall rule
+    // handed to a proximal loop that did not solve it), kept where it is better.
+    if !reached && n > 0 {
+        let mut plain = start;
+        let run = iterate(
+            &system,
+            &mut plain,
+            None,
+            settings.max_iterations,
+            u32::MAX,
+            &mut accept,
+        );
+        iterations += run.iterations;
+        let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
+        evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
+        if run.reached || run.norm < law_norm(&system, &f) {
+            x = plain;
+            method = SolveMethod::Newton;
         }
     }
     lambda.clear();
