@@ -137,11 +137,27 @@ const STALL: u32 = 10;
 /// The proximal parameter η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem (Siconos' PROX
 /// default σ = 5 on its relative error).
 const PROXIMAL_SIGMA: f64 = 5.0;
-/// Each subproblem is solved to the centre's law norm divided by this.
+/// Each subproblem of the adaptive loop is solved to the centre's law norm divided by this
+/// (the tenfold loop's: [`TENFOLD_INNER_RATIO`]).
 const PROXIMAL_INNER_RATIO: f64 = 10.0;
+/// Each subproblem of the tenfold loop is solved to the centre's law norm divided by this.
+const TENFOLD_INNER_RATIO: f64 = 100.0;
 /// The proximal parameter's range (relative to diag(W)).
 const ETA_MIN: f64 = 1e-12;
 const ETA_MAX: f64 = 1e8;
+
+/// How the proximal loop sets η (docs/contact.md §"Proximal-point globalisation").
+#[derive(Clone, Copy, PartialEq)]
+enum Schedule {
+    /// η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem; subproblems solved to a tenth of
+    /// ‖F(λ_c)‖ under the stall rule; the centre moves to any answer that lowers ‖F‖.
+    Adaptive,
+    /// η from 1, ÷ 10 after a solved subproblem; subproblems solved to a hundredth of ‖F(λ_c)‖
+    /// without the stall rule; the centre moves to solved subproblems only. Slower, but it
+    /// solves problems the adaptive loop does not (fc2d_granularflowonwall_02020 of Siconos'
+    /// data, a problem of rigid3d scene 7).
+    Tenfold,
+}
 
 /// How a run of Newton iterations ended.
 struct Run {
@@ -384,7 +400,8 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         reached = again.reached || within_floor(&x);
     }
     if !reached && n > 0 {
-        let (extra, solved, improved) = proximal_point(&system, &mut x, settings, &mut accept);
+        let (extra, solved, improved) =
+            proximal_point(&system, &mut x, settings, Schedule::Adaptive, &mut accept);
         iterations += extra;
         reached = solved || within_floor(&x);
         // The fallback is named only where its answer is the one returned.
@@ -394,7 +411,8 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     }
     // Last: plain Newton from the start without the stall rule (a run that wanders for a while
     // and then converges; seen on spheres-in-a-box-98 of Siconos' data, which the stall rule
-    // handed to a proximal loop that did not solve it), kept where it is better.
+    // handed to a proximal loop that did not solve it), then the tenfold proximal loop from its
+    // end; kept where it is better.
     if !reached && n > 0 {
         let mut plain = start;
         let run = iterate(
@@ -406,11 +424,24 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             &mut accept,
         );
         iterations += run.iterations;
+        let mut plain_method = SolveMethod::Newton;
+        let mut solved = run.reached || within_floor(&plain);
+        if !solved {
+            let (extra, done, improved) =
+                proximal_point(&system, &mut plain, settings, Schedule::Tenfold, &mut accept);
+            iterations += extra;
+            solved = done || within_floor(&plain);
+            if improved {
+                plain_method = SolveMethod::Proximal;
+            }
+        }
         let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
         evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
-        if run.reached || run.norm < law_norm(&system, &f) {
+        let norm = law_norm(&system, &f);
+        evaluate(&system, &plain, None, &mut w, &mut f, &mut blocks);
+        if solved || law_norm(&system, &f) < norm {
             x = plain;
-            method = SolveMethod::Newton;
+            method = plain_method;
         }
     }
     lambda.clear();
@@ -436,16 +467,17 @@ fn x0_is_warm<const R: usize>(problem: &LocalProblem<R>) -> bool {
         .any(|c| c.lambda0.iter().any(|&v| v != 0.0))
 }
 /// The proximal-point loop (docs/contact.md §"Proximal-point globalisation"): from the centre
-/// λ_c = `x`, solve the problem with W + H and b − H λ_c (H = η diag(W)) by Newton, to a tenth of
-/// the law norm ‖F(λ_c)‖ of the original problem at the centre (an inexact proximal point); move
-/// the centre to the answer where it lowers ‖F‖; set η = σ ‖F(λ_c)‖ / max|b| after a solved
-/// subproblem, η × 10 after a failed one. Returns the Newton iterations spent, whether the
-/// original problem was solved, and whether `x` was replaced (by a point with a smaller law norm
-/// than the entry point's; otherwise `x` is left as it came).
+/// λ_c = `x`, solve the problem with W + H and b − H λ_c (H = η diag(W)) by Newton, to a fraction
+/// of the law norm ‖F(λ_c)‖ of the original problem at the centre (an inexact proximal point),
+/// move the centre to the answer, and set η by the `schedule` after a solved subproblem, η × 10
+/// after a failed one. Returns the Newton iterations spent, whether the original problem was
+/// solved, and whether `x` was replaced (by a point with a smaller law norm than the entry
+/// point's; otherwise `x` is left as it came).
 fn proximal_point<const R: usize>(
     system: &System<R>,
     x: &mut DVector<f64>,
     settings: &NewtonSettings,
+    schedule: Schedule,
     accept: &mut Accept,
 ) -> (u32, bool, bool) {
     let n = system.rows();
@@ -463,7 +495,12 @@ fn proximal_point<const R: usize>(
     let mut iterations = 0;
     let mut centre = x.clone();
     let mut norm = original_norm(&centre);
-    let mut eta = adapted(norm);
+    let adaptive = schedule == Schedule::Adaptive;
+    let (mut eta, inner_ratio, stall) = if adaptive {
+        (adapted(norm), PROXIMAL_INNER_RATIO, STALL)
+    } else {
+        (1.0, TENFOLD_INNER_RATIO, u32::MAX)
+    };
     // The best point by the original law norm, from the entry point on: what is returned when
     // nothing solves, and whether the loop improved on its entry at all.
     let entry_norm = norm;
@@ -475,21 +512,21 @@ fn proximal_point<const R: usize>(
             centre: &centre,
         };
         let mut inner = centre.clone();
-        let inner_tolerance = (norm / PROXIMAL_INNER_RATIO).max(settings.tolerance);
+        let inner_tolerance = (norm / inner_ratio).max(settings.tolerance);
         let run = iterate(
             system,
             &mut inner,
             Some(&proximal),
             settings.max_iterations,
-            STALL,
+            stall,
             &mut |_, norm| norm <= inner_tolerance,
         );
         iterations += run.iterations;
         let inner_norm = original_norm(&inner);
         // A solved subproblem is the next proximal point, whether or not it lowers ‖F‖ (the
-        // iteration converges in λ, not monotonically in ‖F‖); a failed one is kept only where
-        // it does.
-        if run.reached || inner_norm < norm {
+        // iteration converges in λ, not monotonically in ‖F‖); in the adaptive loop a failed one
+        // is kept where it does.
+        if run.reached || (adaptive && inner_norm < norm) {
             centre = inner;
             norm = inner_norm;
             if norm < best.0 {
@@ -502,7 +539,11 @@ fn proximal_point<const R: usize>(
         }
         if run.reached {
             failures = 0;
-            eta = adapted(norm);
+            eta = if adaptive {
+                adapted(norm)
+            } else {
+                (eta * 0.1).max(ETA_MIN)
+            };
         } else {
             failures += 1;
             if eta >= ETA_MAX && failures > 3 {
