@@ -23,7 +23,9 @@
 //! subproblem has W + H and b − H λ_c, H = η diag(W), about a centre λ_c, is solved by the same
 //! Newton iteration to a tenth of the law norm at the centre, and η = σ ‖F(λ_c)‖ / max|b| follows
 //! the residual (× 10 after a failed subproblem); a fixed point is a solution of the original
-//! problem. The report says which produced the answer.
+//! problem. Where that loop fails too, a plain run from the start without the stall rule and then
+//! the tenfold loop from its end (η from 1, ÷ 10 per solved subproblem: the fallback before the
+//! adaptive loop) follow, kept where better. The report says which produced the answer.
 //!
 //! The linear systems are solved densely (nalgebra's LU with partial pivoting) up to
 //! [`DENSE_ROWS`] rows, and above that by faer's sparse LU on the block pattern of W (contacts
