@@ -17,16 +17,19 @@
 //! centred at the current iterate, so the equation is unchanged; it makes the system solvable
 //! where W's rank deficiency alone would make it singular; ε held at 1e-12 and raised only after
 //! a failed step), globalised by a non-monotone Armijo line search on θ = ½‖F‖² (against the
-//! largest θ of the last five iterations). Where that stalls or runs out of iterations, a run
-//! from λ = 0 follows (when the start was warm), then proximal-point iterations: each solves the
-//! problem with W + H and b − H λ_c inexactly (by the same Newton iteration, to a hundredth of the
-//! law norm at the centre) about a centre λ_c, with H larger where the inner solve fails and
-//! smaller where it succeeds; a fixed
-//! point is a solution of the original problem. The report says which produced the answer.
+//! largest θ of the last five iterations). Where that stalls (the best law norm not halved in
+//! [`STALL`] iterations) or runs out of iterations, a run from λ = 0 follows (when the start was
+//! warm), then the proximal-point loop (docs/contact.md §"Proximal-point globalisation"): each
+//! subproblem has W + H and b − H λ_c, H = η diag(W), about a centre λ_c, is solved by the same
+//! Newton iteration to a tenth of the law norm at the centre, and η = σ ‖F(λ_c)‖ / max|b| follows
+//! the residual (× 10 after a failed subproblem); a fixed point is a solution of the original
+//! problem. Where that loop fails too, a plain run from the start without the stall rule and then
+//! the tenfold loop from its end (η from 1, ÷ 10 per solved subproblem: the fallback before the
+//! adaptive loop) follow, kept where better. The report says which produced the answer.
 //!
 //! The linear systems are solved densely (nalgebra's LU with partial pivoting) up to
 //! [`DENSE_ROWS`] rows, and above that by faer's sparse LU on the block pattern of W (contacts
-//! that share a body).
+//! that share a body), whose symbolic factorisation is computed once per solve.
 
 mod law;
 mod system;
@@ -130,6 +133,34 @@ const LINE_SEARCH_HALVINGS: u32 = 12;
 /// (1e-12, 1e-8, 1e-4, 1).
 const EPS_FLOOR: f64 = 1e-12;
 
+/// A run of Newton iterations ends (unsuccessfully) when its best law norm has not halved in
+/// this many iterations: it is wandering, and the proximal loop takes over.
+const STALL: u32 = 10;
+/// The proximal parameter η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem (Siconos' PROX
+/// default σ = 5 on its relative error).
+const PROXIMAL_SIGMA: f64 = 5.0;
+/// Each subproblem of the adaptive loop is solved to the centre's law norm divided by this
+/// (the tenfold loop's: [`TENFOLD_INNER_RATIO`]).
+const PROXIMAL_INNER_RATIO: f64 = 10.0;
+/// Each subproblem of the tenfold loop is solved to the centre's law norm divided by this.
+const TENFOLD_INNER_RATIO: f64 = 100.0;
+/// The proximal parameter's range (relative to diag(W)).
+const ETA_MIN: f64 = 1e-12;
+const ETA_MAX: f64 = 1e8;
+
+/// How the proximal loop sets η (docs/contact.md §"Proximal-point globalisation").
+#[derive(Clone, Copy, PartialEq)]
+enum Schedule {
+    /// η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem; subproblems solved to a tenth of
+    /// ‖F(λ_c)‖ under the stall rule; the centre moves to any answer that lowers ‖F‖.
+    Adaptive,
+    /// η from 1, ÷ 10 after a solved subproblem; subproblems solved to a hundredth of ‖F(λ_c)‖
+    /// without the stall rule; the centre moves to solved subproblems only. Slower, but it
+    /// solves problems the adaptive loop does not (fc2d_granularflowonwall_02020 of Siconos'
+    /// data, a problem of rigid3d scene 7).
+    Tenfold,
+}
+
 /// How a run of Newton iterations ended.
 struct Run {
     iterations: u32,
@@ -148,6 +179,7 @@ fn iterate<const R: usize>(
     lambda: &mut DVector<f64>,
     proximal: Option<&Proximal>,
     max_iterations: u32,
+    stall: u32,
     accept: &mut Accept,
 ) -> Run {
     let n = system.rows();
@@ -166,10 +198,15 @@ fn iterate<const R: usize>(
     // The best point so far by the law norm: the non-monotone search may end above it, and an
     // unsuccessful run returns it rather than its last iterate.
     let mut best: (f64, DVector<f64>) = (f64::INFINITY, lambda.clone());
+    // The best law norm the run must halve within `stall` iterations, and when it was set.
+    let mut mark = (f64::INFINITY, 0);
     loop {
         let norm = law_norm(system, &f);
         if norm < best.0 {
             best = (norm, lambda.clone());
+        }
+        if best.0 <= 0.5 * mark.0 {
+            mark = (best.0, iterations);
         }
         if accept(lambda, norm) {
             return Run {
@@ -178,7 +215,7 @@ fn iterate<const R: usize>(
                 reached: true,
             };
         }
-        if iterations >= max_iterations {
+        if iterations >= max_iterations || iterations - mark.1 >= stall {
             *lambda = best.1;
             return Run {
                 iterations,
@@ -333,7 +370,15 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             && residual(judge, &l) <= floor
             && (!cone || coulomb_residual(judge, &l) <= floor)
     };
-    let first = iterate(&system, &mut x, None, settings.max_iterations, &mut accept);
+    let start = x.clone();
+    let first = iterate(
+        &system,
+        &mut x,
+        None,
+        settings.max_iterations,
+        STALL,
+        &mut accept,
+    );
     let mut iterations = first.iterations;
     let mut reached = first.reached || within_floor(&x);
     let mut method = SolveMethod::Newton;
@@ -347,6 +392,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             &mut cold,
             None,
             settings.max_iterations,
+            STALL,
             &mut accept,
         );
         iterations += again.iterations;
@@ -356,11 +402,48 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         reached = again.reached || within_floor(&x);
     }
     if !reached && n > 0 {
-        let (extra, _, improved) = proximal_point(&system, &mut x, settings, &mut accept);
+        let (extra, solved, improved) =
+            proximal_point(&system, &mut x, settings, Schedule::Adaptive, &mut accept);
         iterations += extra;
+        reached = solved || within_floor(&x);
         // The fallback is named only where its answer is the one returned.
         if improved {
             method = SolveMethod::Proximal;
+        }
+    }
+    // Last: plain Newton from the start without the stall rule (a run that wanders for a while
+    // and then converges; seen on spheres-in-a-box-98 of Siconos' data, which the stall rule
+    // handed to a proximal loop that did not solve it), then the tenfold proximal loop from its
+    // end; kept where it is better.
+    if !reached && n > 0 {
+        let mut plain = start;
+        let run = iterate(
+            &system,
+            &mut plain,
+            None,
+            settings.max_iterations,
+            u32::MAX,
+            &mut accept,
+        );
+        iterations += run.iterations;
+        let mut plain_method = SolveMethod::Newton;
+        let mut solved = run.reached || within_floor(&plain);
+        if !solved {
+            let (extra, done, improved) =
+                proximal_point(&system, &mut plain, settings, Schedule::Tenfold, &mut accept);
+            iterations += extra;
+            solved = done || within_floor(&plain);
+            if improved {
+                plain_method = SolveMethod::Proximal;
+            }
+        }
+        let (mut w, mut f, mut blocks) = (DVector::zeros(n), DVector::zeros(n), Vec::new());
+        evaluate(&system, &x, None, &mut w, &mut f, &mut blocks);
+        let norm = law_norm(&system, &f);
+        evaluate(&system, &plain, None, &mut w, &mut f, &mut blocks);
+        if solved || law_norm(&system, &f) < norm {
+            x = plain;
+            method = plain_method;
         }
     }
     lambda.clear();
@@ -385,16 +468,18 @@ fn x0_is_warm<const R: usize>(problem: &LocalProblem<R>) -> bool {
         .iter()
         .any(|c| c.lambda0.iter().any(|&v| v != 0.0))
 }
-/// The proximal-point fallback: from the centre λ_c = `x`, solve the problem with W + H and
-/// b − H λ_c (H = η diag(W)) by Newton, to a hundredth of the original residual at the centre
-/// (an inexact proximal point), move the centre to its answer, and shrink η tenfold after a
-/// solved subproblem or grow it tenfold after a failed one. Returns the Newton iterations spent,
-/// whether the original problem was solved, and whether `x` was replaced (by a point with a
-/// smaller law norm than the entry point's; otherwise `x` is left as it came).
+/// The proximal-point loop (docs/contact.md §"Proximal-point globalisation"): from the centre
+/// λ_c = `x`, solve the problem with W + H and b − H λ_c (H = η diag(W)) by Newton, to a fraction
+/// of the law norm ‖F(λ_c)‖ of the original problem at the centre (an inexact proximal point),
+/// move the centre to the answer, and set η by the `schedule` after a solved subproblem, η × 10
+/// after a failed one. Returns the Newton iterations spent, whether the original problem was
+/// solved, and whether `x` was replaced (by a point with a smaller law norm than the entry
+/// point's; otherwise `x` is left as it came).
 fn proximal_point<const R: usize>(
     system: &System<R>,
     x: &mut DVector<f64>,
     settings: &NewtonSettings,
+    schedule: Schedule,
     accept: &mut Accept,
 ) -> (u32, bool, bool) {
     let n = system.rows();
@@ -403,12 +488,23 @@ fn proximal_point<const R: usize>(
         evaluate(system, centre, None, &mut w, &mut f, &mut blocks);
         law_norm(system, &f)
     };
-    let mut eta = 1.0;
+    // The velocity scale that makes ‖F‖ relative (Siconos' PROX sets α = σ × its relative error).
+    let scale = match system.b.amax() {
+        s if s > 0.0 => s,
+        _ => 1.0,
+    };
+    let adapted = |norm: f64| (PROXIMAL_SIGMA * norm / scale).clamp(ETA_MIN, ETA_MAX);
     let mut iterations = 0;
     let mut centre = x.clone();
     let mut norm = original_norm(&centre);
+    let adaptive = schedule == Schedule::Adaptive;
+    let (mut eta, inner_ratio, stall) = if adaptive {
+        (adapted(norm), PROXIMAL_INNER_RATIO, STALL)
+    } else {
+        (1.0, TENFOLD_INNER_RATIO, u32::MAX)
+    };
     // The best point by the original law norm, from the entry point on: what is returned when
-    // nothing solves, and whether the fallback improved on its entry at all.
+    // nothing solves, and whether the loop improved on its entry at all.
     let entry_norm = norm;
     let mut best = (norm, centre.clone());
     let mut failures = 0;
@@ -418,19 +514,23 @@ fn proximal_point<const R: usize>(
             centre: &centre,
         };
         let mut inner = centre.clone();
-        let inner_tolerance = (0.01 * norm).max(settings.tolerance);
+        let inner_tolerance = (norm / inner_ratio).max(settings.tolerance);
         let run = iterate(
             system,
             &mut inner,
             Some(&proximal),
             settings.max_iterations,
+            stall,
             &mut |_, norm| norm <= inner_tolerance,
         );
         iterations += run.iterations;
-        if run.reached {
-            failures = 0;
+        let inner_norm = original_norm(&inner);
+        // A solved subproblem is the next proximal point, whether or not it lowers ‖F‖ (the
+        // iteration converges in λ, not monotonically in ‖F‖); in the adaptive loop a failed one
+        // is kept where it does.
+        if run.reached || (adaptive && inner_norm < norm) {
             centre = inner;
-            norm = original_norm(&centre);
+            norm = inner_norm;
             if norm < best.0 {
                 best = (norm, centre.clone());
             }
@@ -438,18 +538,32 @@ fn proximal_point<const R: usize>(
                 *x = centre;
                 return (iterations, true, true);
             }
-            eta = (eta * 0.1).max(1e-12);
+        }
+        if run.reached {
+            failures = 0;
+            eta = if adaptive {
+                adapted(norm)
+            } else {
+                (eta * 0.1).max(ETA_MIN)
+            };
         } else {
             failures += 1;
-            if eta >= 1e8 && failures > 3 {
+            if eta >= ETA_MAX && failures > 3 {
                 break;
             }
-            eta = (eta * 10.0).min(1e8);
+            eta = (eta * 10.0).min(ETA_MAX);
         }
     }
     // Not solved: finish with plain Newton from the best centre, and keep whichever is better.
     let mut last = best.1.clone();
-    let run = iterate(system, &mut last, None, settings.max_iterations, accept);
+    let run = iterate(
+        system,
+        &mut last,
+        None,
+        settings.max_iterations,
+        u32::MAX,
+        accept,
+    );
     iterations += run.iterations;
     if run.reached || run.norm < best.0 {
         best = (run.norm, last);

@@ -31,6 +31,37 @@ pub(super) struct System<'a, const R: usize> {
     pub(super) scales: DVector<f64>,
     /// Rows up to which the Newton system is factorised densely.
     pub(super) dense_rows: usize,
+    /// Above `dense_rows`: the Newton matrix's sparsity pattern and its symbolic LU, computed
+    /// once per solve (every iteration's matrix has W's block pattern; only the values change).
+    pub(super) sparse: Option<SparseLayout>,
+}
+
+/// The Newton matrix's pattern (every entry of every block W_kj, zeros included, so that it
+/// never changes) and its symbolic LU factorisation, reused by every numeric factorisation.
+pub(super) struct SparseLayout {
+    pattern: faer::sparse::SymbolicSparseColMat<usize>,
+    order: faer::sparse::Argsort<usize>,
+    lu: faer::sparse::linalg::solvers::SymbolicLu<usize>,
+}
+
+impl SparseLayout {
+    fn of<const R: usize>(problem: &LocalProblem<R>) -> Option<Self> {
+        use faer::sparse::{Pair, SymbolicSparseColMat};
+        let n = R * problem.contacts.len();
+        let mut indices = Vec::new();
+        for (k, c) in problem.contacts.iter().enumerate() {
+            for (j, _) in &c.row {
+                for r in 0..R {
+                    for s in 0..R {
+                        indices.push(Pair::new(R * k + r, R * j + s));
+                    }
+                }
+            }
+        }
+        let (pattern, order) = SymbolicSparseColMat::try_new_from_indices(n, n, &indices).ok()?;
+        let lu = faer::sparse::linalg::solvers::SymbolicLu::try_new(pattern.as_ref()).ok()?;
+        Some(SparseLayout { pattern, order, lu })
+    }
 }
 
 impl<'a, const R: usize> System<'a, R> {
@@ -60,6 +91,11 @@ impl<'a, const R: usize> System<'a, R> {
             laws,
             scales,
             dense_rows,
+            sparse: if n > dense_rows {
+                SparseLayout::of(problem)
+            } else {
+                None
+            },
         }
     }
 
@@ -171,22 +207,24 @@ pub(super) fn solve_newton_system<const R: usize>(
         m.lu().solve(rhs)?
     } else {
         use faer::linalg::solvers::Solve;
-        use faer::sparse::{SparseColMat, Triplet};
-        let mut triplets = Vec::new();
+        use faer::sparse::SparseColMat;
+        use faer::sparse::linalg::solvers::Lu;
+        let layout = system.sparse.as_ref()?;
+        // The values in the order the pattern was made in (block by block, row-major).
+        let mut values = Vec::new();
         for (k, row) in system.block_rows().enumerate() {
             for (j, w) in row {
                 let m = block_of(k, *j, w);
                 for r in 0..R {
                     for s in 0..R {
-                        if m[(r, s)] != 0.0 {
-                            triplets.push(Triplet::new(R * k + r, R * j + s, m[(r, s)]));
-                        }
+                        values.push(m[(r, s)]);
                     }
                 }
             }
         }
-        let matrix = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &triplets).ok()?;
-        let lu = matrix.sp_lu().ok()?;
+        let matrix =
+            SparseColMat::new_from_argsort(layout.pattern.clone(), &layout.order, &values).ok()?;
+        let lu = Lu::try_new_with_symbolic(layout.lu.clone(), matrix.as_ref()).ok()?;
         let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
         lu.solve_in_place(x.as_mut());
         DVector::from_fn(n, |i, _| x[(i, 0)])

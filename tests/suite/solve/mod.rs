@@ -8,6 +8,7 @@ mod lanes;
 mod local_form;
 mod local_solve;
 mod newton;
+mod newton_globalisation;
 mod newton_properties;
 mod pgs;
 mod problem;
