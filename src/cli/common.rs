@@ -97,7 +97,6 @@ pub(crate) fn is_trace(path: &Path) -> bool {
         .is_ok_and(|v| v.get("format").is_some() && v.get("sim_parameters").is_none())
 }
 
-
 /// Reads the trace at `path` for viewing or plotting, printing its warnings (and returning
 /// them, for the page); fails, naming the
 /// file, when it is not a trace or `bodies` names a body it does not have.

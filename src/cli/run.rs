@@ -1,8 +1,8 @@
 //! `rigidref run`: simulate a scene (3D or 2D) and write its trace, with a progress bar and a
 //! summary. The 3D run is in run3d.rs, the 2D run in run2d.rs; this chooses between them.
 
-use super::args2d::Blocks2dOptions;
 use super::args::{RestThreshold, RunLength, SceneSets, TraceOutput};
+use super::args2d::Blocks2dOptions;
 use super::run_args::{Run2dReports, RunArgs};
 use anyhow::bail;
 use rigidref::blocks2d::scene::is_2d_scene;

@@ -90,7 +90,11 @@ pub fn validate(args: ValidateArgs) -> anyhow::Result<()> {
                 RunStatus::Pending => format!("{} pending", r.label()),
             })
             .collect();
-        println!("{}: {}", scene.file.trim_end_matches(".json"), cells.join("; "));
+        println!(
+            "{}: {}",
+            scene.file.trim_end_matches(".json"),
+            cells.join("; ")
+        );
     }
     println!("wrote {}", args.out.join("report.md").display());
     Ok(())

@@ -94,10 +94,12 @@ impl InterpenetrationWatch {
             let found = match p.body2 {
                 Some(_) if world.step == 0 => String::new(),
                 Some(j) => {
-                    let between = world
-                        .solves
-                        .last()
-                        .map_or(0, |s| s.contacts.iter().filter(|c| pair_of(c) == Some((p.body1, j))).count());
+                    let between = world.solves.last().map_or(0, |s| {
+                        s.contacts
+                            .iter()
+                            .filter(|c| pair_of(c) == Some((p.body1, j)))
+                            .count()
+                    });
                     if between == 0 {
                         "; no contact between them was found".to_string()
                     } else {
@@ -168,12 +170,14 @@ impl InterpenetrationWatch {
                     name(j)
                 ));
             }
-            let convex = |k: usize| colliders[k].pieces.convex && world.bodies[k].ellipsoid.is_none();
+            let convex =
+                |k: usize| colliders[k].pieces.convex && world.bodies[k].ellipsoid.is_none();
             if !(convex(i) && convex(j)) {
                 continue;
             }
             // The measure lists the ground's entries first, then the pairs in sorted order.
-            let pairs = &world.penetrations[world.penetrations.partition_point(|p| p.body2.is_none())..];
+            let pairs =
+                &world.penetrations[world.penetrations.partition_point(|p| p.body2.is_none())..];
             let measured = pairs
                 .binary_search_by_key(&(i, j), |p| (p.body1, p.body2.unwrap_or(usize::MAX)))
                 .map_or(0.0, |k| pairs[k].depth);

@@ -6,7 +6,9 @@
 //! nudged by a few ulps. docs/contact.md §"The oracle campaign"; docs/verification.md.
 
 use crate::rigid3d::body::RigidBody;
-pub use crate::rigid3d::collide::audit::{AUDIT_TOLERANCE, PairCheck, check_pair, preferred_depth_bound};
+pub use crate::rigid3d::collide::audit::{
+    AUDIT_TOLERANCE, PairCheck, check_pair, preferred_depth_bound,
+};
 use crate::rigid3d::collide::sat::OracleBuffers;
 use crate::rigid3d::collide::{CollisionMethod, Contact, MeshCollider, detect_contacts};
 use crate::rigid3d::mesh::TriMesh;
@@ -181,8 +183,12 @@ impl DetectionCampaign {
         (b, x_b, r_b): (usize, Vector3<f64>, Matrix3<f64>),
     ) -> [RigidBody; 2] {
         let body = |mesh: usize, x: Vector3<f64>, r: Matrix3<f64>| {
-            let mut body =
-                RigidBody::new("campaign", 1.0, Matrix3::identity(), self.meshes[mesh].clone());
+            let mut body = RigidBody::new(
+                "campaign",
+                1.0,
+                Matrix3::identity(),
+                self.meshes[mesh].clone(),
+            );
             body.x = x;
             body.rotation = r;
             body
@@ -220,8 +226,10 @@ impl DetectionCampaign {
             report.overlapping += 1;
             // The ratio says something only where the depth is above round-off.
             if check.depth > 1e-6 * radius {
-                report.worst_depth_ratio = report.worst_depth_ratio.max(check.deepest / check.depth);
-                report.least_depth_ratio = report.least_depth_ratio.min(check.deepest / check.depth);
+                report.worst_depth_ratio =
+                    report.worst_depth_ratio.max(check.deepest / check.depth);
+                report.least_depth_ratio =
+                    report.least_depth_ratio.min(check.deepest / check.depth);
             }
         } else {
             let boxes = [
@@ -256,7 +264,11 @@ impl DetectionCampaign {
         let base = match rng.random_range(0..4) {
             0 => Vector3::new(0.0, 0.1, 0.0),
             1 => Vector3::new(0.5, 0.25, 0.0),
-            2 => Vector3::new(rng.random_range(-10.0..10.0), 10.0, rng.random_range(-10.0..10.0)),
+            2 => Vector3::new(
+                rng.random_range(-10.0..10.0),
+                10.0,
+                rng.random_range(-10.0..10.0),
+            ),
             _ => Vector3::new(1000.0, 0.3, -1000.0),
         };
         let body = |mesh: usize, x: Vector3<f64>, r: Matrix3<f64>| {
@@ -277,7 +289,11 @@ impl DetectionCampaign {
                 let reach = self.colliders[a].radius() + self.colliders[b].radius();
                 let direction = random_rotation(&mut rng) * Vector3::x();
                 let distance = reach * rng.random_range(0.3..1.05);
-                (a, b, [body(a, base, ra), body(b, base + direction * distance, rb)])
+                (
+                    a,
+                    b,
+                    [body(a, base, ra), body(b, base + direction * distance, rb)],
+                )
             }
             PoseKind::FaceOnFace | PoseKind::EdgeOnEdge | PoseKind::SameFootprint => {
                 let k = rng.random_range(0..3usize); // the contact axis
@@ -289,8 +305,11 @@ impl DetectionCampaign {
                             let axis = [Vector3::x_axis(), Vector3::y_axis(), Vector3::z_axis()]
                                 [rng.random_range(0..3)];
                             let quarter = rng.random_range(1..4) as f64;
-                            *Rotation3::from_axis_angle(&axis, quarter * std::f64::consts::FRAC_PI_2)
-                                .matrix()
+                            *Rotation3::from_axis_angle(
+                                &axis,
+                                quarter * std::f64::consts::FRAC_PI_2,
+                            )
+                            .matrix()
                         } else {
                             self.rotations[rng.random_range(0..24)]
                         };
@@ -303,8 +322,9 @@ impl DetectionCampaign {
                     PoseKind::EdgeOnEdge => {
                         let about = [Vector3::x_axis(), Vector3::y_axis(), Vector3::z_axis()]
                             [(k + 1 + rng.random_range(0..2)) % 3];
-                        let diamond = *Rotation3::from_axis_angle(&about, std::f64::consts::FRAC_PI_4)
-                            .matrix();
+                        let diamond =
+                            *Rotation3::from_axis_angle(&about, std::f64::consts::FRAC_PI_4)
+                                .matrix();
                         (diamond, diamond)
                     }
                     _ => {
@@ -335,7 +355,11 @@ impl DetectionCampaign {
                     0 => {}
                     1 => {
                         for _ in 0..rng.random_range(1..3) {
-                            xb[k] = if rng.random_bool(0.5) { xb[k].next_up() } else { xb[k].next_down() };
+                            xb[k] = if rng.random_bool(0.5) {
+                                xb[k].next_up()
+                            } else {
+                                xb[k].next_down()
+                            };
                         }
                     }
                     2 => xb[k] -= thickness * 10f64.powf(rng.random_range(-12.0..-2.0)),

@@ -108,7 +108,11 @@ pub fn crosscheck(args: CrosscheckArgs) -> anyhow::Result<()> {
     summary.deepest_penetration = penetration.map(|(depth, _)| depth);
     summary.deepest_penetration_step = penetration.map(|(_, step)| step);
     summary.detection = detection.as_ref().map(report::DetectionSummary::of);
-    if summary.detection.as_ref().is_some_and(|d| d.disagreements > 0) {
+    if summary
+        .detection
+        .as_ref()
+        .is_some_and(|d| d.disagreements > 0)
+    {
         summary.verdict = "disagree";
         summary.passed = false;
     }

@@ -233,7 +233,11 @@ pub fn kept_manifolds_agree(
     pairs.dedup();
     for (i, j) in pairs {
         let of_pair = |contacts: &[Contact]| -> Vec<Contact> {
-            contacts.iter().filter(|c| pair_of(c) == (i, j)).copied().collect()
+            contacts
+                .iter()
+                .filter(|c| pair_of(c) == (i, j))
+                .copied()
+                .collect()
         };
         let (ours, theirs) = (of_pair(cached), of_pair(fresh));
         if ours == theirs {

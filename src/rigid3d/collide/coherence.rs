@@ -137,7 +137,7 @@ fn find_candidates(
                 // manifold of theirs can have a point, so they are not candidates. The
                 // separating-axis query decides it once per list.
                 if near
-                        && !sat.apart_by_more_than(
+                    && !sat.apart_by_more_than(
                         &piece_a.polytope,
                         &piece_b.polytope,
                         &placement,

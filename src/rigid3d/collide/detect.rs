@@ -168,7 +168,9 @@ impl Detector {
             // vertices below it.
             let touching = match method {
                 CollisionMethod::Vertices | CollisionMethod::Starter => 0.0,
-                CollisionMethod::Complete => super::manifold::speculative_margin(colliders[i].radius()),
+                CollisionMethod::Complete => {
+                    super::manifold::speculative_margin(colliders[i].radius())
+                }
             };
             ground_contacts(i, body, touching, out);
         }

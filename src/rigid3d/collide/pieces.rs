@@ -6,10 +6,10 @@
 //! voxels along the longest side), each piece the convex hull of the mesh triangles its voxels
 //! touch; [`ConvexPieces::volume_error`] says how far the pieces' total volume is from the mesh's.
 
+use super::polytope::Polytope;
 use crate::common::broad::Aabb;
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::mesh::TriMesh;
-use super::polytope::Polytope;
 use nalgebra::{Matrix3, Vector3};
 use parry3d_f64::math::{Pose, Rotation, Vector as PVector};
 use parry3d_f64::transformation::vhacd::{VHACD, VHACDParameters};

@@ -180,7 +180,8 @@ impl Polytope {
             }
         }
         let mut edges = Vec::new();
-        let mut edge_ids: Vec<Vec<usize>> = faces.iter().map(|f| vec![0; f.corners.len()]).collect();
+        let mut edge_ids: Vec<Vec<usize>> =
+            faces.iter().map(|f| vec![0; f.corners.len()]).collect();
         for f in 0..faces.len() {
             let n = faces[f].corners.len();
             for k in 0..n {
@@ -232,7 +233,10 @@ impl Polytope {
         for face in &self.faces {
             let p0 = self.vertices[face.corners[0]];
             for k in 1..face.corners.len() - 1 {
-                let (p1, p2) = (self.vertices[face.corners[k]], self.vertices[face.corners[k + 1]]);
+                let (p1, p2) = (
+                    self.vertices[face.corners[k]],
+                    self.vertices[face.corners[k + 1]],
+                );
                 six_v += p0.dot(&p1.cross(&p2));
             }
         }

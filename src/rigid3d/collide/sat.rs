@@ -45,8 +45,7 @@ impl Placed {
         self.vertices.clear();
         self.vertices
             .extend(piece.vertices.iter().map(|v| rotation * v + x));
-        self.centre =
-            self.vertices.iter().sum::<Vector3<f64>>() / self.vertices.len() as f64;
+        self.centre = self.vertices.iter().sum::<Vector3<f64>>() / self.vertices.len() as f64;
         self.radius = self
             .vertices
             .iter()
@@ -65,7 +64,8 @@ impl Placed {
         self.edges.clear();
         for [i, j] in &piece.edges {
             let (p, q) = (self.vertices[*i], self.vertices[*j]);
-            self.edges.push((q - p, (p + q) / 2.0, (q - p).norm() / 2.0));
+            self.edges
+                .push((q - p, (p + q) / 2.0, (q - p).norm() / 2.0));
         }
     }
 }

@@ -189,10 +189,16 @@ impl SatBuffers {
     ) -> Result<LeastPenetration, Axis> {
         let bv = &self.b_vertices;
         let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points.iter().map(|p| n.dot(p)).fold(f64::INFINITY, f64::min)
+            points
+                .iter()
+                .map(|p| n.dot(p))
+                .fold(f64::INFINITY, f64::min)
         };
         let highest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points.iter().map(|p| n.dot(p)).fold(f64::NEG_INFINITY, f64::max)
+            points
+                .iter()
+                .map(|p| n.dot(p))
+                .fold(f64::NEG_INFINITY, f64::max)
         };
         // 1. Face axes of A, then of B (B's plane moved into A's frame).
         let mut face_a = (usize::MAX, f64::NEG_INFINITY);
@@ -263,7 +269,11 @@ impl SatBuffers {
                 // inside). Its gap is B's lowest minus A's highest projection: for this pair of
                 // supporting edges, the distance between their lines along it.
                 let at_edge = a.vertices[edge_a.vertices[0]] - a.centroid;
-                let l = if cross.dot(&at_edge) < 0.0 { -cross / length } else { cross / length };
+                let l = if cross.dot(&at_edge) < 0.0 {
+                    -cross / length
+                } else {
+                    cross / length
+                };
                 let gap = lowest(bv, &l) - highest(&a.vertices, &l);
                 let normal = l;
                 if gap > stop_above {
@@ -378,10 +388,16 @@ impl SatBuffers {
         axis: Axis,
     ) -> Option<(Vector3<f64>, f64)> {
         let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points.iter().map(|p| n.dot(p)).fold(f64::INFINITY, f64::min)
+            points
+                .iter()
+                .map(|p| n.dot(p))
+                .fold(f64::INFINITY, f64::min)
         };
         let highest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points.iter().map(|p| n.dot(p)).fold(f64::NEG_INFINITY, f64::max)
+            points
+                .iter()
+                .map(|p| n.dot(p))
+                .fold(f64::NEG_INFINITY, f64::max)
         };
         let bv = &self.b_vertices;
         match axis {
@@ -404,7 +420,11 @@ impl SatBuffers {
                     return None;
                 }
                 let at_edge = a.vertices[edge_a.vertices[0]] - a.centroid;
-                let l = if cross.dot(&at_edge) < 0.0 { -cross / length } else { cross / length };
+                let l = if cross.dot(&at_edge) < 0.0 {
+                    -cross / length
+                } else {
+                    cross / length
+                };
                 Some((l, lowest(bv, &l) - highest(&a.vertices, &l)))
             }
         }
@@ -412,7 +432,13 @@ impl SatBuffers {
 
     /// The contact points along `axis` (normal n₁ out of A), into `points`; returns the deepest
     /// depth among them, m (−∞ when there are none).
-    pub(super) fn points_along(&mut self, a: &Polytope, b: &Polytope, axis: Axis, normal: &Vector3<f64>) -> f64 {
+    pub(super) fn points_along(
+        &mut self,
+        a: &Polytope,
+        b: &Polytope,
+        axis: Axis,
+        normal: &Vector3<f64>,
+    ) -> f64 {
         match axis {
             Axis::FaceOfA(f) => self.clip(a, f, b, false),
             Axis::FaceOfB(g) => self.clip(b, g, a, true),
@@ -481,14 +507,18 @@ impl SatBuffers {
         let mut polygon = std::mem::take(&mut self.polygon);
         let mut clipped = std::mem::take(&mut self.clipped);
         polygon.clear();
-        polygon.extend(incident_face.corners.iter().zip(&incident_face.edges).map(
-            |(&v, &e)| Corner {
-                p: inc_vertices[v],
-                incident: feature_id::VERTEX | v as u32,
-                reference: feature_id::FACE | f as u32,
-                side: Side::IncidentEdge(e),
-            },
-        ));
+        polygon.extend(
+            incident_face
+                .corners
+                .iter()
+                .zip(&incident_face.edges)
+                .map(|(&v, &e)| Corner {
+                    p: inc_vertices[v],
+                    incident: feature_id::VERTEX | v as u32,
+                    reference: feature_id::FACE | f as u32,
+                    side: Side::IncidentEdge(e),
+                }),
+        );
         // Sutherland–Hodgman against each side plane s·x ≤ s·c_k, s = (c_{k+1} − c_k) × n. A
         // corner within τ of a plane counts as inside: edges parallel to a side to round-off
         // (a box on an equal box) then cross nowhere, instead of anywhere along it.

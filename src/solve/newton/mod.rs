@@ -429,8 +429,13 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         let mut plain_method = SolveMethod::Newton;
         let mut solved = run.reached || within_floor(&plain);
         if !solved {
-            let (extra, done, improved) =
-                proximal_point(&system, &mut plain, settings, Schedule::Tenfold, &mut accept);
+            let (extra, done, improved) = proximal_point(
+                &system,
+                &mut plain,
+                settings,
+                Schedule::Tenfold,
+                &mut accept,
+            );
             iterations += extra;
             solved = done || within_floor(&plain);
             if improved {

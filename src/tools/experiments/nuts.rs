@@ -154,10 +154,22 @@ mod tests {
     /// ends before the window closes has not shown it.
     #[test]
     fn a_rise_counts_only_when_it_holds_for_the_window() {
-        let flicker = [(0.0, 0.4), (10.0, 0.81), (20.0, 0.5), (30.0, 0.5), (40.0, 0.5)];
+        let flicker = [
+            (0.0, 0.4),
+            (10.0, 0.81),
+            (20.0, 0.5),
+            (30.0, 0.5),
+            (40.0, 0.5),
+        ];
         assert_eq!(time_to_rise(&flicker), Some(10.0));
         assert_eq!(time_to_rise_held(&flicker, 20.0), None);
-        let rise = [(0.0, 0.4), (10.0, 0.81), (20.0, 0.77), (30.0, 0.9), (40.0, 0.85)];
+        let rise = [
+            (0.0, 0.4),
+            (10.0, 0.81),
+            (20.0, 0.77),
+            (30.0, 0.9),
+            (40.0, 0.85),
+        ];
         assert_eq!(time_to_rise_held(&rise, 20.0), Some(10.0));
         // The window from t = 10 reaches 40 at most: a 40-unit window cannot close.
         assert_eq!(time_to_rise_held(&rise, 40.0), None);

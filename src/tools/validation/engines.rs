@@ -26,7 +26,12 @@ pub enum Engine {
 }
 
 /// The 3D engines, in report order (rigidref is always run: it is the reference).
-pub const ENGINES_3D: [Engine; 4] = [Engine::Rapier, Engine::Mujoco, Engine::Pybullet, Engine::Drake];
+pub const ENGINES_3D: [Engine; 4] = [
+    Engine::Rapier,
+    Engine::Mujoco,
+    Engine::Pybullet,
+    Engine::Drake,
+];
 
 impl Engine {
     /// Its name on the command line and in the report.
@@ -64,7 +69,10 @@ impl Engine {
 
     /// Whether it runs through the Python mirrors.
     pub fn is_python(self) -> bool {
-        matches!(self, Engine::Mujoco | Engine::Pybullet | Engine::Drake | Engine::Pymunk)
+        matches!(
+            self,
+            Engine::Mujoco | Engine::Pybullet | Engine::Drake | Engine::Pymunk
+        )
     }
 }
 
@@ -105,12 +113,30 @@ pub struct EngineStatus {
 /// The mirror files, compiled in: (file name, text).
 pub const MIRROR_FILES: [(&str, &str); 7] = [
     ("run.py", include_str!("../../../python/mirrors/run.py")),
-    ("common.py", include_str!("../../../python/mirrors/common.py")),
-    ("mujoco_mirror.py", include_str!("../../../python/mirrors/mujoco_mirror.py")),
-    ("pybullet_mirror.py", include_str!("../../../python/mirrors/pybullet_mirror.py")),
-    ("drake_mirror.py", include_str!("../../../python/mirrors/drake_mirror.py")),
-    ("pymunk_mirror.py", include_str!("../../../python/mirrors/pymunk_mirror.py")),
-    ("rigidref_trace.py", include_str!("../../../python/rigidref_trace.py")),
+    (
+        "common.py",
+        include_str!("../../../python/mirrors/common.py"),
+    ),
+    (
+        "mujoco_mirror.py",
+        include_str!("../../../python/mirrors/mujoco_mirror.py"),
+    ),
+    (
+        "pybullet_mirror.py",
+        include_str!("../../../python/mirrors/pybullet_mirror.py"),
+    ),
+    (
+        "drake_mirror.py",
+        include_str!("../../../python/mirrors/drake_mirror.py"),
+    ),
+    (
+        "pymunk_mirror.py",
+        include_str!("../../../python/mirrors/pymunk_mirror.py"),
+    ),
+    (
+        "rigidref_trace.py",
+        include_str!("../../../python/rigidref_trace.py"),
+    ),
 ];
 
 /// Writes the mirror files into `dir` (created), returning the path of `run.py`.
@@ -118,7 +144,8 @@ pub fn write_mirrors(dir: &Path) -> Result<PathBuf, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
     for (name, text) in MIRROR_FILES {
         let path = dir.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+        std::fs::write(&path, text)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
     }
     Ok(dir.join("run.py"))
 }
@@ -130,12 +157,26 @@ pub fn probe(python: &Path, run_py: &Path, engines: &[Engine]) -> Vec<EngineStat
     let missing_all = |why: String| {
         engines
             .iter()
-            .map(|&engine| EngineStatus { engine, version: None, missing: Some(why.clone()) })
+            .map(|&engine| EngineStatus {
+                engine,
+                version: None,
+                missing: Some(why.clone()),
+            })
             .collect()
     };
-    let output = match Command::new(python).arg(run_py).arg("probe").arg(names.join(",")).output() {
+    let output = match Command::new(python)
+        .arg(run_py)
+        .arg("probe")
+        .arg(names.join(","))
+        .output()
+    {
         Ok(o) => o,
-        Err(e) => return missing_all(format!("cannot run the Python interpreter {}: {e}", python.display())),
+        Err(e) => {
+            return missing_all(format!(
+                "cannot run the Python interpreter {}: {e}",
+                python.display()
+            ));
+        }
     };
     let stdout = String::from_utf8_lossy(&output.stdout);
     let Some(answer) = stdout
@@ -165,7 +206,12 @@ pub fn probe(python: &Path, run_py: &Path, engines: &[Engine]) -> Vec<EngineStat
                 EngineStatus {
                     engine,
                     version: None,
-                    missing: Some(entry["reason"].as_str().unwrap_or("not installed").to_string()),
+                    missing: Some(
+                        entry["reason"]
+                            .as_str()
+                            .unwrap_or("not installed")
+                            .to_string(),
+                    ),
                 }
             }
         })

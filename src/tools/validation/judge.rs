@@ -4,9 +4,9 @@
 
 use super::observe::STOP_SPEED;
 use super::scenes::{Known, KnownScene};
+use crate::rigid3d::diagnostics::{flip_period, sign_changes};
 use crate::rigid3d::scene::Scene;
 use crate::verify::references::euler::torque_free_rk4;
-use crate::rigid3d::diagnostics::{flip_period, sign_changes};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -27,8 +27,22 @@ pub struct Expected {
     pub note: String,
 }
 
-fn e(key: &'static str, name: &'static str, unit: &'static str, exact: Option<f64>, tolerance: Option<f64>, note: String) -> Expected {
-    Expected { key, name, unit, exact, tolerance, note }
+fn e(
+    key: &'static str,
+    name: &'static str,
+    unit: &'static str,
+    exact: Option<f64>,
+    tolerance: Option<f64>,
+    note: String,
+) -> Expected {
+    Expected {
+        key,
+        name,
+        unit,
+        exact,
+        tolerance,
+        note,
+    }
 }
 
 /// The expectations of every observable [`super::observe::observe`] measures on `scene`.
@@ -56,8 +70,16 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
             let v = rate * (t - t0).powi(2) / (2.0 * b.mass);
             out.push(e("slip_time", "slip onset (v > 1 mm/s)", "s", Some(onset), Some(0.005),
                 format!("sticks until μmg/Ḟ = {t0:.4} s, then v = Ḟ(t − t₀)²/(2m) passes 1 mm/s at {onset:.4} s; within 5 ms: the load acts at each step's start and a step's impulse is O(h)")));
-            out.push(e("final_speed", "speed at the end", "m/s", Some(v), Some(0.02 * v),
-                format!("Ḟ(t − t₀)²/(2m) = {v:.4} m/s at t = {t} s; within 2 % (an O(h) shift of t₀)")));
+            out.push(e(
+                "final_speed",
+                "speed at the end",
+                "m/s",
+                Some(v),
+                Some(0.02 * v),
+                format!(
+                    "Ḟ(t − t₀)²/(2m) = {v:.4} m/s at t = {t} s; within 2 % (an O(h) shift of t₀)"
+                ),
+            ));
         }
         Known::Rolls | Known::Slides => {
             let sin = p.gravity.x / g;
@@ -67,16 +89,34 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
                 let a = 5.0 / 7.0 * g * sin;
                 out.push(e("acceleration", "acceleration down the incline", "m/s²", Some(a), Some(0.01 * a),
                     format!("(5/7) g sin θ = {a:.4} m/s² (rolling without slipping, μ ≥ (2/7) tan θ); within 1 %")));
-                out.push(e("slip_speed", "slip speed at the contact", "m/s", Some(0.0), Some(1e-3),
-                    "0 (rolling); within 1 mm/s".to_string()));
+                out.push(e(
+                    "slip_speed",
+                    "slip speed at the contact",
+                    "m/s",
+                    Some(0.0),
+                    Some(1e-3),
+                    "0 (rolling); within 1 mm/s".to_string(),
+                ));
             } else {
                 let a = g * (sin - mu * cos);
                 let r = b.ellipsoid.map_or(0.0, |e| e.semi_axes.x);
                 let alpha = mu * b.mass * g * cos * r / b.inertia[(2, 2)];
-                out.push(e("acceleration", "acceleration down the incline", "m/s²", Some(a), Some(0.01 * a),
-                    format!("g (sin θ − μ cos θ) = {a:.4} m/s² (sliding); within 1 %")));
-                out.push(e("spin_up", "angular acceleration", "rad/s²", Some(alpha), Some(0.01 * alpha),
-                    format!("μ m g cos θ r / J = {alpha:.4} rad/s²; within 1 %")));
+                out.push(e(
+                    "acceleration",
+                    "acceleration down the incline",
+                    "m/s²",
+                    Some(a),
+                    Some(0.01 * a),
+                    format!("g (sin θ − μ cos θ) = {a:.4} m/s² (sliding); within 1 %"),
+                ));
+                out.push(e(
+                    "spin_up",
+                    "angular acceleration",
+                    "rad/s²",
+                    Some(alpha),
+                    Some(0.01 * alpha),
+                    format!("μ m g cos θ r / J = {alpha:.4} rad/s²; within 1 %"),
+                ));
             }
         }
         Known::Flip => {
@@ -87,19 +127,38 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
             let axis = eigen.eigenvectors.column(order[1]).into_owned();
             let h_ref = h / 100.0;
             let steps = (known.seconds / h_ref).round() as usize;
-            let samples: Vec<(f64, f64)> = torque_free_rk4(&body.inertia, &(body.r0.transpose() * body.omega0), h_ref, steps)
-                .into_iter()
-                .step_by(100)
-                .map(|(t, w)| (t, w.dot(&axis)))
-                .collect();
+            let samples: Vec<(f64, f64)> = torque_free_rk4(
+                &body.inertia,
+                &(body.r0.transpose() * body.omega0),
+                h_ref,
+                steps,
+            )
+            .into_iter()
+            .step_by(100)
+            .map(|(t, w)| (t, w.dot(&axis)))
+            .collect();
             let changes = sign_changes(&samples);
             let first = changes.first().copied();
             let period = flip_period(&changes);
             out.push(e("first_flip", "first flip", "s", first, first.map(|f| 0.05 * f),
                 format!("RK4 at h/100 (src/verify/references/euler.rs): {:.4} s; within 5 % (first-order integrators shift the flips by O(h))", first.unwrap_or(f64::NAN))));
-            out.push(e("flip_period", "flip period", "s", period, period.map(|f| 0.05 * f),
-                format!("RK4 at h/100: {:.4} s; within 5 %", period.unwrap_or(f64::NAN))));
-            let (energy_gain, _) = explicit_gains(&body.inertia, &(body.r0.transpose() * body.omega0), h, known.seconds);
+            out.push(e(
+                "flip_period",
+                "flip period",
+                "s",
+                period,
+                period.map(|f| 0.05 * f),
+                format!(
+                    "RK4 at h/100: {:.4} s; within 5 %",
+                    period.unwrap_or(f64::NAN)
+                ),
+            ));
+            let (energy_gain, _) = explicit_gains(
+                &body.inertia,
+                &(body.r0.transpose() * body.omega0),
+                h,
+                known.seconds,
+            );
             let bound = GAIN_MARGIN * energy_gain + ROUND_OFF;
             out.push(e("energy_drift", "energy drift (end/start − 1)", "", Some(0.0), Some(bound),
                 format!("0 (torque-free); within {GAIN_MARGIN} × {energy_gain:.3e}, the explicit step's documented gain Σ ½h²gᵀJ⁻¹g / E₀ along the RK4 solution (docs/dynamics.md §\"Why the explicit gyroscopic term gains energy\"; first order in h)")));
@@ -110,7 +169,8 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
             out.push(e("position_error", "distance from x₀ + v₀t + gt²/2 at the end", "m", Some(0.0), Some(1.01 * bound),
                 format!("0; within g h t/2 = {bound:.4} m, symplectic Euler's first-order error (x_n = x₀ + v₀t + g t²/2 + g h t/2)")));
             let b = &scene.bodies[0];
-            let (_, momentum_gain) = explicit_gains(&b.inertia, &(b.r0.transpose() * b.omega0), h, t);
+            let (_, momentum_gain) =
+                explicit_gains(&b.inertia, &(b.r0.transpose() * b.omega0), h, t);
             let bound = GAIN_MARGIN * momentum_gain + ROUND_OFF;
             out.push(e("angular_momentum_drift", "|L_c| end/start − 1", "", Some(0.0), Some(bound),
                 format!("0 (torque-free about the centre of mass); within {GAIN_MARGIN} × {momentum_gain:.3e}, the explicit step's documented gain (|L|² gains h²|ω × L|² a step, docs/dynamics.md) along the RK4 solution (first order in h)")));
@@ -118,23 +178,77 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
         Known::HeavyOnLight => {
             out.push(e("holds", "stack holds (1 = yes)", "", Some(1.0), Some(0.0),
                 "1: the heavy body sinks less than 1 mm and the light one moves less than 1 mm sideways".to_string()));
-            out.push(e("heavy_drop", "heavy body's drop", "m", None, None, "reported".to_string()));
-            out.push(e("lower_layer", "light–ground Σλn / ((m₁+m₂) g h)", "", Some(1.0), Some(0.01),
-                "1: the lower layer carries both weights (mean of the last 100 steps); within 1 %".to_string()));
-            out.push(e("upper_layer", "heavy–light Σλn / (m₂ g h)", "", Some(1.0), Some(0.01),
-                "1: the upper layer carries the heavy weight; within 1 %".to_string()));
+            out.push(e(
+                "heavy_drop",
+                "heavy body's drop",
+                "m",
+                None,
+                None,
+                "reported".to_string(),
+            ));
+            out.push(e(
+                "lower_layer",
+                "light–ground Σλn / ((m₁+m₂) g h)",
+                "",
+                Some(1.0),
+                Some(0.01),
+                "1: the lower layer carries both weights (mean of the last 100 steps); within 1 %"
+                    .to_string(),
+            ));
+            out.push(e(
+                "upper_layer",
+                "heavy–light Σλn / (m₂ g h)",
+                "",
+                Some(1.0),
+                Some(0.01),
+                "1: the upper layer carries the heavy weight; within 1 %".to_string(),
+            ));
         }
         Known::Rest => {
-            out.push(e("rest_height", "height of the centre at rest", "m", None, None,
-                "reported: the icosphere rests on a vertex, on the contact model's own depth".to_string()));
-            out.push(e("rest_speed", "speed at the end", "m/s", Some(0.0), Some(STOP_SPEED), "0; within 1 mm/s".to_string()));
-            out.push(e("carried_weight", "ball–ground Σλn / (m g h)", "", Some(1.0), Some(0.01),
-                "1: the contact carries the weight (mean of the last 20 steps); within 1 %".to_string()));
+            out.push(e(
+                "rest_height",
+                "height of the centre at rest",
+                "m",
+                None,
+                None,
+                "reported: the icosphere rests on a vertex, on the contact model's own depth"
+                    .to_string(),
+            ));
+            out.push(e(
+                "rest_speed",
+                "speed at the end",
+                "m/s",
+                Some(0.0),
+                Some(STOP_SPEED),
+                "0; within 1 mm/s".to_string(),
+            ));
+            out.push(e(
+                "carried_weight",
+                "ball–ground Σλn / (m g h)",
+                "",
+                Some(1.0),
+                Some(0.01),
+                "1: the contact carries the weight (mean of the last 20 steps); within 1 %"
+                    .to_string(),
+            ));
         }
         Known::Stack => {
-            out.push(e("holds", "stack stands (1 = yes)", "", Some(1.0), Some(0.0),
-                "1: no body moves more than 1 cm".to_string()));
-            out.push(e("largest_drift", "largest body displacement", "m", None, None, "reported".to_string()));
+            out.push(e(
+                "holds",
+                "stack stands (1 = yes)",
+                "",
+                Some(1.0),
+                Some(0.0),
+                "1: no body moves more than 1 cm".to_string(),
+            ));
+            out.push(e(
+                "largest_drift",
+                "largest body displacement",
+                "m",
+                None,
+                None,
+                "reported".to_string(),
+            ));
         }
     }
     if p.check_collisions {
@@ -147,7 +261,11 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
         // A body that falls onto the ground crosses it between two steps: the first step that
         // sees the contact finds it up to (impact speed) × h deep, whatever the contact model
         // (speculative contacts, as rapier's, see it a step early).
-        let impact = if known.known == Known::Rest { impact_speed(scene) * h } else { 0.0 };
+        let impact = if known.known == Known::Rest {
+            impact_speed(scene) * h
+        } else {
+            0.0
+        };
         let bound = resting.max(impact);
         out.push(e("deepest_penetration", "deepest penetration", "m", Some(0.0), Some(bound),
             if impact > resting {
@@ -157,9 +275,30 @@ pub fn expectations(scene: &Scene, known: &KnownScene) -> Vec<Expected> {
             }));
         out.push(e("energy_rise", "largest energy rise", "J", None, None,
             "reported: contact with friction only takes energy away; a rise is energy a contact model adds".to_string()));
-        out.push(e("criterion_primal", "primal criterion (max)", "N·s", None, None, "reported: 0 for Coulomb's law (ContactBench)".to_string()));
-        out.push(e("criterion_dual", "dual criterion (max)", "m/s", None, None, "reported: 0 for Coulomb's law".to_string()));
-        out.push(e("criterion_complementarity", "complementarity (max)", "J", None, None, "reported: 0 for Coulomb's law".to_string()));
+        out.push(e(
+            "criterion_primal",
+            "primal criterion (max)",
+            "N·s",
+            None,
+            None,
+            "reported: 0 for Coulomb's law (ContactBench)".to_string(),
+        ));
+        out.push(e(
+            "criterion_dual",
+            "dual criterion (max)",
+            "m/s",
+            None,
+            None,
+            "reported: 0 for Coulomb's law".to_string(),
+        ));
+        out.push(e(
+            "criterion_complementarity",
+            "complementarity (max)",
+            "J",
+            None,
+            None,
+            "reported: 0 for Coulomb's law".to_string(),
+        ));
     }
     out
 }
@@ -176,7 +315,12 @@ pub const ROUND_OFF: f64 = 1e-9;
 /// energy gain Σ ½h² gᵀJ⁻¹g / E₀, relative |L| gain √(1 + Σ h²|g|²/|L₀|²) − 1) with
 /// g = ω × Jω, summed along the RK4 solution sampled at h (docs/dynamics.md §"Why the explicit
 /// gyroscopic term gains energy"). Both are O(h).
-pub fn explicit_gains(inertia: &Matrix3<f64>, omega_b: &Vector3<f64>, h: f64, seconds: f64) -> (f64, f64) {
+pub fn explicit_gains(
+    inertia: &Matrix3<f64>,
+    omega_b: &Vector3<f64>,
+    h: f64,
+    seconds: f64,
+) -> (f64, f64) {
     let steps = (seconds / h).round() as usize;
     let inverse = inertia.try_inverse().unwrap_or_else(Matrix3::zeros);
     let samples = torque_free_rk4(inertia, omega_b, h / 100.0, steps * 100);

@@ -126,7 +126,9 @@ pub fn mirror_shape(body: &BodyDescription) -> Result<MirrorShape, String> {
         if aligned {
             let mut half = [0.0; 3];
             for (axis, h) in c.axes.iter().zip(c.half.iter()) {
-                let k = (0..3).max_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs())).unwrap_or(0);
+                let k = (0..3)
+                    .max_by(|&i, &j| axis[i].abs().total_cmp(&axis[j].abs()))
+                    .unwrap_or(0);
                 half[k] = *h;
             }
             return Ok(MirrorShape::Box { half_extents: half });

@@ -141,11 +141,25 @@ pub struct Validation {
 
 /// The scenes to run: those named, else the 3D set when a 3D engine (or none) is asked for and
 /// the 2D set when pymunk is.
-fn scene_list(names: &[String], engines: &[Engine]) -> Result<(Vec<KnownScene>, Vec<two_d::KnownScene2>), String> {
+fn scene_list(
+    names: &[String],
+    engines: &[Engine],
+) -> Result<(Vec<KnownScene>, Vec<two_d::KnownScene2>), String> {
     if names.is_empty() {
         let three = engines.is_empty() || engines.iter().any(|e| !e.is_2d());
         let two = engines.iter().any(|e| e.is_2d());
-        return Ok((if three { SCENES_3D.to_vec() } else { Vec::new() }, if two { two_d::SCENES_2D.to_vec() } else { Vec::new() }));
+        return Ok((
+            if three {
+                SCENES_3D.to_vec()
+            } else {
+                Vec::new()
+            },
+            if two {
+                two_d::SCENES_2D.to_vec()
+            } else {
+                Vec::new()
+            },
+        ));
     }
     let (mut three, mut two) = (Vec::new(), Vec::new());
     for n in names {
@@ -159,7 +173,10 @@ fn scene_list(names: &[String], engines: &[Engine]) -> Result<(Vec<KnownScene>, 
                 .map(|s| s.file.trim_end_matches(".json"))
                 .chain(two_d::SCENES_2D.iter().map(|s| two_d::stem(s.file)))
                 .collect();
-            return Err(format!("--scenes: {n:?} is not a known-answer scene (known: {})", known.join(", ")));
+            return Err(format!(
+                "--scenes: {n:?} is not a known-answer scene (known: {})",
+                known.join(", ")
+            ));
         }
     }
     Ok((three, two))
@@ -169,7 +186,10 @@ fn scene_list(names: &[String], engines: &[Engine]) -> Result<(Vec<KnownScene>, 
 fn read_model(model_path: &Path) -> Result<Option<serde_json::Value>, String> {
     std::fs::read_to_string(model_path)
         .map_err(|e| format!("{}: not written: {e}", model_path.display()))
-        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).map_err(|e| format!("{}: {e}", model_path.display())))
+        .and_then(|t| {
+            serde_json::from_str::<serde_json::Value>(&t)
+                .map_err(|e| format!("{}: {e}", model_path.display()))
+        })
         .and_then(|v| match v["error"].as_str() {
             Some(err) => Err(err.to_string()),
             None => Ok(Some(v)),
@@ -195,15 +215,24 @@ fn measure(
     Ok((measured, trace))
 }
 
-fn judged(expected: &[Expected], measured: &[Measured], reference: &[Measured]) -> Vec<MeasuredJudged> {
+fn judged(
+    expected: &[Expected],
+    measured: &[Measured],
+    reference: &[Measured],
+) -> Vec<MeasuredJudged> {
     measured
         .iter()
         .map(|m| {
             let exp = expected.iter().find(|e| e.key == m.key);
             let exact = exp.and_then(|e| e.exact);
             let error = m.value.zip(exact).map(|(v, x)| v - x);
-            let passed = exp.and_then(|e| e.tolerance).map(|tol| error.is_some_and(|e| e.abs() <= tol));
-            let theirs = reference.iter().find(|r| r.key == m.key).and_then(|r| r.value);
+            let passed = exp
+                .and_then(|e| e.tolerance)
+                .map(|tol| error.is_some_and(|e| e.abs() <= tol));
+            let theirs = reference
+                .iter()
+                .find(|r| r.key == m.key)
+                .and_then(|r| r.value);
             MeasuredJudged {
                 key: m.key,
                 value: m.value,
@@ -222,17 +251,36 @@ fn pending(engine: Engine, settings: Settings, status: &EngineStatus) -> RunResu
         Some(why) => RunStatus::NotInstalled(why.clone()),
         None => RunStatus::Pending,
     };
-    RunResult { engine, settings: Some(settings), status, trace: None, model: None, measured: Vec::new(), plotted: None }
+    RunResult {
+        engine,
+        settings: Some(settings),
+        status,
+        trace: None,
+        model: None,
+        measured: Vec::new(),
+        plotted: None,
+    }
 }
 
 /// The measured values of a scene's reference run (its first), as measured.
 fn reference_of(scene: &SceneResult) -> Vec<Measured> {
-    scene.runs[0].measured.iter().map(|m| Measured { key: m.key, value: m.value }).collect()
+    scene.runs[0]
+        .measured
+        .iter()
+        .map(|m| Measured {
+            key: m.key,
+            value: m.value,
+        })
+        .collect()
 }
 
 /// Puts `run` in its row of `scene` (the engine × settings row written pending).
 fn place(scene: &mut SceneResult, run: RunResult) {
-    if let Some(slot) = scene.runs.iter_mut().find(|r| r.engine == run.engine && r.settings == run.settings) {
+    if let Some(slot) = scene
+        .runs
+        .iter_mut()
+        .find(|r| r.engine == run.engine && r.settings == run.settings)
+    {
         *slot = run;
     }
 }
@@ -246,7 +294,12 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
     let (known, known_2d) = scene_list(&options.scenes, &options.engines)?;
     let out = &options.out;
     create(out)?;
-    let python_engines: Vec<Engine> = options.engines.iter().copied().filter(|e| e.is_python()).collect();
+    let python_engines: Vec<Engine> = options
+        .engines
+        .iter()
+        .copied()
+        .filter(|e| e.is_python())
+        .collect();
     let mut statuses: Vec<EngineStatus> = Vec::new();
     let run_py = engines::write_mirrors(&out.join("mirrors"))?;
     let probed = if python_engines.is_empty() {
@@ -262,7 +315,11 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
     }
     for &engine in &asked {
         if engine == Engine::Rapier {
-            statuses.push(EngineStatus { engine, version: Some("rapier3d-f64 0.36.1 (built in)".into()), missing: None });
+            statuses.push(EngineStatus {
+                engine,
+                version: Some("rapier3d-f64 0.36.1 (built in)".into()),
+                missing: None,
+            });
         } else if let Some(s) = probed.iter().find(|s| s.engine == engine) {
             statuses.push(s.clone());
         }
@@ -273,7 +330,10 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
     for k in &known {
         let path = options.scene_dir.join(k.file);
         if !path.is_file() {
-            return Err(format!("{}: not found (give the folder of rigidref's scenes with --scene-dir)", path.display()));
+            return Err(format!(
+                "{}: not found (give the folder of rigidref's scenes with --scene-dir)",
+                path.display()
+            ));
         }
         let scene = crate::rigid3d::scene::load_scene(&path).map_err(|e| e.to_string())?;
         let frames = crate::sim::steps_in(k.seconds, scene.params.dt, " s")?;
@@ -281,14 +341,18 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         let description = MirrorScene::of_scene(&scene, stem, frames)?;
         let dpath = out.join("descriptions").join(format!("{stem}.mirror.json"));
         let text = serde_json::to_string_pretty(&description).map_err(|e| e.to_string())?;
-        std::fs::write(&dpath, text + "\n").map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
+        std::fs::write(&dpath, text + "\n")
+            .map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
         loaded.push((*k, scene, frames, dpath));
     }
     let loaded_2d = known_2d
         .iter()
         .map(|k| two_d::load(*k, &options.scene_dir, &out.join("descriptions")))
         .collect::<Result<Vec<_>, String>>()?;
-    let mut v = Validation { engines: statuses.clone(), scenes: Vec::new() };
+    let mut v = Validation {
+        engines: statuses.clone(),
+        scenes: Vec::new(),
+    };
     // rigidref's reference runs, every other row pending.
     for (k, scene, frames, _) in &loaded {
         let stem = k.file.trim_end_matches(".json");
@@ -305,7 +369,11 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
             trace: Some(relative(out, &path)),
             model: None,
             measured: judged(&expected, &reference, &reference),
-            plotted: Some(report::plotted_3d(format!("{} (Newton)", Engine::Rigidref.name()), &trace, scene)),
+            plotted: Some(report::plotted_3d(
+                format!("{} (Newton)", Engine::Rigidref.name()),
+                &trace,
+                scene,
+            )),
         }];
         for status in statuses.iter().filter(|s| !s.engine.is_2d()) {
             runs.extend(Settings::BOTH.map(|settings| pending(status.engine, settings, status)));
@@ -322,11 +390,17 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         });
         report::write_progress(&v, v.scenes.len() - 1, out)?;
     }
-    let statuses_2d: Vec<EngineStatus> = statuses.iter().filter(|s| s.engine.is_2d()).cloned().collect();
+    let statuses_2d: Vec<EngineStatus> = statuses
+        .iter()
+        .filter(|s| s.engine.is_2d())
+        .cloned()
+        .collect();
     for l in &loaded_2d {
         let mut scene = two_d::reference(l, out)?;
         for status in &statuses_2d {
-            scene.runs.extend(Settings::BOTH.map(|settings| pending(status.engine, settings, status)));
+            scene
+                .runs
+                .extend(Settings::BOTH.map(|settings| pending(status.engine, settings, status)));
         }
         v.scenes.push(scene);
         report::write_progress(&v, v.scenes.len() - 1, out)?;
@@ -339,12 +413,20 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         if engine.is_python() {
             let mut jobs = Vec::new();
             for settings in Settings::BOTH {
-                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+                let dir = out
+                    .join("traces")
+                    .join(format!("{}-{}", engine.name(), settings.name()));
                 create(&dir)?;
                 let described: Vec<(&str, &PathBuf)> = if engine.is_2d() {
-                    loaded_2d.iter().map(|l| (two_d::stem(l.known.file), &l.description)).collect()
+                    loaded_2d
+                        .iter()
+                        .map(|l| (two_d::stem(l.known.file), &l.description))
+                        .collect()
                 } else {
-                    loaded.iter().map(|(k, _, _, d)| (k.file.trim_end_matches(".json"), d)).collect()
+                    loaded
+                        .iter()
+                        .map(|(k, _, _, d)| (k.file.trim_end_matches(".json"), d))
+                        .collect()
                 };
                 for (stem, dpath) in described {
                     jobs.push(Job {
@@ -358,14 +440,18 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
             if jobs.is_empty() {
                 continue;
             }
-            let jobs_file = out.join("traces").join(format!("{}-jobs.json", engine.name()));
-            failure = engines::run_python_jobs(&options.python, &run_py, engine, &jobs, &jobs_file).err();
+            let jobs_file = out
+                .join("traces")
+                .join(format!("{}-jobs.json", engine.name()));
+            failure =
+                engines::run_python_jobs(&options.python, &run_py, engine, &jobs, &jobs_file).err();
         }
         if engine.is_2d() {
             for (i, l) in loaded_2d.iter().enumerate() {
                 for settings in Settings::BOTH {
                     let scene = &mut v.scenes[first_2d + i];
-                    let run = two_d::engine_run(l, scene, engine, settings, failure.as_deref(), out);
+                    let run =
+                        two_d::engine_run(l, scene, engine, settings, failure.as_deref(), out);
                     place(scene, run);
                     report::write_progress(&v, first_2d + i, out)?;
                 }
@@ -375,11 +461,22 @@ pub fn validate(options: &ValidateOptions) -> Result<Validation, String> {
         for (i, (k, scene, frames, _)) in loaded.iter().enumerate() {
             let stem = k.file.trim_end_matches(".json");
             for settings in Settings::BOTH {
-                let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), plotted: None };
-                let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+                let mut run = RunResult {
+                    engine,
+                    settings: Some(settings),
+                    status: RunStatus::Ran,
+                    trace: None,
+                    model: None,
+                    measured: Vec::new(),
+                    plotted: None,
+                };
+                let dir = out
+                    .join("traces")
+                    .join(format!("{}-{}", engine.name(), settings.name()));
                 create(&dir)?;
                 let path = dir.join(format!("{stem}.jsonl"));
-                let outcome: Result<Option<serde_json::Value>, String> = if engine == Engine::Rapier {
+                let outcome: Result<Option<serde_json::Value>, String> = if engine == Engine::Rapier
+                {
                     runs::run_rapier(scene, settings, *frames, &path).map(Some)
                 } else if let Some(e) = &failure {
                     Err(e.clone())

@@ -101,7 +101,11 @@ pub fn criteria(mu: f64, records: &[TraceRecord]) -> Option<[f64; 3]> {
             );
             let lambda = SVector::<f64, 3>::from(c.lambda);
             let k = contact_criteria(mu, &lambda, &cv);
-            worst = [worst[0].max(k.primal), worst[1].max(k.dual), worst[2].max(k.complementarity)];
+            worst = [
+                worst[0].max(k.primal),
+                worst[1].max(k.dual),
+                worst[2].max(k.complementarity),
+            ];
             any = true;
         }
     }
@@ -140,7 +144,10 @@ pub fn flips(scene: &Scene, records: &[TraceRecord]) -> Vec<f64> {
         .iter()
         .map(|r| {
             let s = &r.bodies[0];
-            (r.t, (rotation(&s.rotation).transpose() * v3(s.omega)).dot(&axis))
+            (
+                r.t,
+                (rotation(&s.rotation).transpose() * v3(s.omega)).dot(&axis),
+            )
         })
         .collect();
     sign_changes(&samples)
@@ -160,12 +167,18 @@ pub fn observe(scene: &Scene, known: &KnownScene, trace: &Trace) -> Result<Vec<M
     let mut out = Vec::new();
     match known.known {
         Known::Slide => {
-            out.push(m("stop_time", first_time(&r[1..], |rec| speed(rec, 0) < STOP_SPEED)));
+            out.push(m(
+                "stop_time",
+                first_time(&r[1..], |rec| speed(rec, 0) < STOP_SPEED),
+            ));
             let d = v3(last.bodies[0].x) - v3(first.bodies[0].x);
             out.push(m("stop_distance", Some((d.x * d.x + d.z * d.z).sqrt())));
         }
         Known::Drag => {
-            out.push(m("slip_time", first_time(r, |rec| rec.bodies[0].v[0] > STOP_SPEED)));
+            out.push(m(
+                "slip_time",
+                first_time(r, |rec| rec.bodies[0].v[0] > STOP_SPEED),
+            ));
             out.push(m("final_speed", Some(last.bodies[0].v[0])));
         }
         Known::Rolls | Known::Slides => {
@@ -180,7 +193,8 @@ pub fn observe(scene: &Scene, known: &KnownScene, trace: &Trace) -> Result<Vec<M
             if known.known == Known::Rolls {
                 out.push(m("slip_speed", Some(contact_velocity(last).norm())));
             } else {
-                let alpha = -(last.bodies[0].omega[2] - half.bodies[0].omega[2]) / (last.t - half.t);
+                let alpha =
+                    -(last.bodies[0].omega[2] - half.bodies[0].omega[2]) / (last.t - half.t);
                 out.push(m("spin_up", Some(alpha)));
             }
         }
@@ -188,18 +202,27 @@ pub fn observe(scene: &Scene, known: &KnownScene, trace: &Trace) -> Result<Vec<M
             let changes = flips(scene, r);
             out.push(m("first_flip", changes.first().copied()));
             out.push(m("flip_period", flip_period(&changes)));
-            out.push(m("energy_drift", Some(last.energy.total / first.energy.total - 1.0)));
+            out.push(m(
+                "energy_drift",
+                Some(last.energy.total / first.energy.total - 1.0),
+            ));
         }
         Known::Projectile => {
             let b = &scene.bodies[0];
             let exact = b.x0 + b.v0 * end + p.gravity * (end * end / 2.0);
-            out.push(m("position_error", Some((v3(last.bodies[0].x) - exact).norm())));
+            out.push(m(
+                "position_error",
+                Some((v3(last.bodies[0].x) - exact).norm()),
+            ));
             let spin = |rec: &TraceRecord| {
                 let s = &rec.bodies[0];
                 let rot = rotation(&s.rotation);
                 (rot * b.inertia * rot.transpose() * v3(s.omega)).norm()
             };
-            out.push(m("angular_momentum_drift", Some(spin(last) / spin(first) - 1.0)));
+            out.push(m(
+                "angular_momentum_drift",
+                Some(spin(last) / spin(first) - 1.0),
+            ));
         }
         Known::HeavyOnLight => {
             let drop = first.bodies[1].x[1] - last.bodies[1].x[1];
@@ -209,14 +232,23 @@ pub fn observe(scene: &Scene, known: &KnownScene, trace: &Trace) -> Result<Vec<M
             out.push(m("heavy_drop", Some(drop)));
             let g = p.gravity.norm() * p.h();
             let (light, heavy) = (scene.bodies[0].mass, scene.bodies[1].mass);
-            out.push(m("lower_layer", Some(layer_ratio(r, [0, -1], (light + heavy) * g, 100))));
-            out.push(m("upper_layer", Some(layer_ratio(r, [1, 0], heavy * g, 100))));
+            out.push(m(
+                "lower_layer",
+                Some(layer_ratio(r, [0, -1], (light + heavy) * g, 100)),
+            ));
+            out.push(m(
+                "upper_layer",
+                Some(layer_ratio(r, [1, 0], heavy * g, 100)),
+            ));
         }
         Known::Rest => {
             out.push(m("rest_height", Some(last.bodies[0].x[1])));
             out.push(m("rest_speed", Some(speed(last, 0))));
             let weight = scene.bodies[0].mass * p.gravity.norm() * p.h();
-            out.push(m("carried_weight", Some(layer_ratio(r, [0, -1], weight, 20))));
+            out.push(m(
+                "carried_weight",
+                Some(layer_ratio(r, [0, -1], weight, 20)),
+            ));
         }
         Known::Stack => {
             let drift = (0..scene.bodies.len())
@@ -228,7 +260,10 @@ pub fn observe(scene: &Scene, known: &KnownScene, trace: &Trace) -> Result<Vec<M
     }
     if p.check_collisions {
         let depth = penetrations(scene, r)?;
-        out.push(m("deepest_penetration", Some(depth.iter().copied().fold(0.0, f64::max))));
+        out.push(m(
+            "deepest_penetration",
+            Some(depth.iter().copied().fold(0.0, f64::max)),
+        ));
         out.push(m("energy_rise", Some(energy_rise(r))));
         if let Some([primal, dual, complementarity]) = criteria(p.mu, r) {
             out.push(m("criterion_primal", Some(primal)));

@@ -87,8 +87,13 @@ pub fn run_rapier(
     header.collision = "rapier".into();
     let mut out = writer(path, &header)?;
     let io = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-    out.write(record_of_states(&mut world, 0, &mirror.snapshots(), Vec::new()))
-        .map_err(io)?;
+    out.write(record_of_states(
+        &mut world,
+        0,
+        &mirror.snapshots(),
+        Vec::new(),
+    ))
+    .map_err(io)?;
     let h = scene.params.h();
     let mut k = 0u64;
     for frame in 1..=frames {
@@ -103,8 +108,14 @@ pub fn run_rapier(
             }
         }
         let states = mirror.snapshots();
-        if states.iter().any(|s| !(s.x.iter().chain(s.v.iter()).all(|v| v.is_finite()))) {
-            return Err(format!("{}: rapier's state is not finite at frame {frame}", path.display()));
+        if states
+            .iter()
+            .any(|s| !(s.x.iter().chain(s.v.iter()).all(|v| v.is_finite())))
+        {
+            return Err(format!(
+                "{}: rapier's state is not finite at frame {frame}",
+                path.display()
+            ));
         }
         out.write(record_of_states(&mut world, frame, &states, contacts))
             .map_err(io)?;

@@ -41,16 +41,56 @@ pub struct KnownScene {
 
 /// The 3D set, in report order.
 pub const SCENES_3D: [KnownScene; 10] = [
-    KnownScene { file: "sliding_cube.json", seconds: 0.4, known: Known::Slide },
-    KnownScene { file: "sliding_box.json", seconds: 1.5, known: Known::Slide },
-    KnownScene { file: "dragged_cube.json", seconds: 0.5, known: Known::Drag },
-    KnownScene { file: "ball_incline_rolls.json", seconds: 1.0, known: Known::Rolls },
-    KnownScene { file: "ball_incline_slides.json", seconds: 1.0, known: Known::Slides },
-    KnownScene { file: "dzhanibekov.json", seconds: 10.0, known: Known::Flip },
-    KnownScene { file: "projectile.json", seconds: 2.0, known: Known::Projectile },
-    KnownScene { file: "heavy_on_light.json", seconds: 1.0, known: Known::HeavyOnLight },
-    KnownScene { file: "sphere_drop.json", seconds: 2.0, known: Known::Rest },
-    KnownScene { file: "box_stack.json", seconds: 2.0, known: Known::Stack },
+    KnownScene {
+        file: "sliding_cube.json",
+        seconds: 0.4,
+        known: Known::Slide,
+    },
+    KnownScene {
+        file: "sliding_box.json",
+        seconds: 1.5,
+        known: Known::Slide,
+    },
+    KnownScene {
+        file: "dragged_cube.json",
+        seconds: 0.5,
+        known: Known::Drag,
+    },
+    KnownScene {
+        file: "ball_incline_rolls.json",
+        seconds: 1.0,
+        known: Known::Rolls,
+    },
+    KnownScene {
+        file: "ball_incline_slides.json",
+        seconds: 1.0,
+        known: Known::Slides,
+    },
+    KnownScene {
+        file: "dzhanibekov.json",
+        seconds: 10.0,
+        known: Known::Flip,
+    },
+    KnownScene {
+        file: "projectile.json",
+        seconds: 2.0,
+        known: Known::Projectile,
+    },
+    KnownScene {
+        file: "heavy_on_light.json",
+        seconds: 1.0,
+        known: Known::HeavyOnLight,
+    },
+    KnownScene {
+        file: "sphere_drop.json",
+        seconds: 2.0,
+        known: Known::Rest,
+    },
+    KnownScene {
+        file: "box_stack.json",
+        seconds: 2.0,
+        known: Known::Stack,
+    },
 ];
 
 /// The scene of the set named `name` (its file name, with or without `.json`).

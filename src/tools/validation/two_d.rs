@@ -17,13 +17,13 @@ use super::{RunResult, RunStatus, SceneResult};
 use crate::blocks2d::collide::{Contact2, detect_contacts};
 use crate::blocks2d::disc_tree::BLOCK_RADIUS;
 use crate::blocks2d::trace::{Contact2Record, Record2, TraceHeader2};
-use crate::solve::criteria::contact_criteria;
 use crate::blocks2d::world::World2;
 use crate::sim::{Flow, drive};
-use nalgebra::{SVector, Vector2};
-use serde::Serialize;
+use crate::solve::criteria::contact_criteria;
 use crate::tools::viewing::plot::PlottedRun;
 use crate::tools::viewing::series::{Plot, Series};
+use nalgebra::{SVector, Vector2};
+use serde::Serialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -55,9 +55,21 @@ pub struct KnownScene2 {
 
 /// The 2D set, in report order.
 pub const SCENES_2D: [KnownScene2; 3] = [
-    KnownScene2 { file: "blocks/block_slide.json", time: 10.0, known: Known2::Slide },
-    KnownScene2 { file: "blocks/bar_topple.json", time: 12.0, known: Known2::Topple },
-    KnownScene2 { file: "blocks/stack_rest.json", time: 8.0, known: Known2::Rest },
+    KnownScene2 {
+        file: "blocks/block_slide.json",
+        time: 10.0,
+        known: Known2::Slide,
+    },
+    KnownScene2 {
+        file: "blocks/bar_topple.json",
+        time: 12.0,
+        known: Known2::Topple,
+    },
+    KnownScene2 {
+        file: "blocks/stack_rest.json",
+        time: 8.0,
+        known: Known2::Rest,
+    },
 ];
 
 /// Time from which the stack is judged at rest, time units (the bodies fall 0.586 blocks onto
@@ -67,7 +79,10 @@ pub const REST_FROM: f64 = 3.0;
 
 /// The stem of a 2D scene file (`block_slide`).
 pub fn stem(file: &str) -> &str {
-    file.rsplit('/').next().unwrap_or(file).trim_end_matches(".json")
+    file.rsplit('/')
+        .next()
+        .unwrap_or(file)
+        .trim_end_matches(".json")
 }
 
 /// The 2D scene named `name` (its stem, with or without `.json`).
@@ -154,9 +169,18 @@ pub struct MirrorScene2 {
 impl MirrorScene2 {
     /// The description of `world` (as loaded) run for `frames` steps. A scene with what the mirror
     /// cannot reproduce (shakes, pins, springs, penalty contact, adaptive substeps) is refused.
-    pub fn of_world(world: &World2, source: &str, name: &str, frames: u64) -> Result<MirrorScene2, String> {
+    pub fn of_world(
+        world: &World2,
+        source: &str,
+        name: &str,
+        frames: u64,
+    ) -> Result<MirrorScene2, String> {
         let p = &world.params;
-        let refuse = |what: &str| Err(format!("{source}: {what}: the pymunk mirror does not reproduce it"));
+        let refuse = |what: &str| {
+            Err(format!(
+                "{source}: {what}: the pymunk mirror does not reproduce it"
+            ))
+        };
         if !world.shakes.is_empty() {
             return refuse("shakes");
         }
@@ -234,16 +258,27 @@ pub struct Loaded2 {
 pub fn load(known: KnownScene2, scene_dir: &Path, descriptions: &Path) -> Result<Loaded2, String> {
     let path = scene_dir.join(known.file);
     if !path.is_file() {
-        return Err(format!("{}: not found (give the folder of rigidref's scenes with --scene-dir)", path.display()));
+        return Err(format!(
+            "{}: not found (give the folder of rigidref's scenes with --scene-dir)",
+            path.display()
+        ));
     }
     let scene = crate::blocks2d::scene::load_scene2(&path).map_err(|e| e.to_string())?;
     let frames = crate::sim::steps_in(known.time, scene.world.params.dt, "")?;
     let name = stem(known.file);
-    let description = MirrorScene2::of_world(&scene.world, &path.display().to_string(), name, frames)?;
+    let description =
+        MirrorScene2::of_world(&scene.world, &path.display().to_string(), name, frames)?;
     let dpath = descriptions.join(format!("{name}.mirror.json"));
     let text = serde_json::to_string_pretty(&description).map_err(|e| e.to_string())?;
-    std::fs::write(&dpath, text + "\n").map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
-    Ok(Loaded2 { known, path, world: scene.world, frames, description: dpath })
+    std::fs::write(&dpath, text + "\n")
+        .map_err(|e| format!("{}: cannot write: {e}", dpath.display()))?;
+    Ok(Loaded2 {
+        known,
+        path,
+        world: scene.world,
+        frames,
+        description: dpath,
+    })
 }
 
 /// Runs rigidref with the exact (Newton) solver on the loaded world for `frames` steps, writing
@@ -252,9 +287,14 @@ pub fn run_rigidref_2d(loaded: &Loaded2, path: &Path) -> Result<(), String> {
     let mut world = loaded.world.clone();
     world.params.solver = crate::solve::Solver::Newton;
     let io = |e: std::io::Error| format!("{}: cannot write: {e}", path.display());
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+    let file = std::fs::File::create(path)
+        .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
     let mut out = std::io::BufWriter::new(file);
-    let mut header = TraceHeader2::for_world(&world, stem(loaded.known.file), &loaded.path.display().to_string());
+    let mut header = TraceHeader2::for_world(
+        &world,
+        stem(loaded.known.file),
+        &loaded.path.display().to_string(),
+    );
     header.overrides = vec!["solver=newton".into()];
     fn line<T: Serialize>(out: &mut impl Write, v: &T) -> std::io::Result<()> {
         serde_json::to_writer(&mut *out, v)?;
@@ -275,7 +315,10 @@ pub fn run_rigidref_2d(loaded: &Loaded2, path: &Path) -> Result<(), String> {
 /// in the set, so c is J u⁺). docs/validation.md §"2D: pymunk".
 pub fn record_with_contacts(world: &World2) -> Record2 {
     let mut record = Record2::of_world(world, false);
-    let solve = world.solves.last().filter(|s| s.substep + 1 == world.substeps_in_step);
+    let solve = world
+        .solves
+        .last()
+        .filter(|s| s.substep + 1 == world.substeps_in_step);
     record.contacts = Some(match solve {
         None => Vec::new(),
         Some(s) => {
@@ -308,8 +351,16 @@ pub fn criteria_2d(mu: f64, records: &[Record2]) -> Option<[f64; 3]> {
     let mut any = false;
     for c in records.iter().flat_map(|r| r.contacts.iter().flatten()) {
         let Some(velocity) = c.c else { continue };
-        let k = contact_criteria(mu, &SVector::<f64, 2>::from(c.lambda), &SVector::<f64, 2>::from(velocity));
-        worst = [worst[0].max(k.primal), worst[1].max(k.dual), worst[2].max(k.complementarity)];
+        let k = contact_criteria(
+            mu,
+            &SVector::<f64, 2>::from(c.lambda),
+            &SVector::<f64, 2>::from(velocity),
+        );
+        worst = [
+            worst[0].max(k.primal),
+            worst[1].max(k.dual),
+            worst[2].max(k.complementarity),
+        ];
         any = true;
     }
     any.then_some(worst)
@@ -317,19 +368,35 @@ pub fn criteria_2d(mu: f64, records: &[Record2]) -> Option<[f64; 3]> {
 
 /// The records of a 2D trace file (its header checked to be a 2D trace of `bodies` bodies).
 pub fn read_trace_2d(path: &Path, bodies: usize) -> Result<Vec<Record2>, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let (_, first) = lines.next().ok_or_else(|| format!("{}: empty trace", path.display()))?;
-    let header: TraceHeader2 =
-        serde_json::from_str(first).map_err(|e| format!("{}:1: not a 2D trace header: {e}", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty());
+    let (_, first) = lines
+        .next()
+        .ok_or_else(|| format!("{}: empty trace", path.display()))?;
+    let header: TraceHeader2 = serde_json::from_str(first)
+        .map_err(|e| format!("{}:1: not a 2D trace header: {e}", path.display()))?;
     if header.dimension != 2 || header.bodies.len() != bodies {
-        return Err(format!("{}: a 2D trace of {} bodies was expected", path.display(), bodies));
+        return Err(format!(
+            "{}: a 2D trace of {} bodies was expected",
+            path.display(),
+            bodies
+        ));
     }
     lines
         .map(|(k, l)| {
-            let r: Record2 = serde_json::from_str(l).map_err(|e| format!("{}:{}: {e}", path.display(), k + 1))?;
+            let r: Record2 = serde_json::from_str(l)
+                .map_err(|e| format!("{}:{}: {e}", path.display(), k + 1))?;
             if r.bodies.len() != bodies {
-                return Err(format!("{}:{}: {} bodies, expected {bodies}", path.display(), k + 1, r.bodies.len()));
+                return Err(format!(
+                    "{}:{}: {} bodies, expected {bodies}",
+                    path.display(),
+                    k + 1,
+                    r.bodies.len()
+                ));
             }
             Ok(r)
         })
@@ -348,16 +415,28 @@ pub fn overlap_at(world: &mut World2, record: &Record2, contacts: &mut Vec<Conta
 }
 
 fn push_time(world: &World2) -> f64 {
-    world.impulses.iter().map(|i| i.time).fold(f64::INFINITY, f64::min)
+    world
+        .impulses
+        .iter()
+        .map(|i| i.time)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The observables of a 2D run's records.
 pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
     let mut world = loaded.world.clone();
     let mut contacts = Vec::new();
-    let overlaps: Vec<f64> = records.iter().map(|r| overlap_at(&mut world, r, &mut contacts)).collect();
+    let overlaps: Vec<f64> = records
+        .iter()
+        .map(|r| overlap_at(&mut world, r, &mut contacts))
+        .collect();
     let deepest = |from: f64| {
-        records.iter().zip(&overlaps).filter(|(r, _)| r.t >= from - 1e-9).map(|(_, o)| *o).fold(0.0, f64::max)
+        records
+            .iter()
+            .zip(&overlaps)
+            .filter(|(r, _)| r.t >= from - 1e-9)
+            .map(|(_, o)| *o)
+            .fold(0.0, f64::max)
     };
     let speed = |r: &Record2| (r.bodies[0].v[0].powi(2) + r.bodies[0].v[1].powi(2)).sqrt();
     let m = |key, value| Measured { key, value };
@@ -365,8 +444,12 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
     let mut out = match loaded.known.known {
         Known2::Slide => {
             let start = records.iter().rev().find(|r| r.t <= push + 1e-9);
-            let stop = records.iter().find(|r| r.t > push + 1e-9 && speed(r) < STOP_SPEED_2D);
-            let distance = start.zip(records.last()).map(|(a, b)| b.bodies[0].x[0] - a.bodies[0].x[0]);
+            let stop = records
+                .iter()
+                .find(|r| r.t > push + 1e-9 && speed(r) < STOP_SPEED_2D);
+            let distance = start
+                .zip(records.last())
+                .map(|(a, b)| b.bodies[0].x[0] - a.bodies[0].x[0]);
             vec![
                 m("stop_time", stop.map(|r| r.t - push)),
                 m("stop_distance", distance),
@@ -374,10 +457,16 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
             ]
         }
         Known2::Topple => {
-            let hit = records.iter().find(|r| r.bodies[0].theta.abs() >= HIT_ANGLE).map(|r| r.t - push);
+            let hit = records
+                .iter()
+                .find(|r| r.bodies[0].theta.abs() >= HIT_ANGLE)
+                .map(|r| r.t - push);
             vec![
                 m("hit_time", hit),
-                m("final_angle", records.last().map(|r| r.bodies[0].theta.abs())),
+                m(
+                    "final_angle",
+                    records.last().map(|r| r.bodies[0].theta.abs()),
+                ),
                 m("penetration", Some(deepest(0.0))),
             ]
         }
@@ -387,10 +476,17 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
                 records
                     .iter()
                     .filter(|r| r.t >= a.t)
-                    .flat_map(|r| r.bodies.iter().zip(&a.bodies).map(|(b, b0)| ((b.x[0] - b0.x[0]).powi(2) + (b.x[1] - b0.x[1]).powi(2)).sqrt()))
+                    .flat_map(|r| {
+                        r.bodies.iter().zip(&a.bodies).map(|(b, b0)| {
+                            ((b.x[0] - b0.x[0]).powi(2) + (b.x[1] - b0.x[1]).powi(2)).sqrt()
+                        })
+                    })
                     .fold(0.0, f64::max)
             });
-            vec![m("rest_drift", drift), m("penetration", Some(deepest(REST_FROM)))]
+            vec![
+                m("rest_drift", drift),
+                m("penetration", Some(deepest(REST_FROM))),
+            ]
         }
     };
     if let Some([primal, dual, complementarity]) = criteria_2d(loaded.world.params.mu, records) {
@@ -405,55 +501,136 @@ pub fn observe_2d(loaded: &Loaded2, records: &[Record2]) -> Vec<Measured> {
 /// side is 90°, and its top block's disc meets the ground's before that).
 pub const HIT_ANGLE: f64 = 80.0 * std::f64::consts::PI / 180.0;
 
-fn x(key: &'static str, name: &'static str, unit: &'static str, exact: Option<f64>, tolerance: Option<f64>, note: String) -> Expected {
-    Expected { key, name, unit, exact, tolerance, note }
+fn x(
+    key: &'static str,
+    name: &'static str,
+    unit: &'static str,
+    exact: Option<f64>,
+    tolerance: Option<f64>,
+    note: String,
+) -> Expected {
+    Expected {
+        key,
+        name,
+        unit,
+        exact,
+        tolerance,
+        note,
+    }
 }
 
 /// The expectations of a 2D scene: closed forms where the disc model has them, else rigidref's
 /// exact run (`reference`, its own observables).
 pub fn expectations_2d(loaded: &Loaded2, reference: &[Measured]) -> Vec<Expected> {
     let p = &loaded.world.params;
-    let theirs = |key: &str| reference.iter().find(|m| m.key == key).and_then(|m| m.value);
+    let theirs = |key: &str| {
+        reference
+            .iter()
+            .find(|m| m.key == key)
+            .and_then(|m| m.value)
+    };
     let slop = p.slop;
     let pen = |from: &str| {
-        x("penetration", "deepest disc overlap", "blocks", Some(0.0), Some(2.0 * slop),
-            format!("rigidref's disc overlap on the run's poses{from}; within twice rigidref's slop {slop} (the overlap its post-stabilisation lets stand)"))
+        x(
+            "penetration",
+            "deepest disc overlap",
+            "blocks",
+            Some(0.0),
+            Some(2.0 * slop),
+            format!(
+                "rigidref's disc overlap on the run's poses{from}; within twice rigidref's slop {slop} (the overlap its post-stabilisation lets stand)"
+            ),
+        )
     };
     let mut out = match loaded.known.known {
         Known2::Slide => {
             let b = &loaded.world.bodies[0];
-            let v0 = loaded.world.impulses.first().map_or(0.0, |i| i.impulse.norm() / b.mass);
+            let v0 = loaded
+                .world
+                .impulses
+                .first()
+                .map_or(0.0, |i| i.impulse.norm() / b.mass);
             let g = p.gravity;
             let flat = v0 * v0 / (2.0 * p.mu * g);
             let (t, d) = (theirs("stop_time"), theirs("stop_distance"));
             vec![
-                x("stop_time", "stop time after the push", "time", t, t.map(|t| 2.0 * p.dt + 0.05 * t),
-                    format!("rigidref's exact run (a flat Coulomb slide would stop after v₀/(μg) = {:.4}; the discs' bumps stop it sooner); within 2 steps + 5 %", v0 / (p.mu * g))),
-                x("stop_distance", "slide distance", "blocks", d, d.map(|d| 0.05 * d.abs()),
-                    format!("rigidref's exact run (a flat Coulomb slide would go v₀²/(2μg) = {flat:.4}; over the ground's discs it climbs bumps 0.09 high); within 5 %")),
+                x(
+                    "stop_time",
+                    "stop time after the push",
+                    "time",
+                    t,
+                    t.map(|t| 2.0 * p.dt + 0.05 * t),
+                    format!(
+                        "rigidref's exact run (a flat Coulomb slide would stop after v₀/(μg) = {:.4}; the discs' bumps stop it sooner); within 2 steps + 5 %",
+                        v0 / (p.mu * g)
+                    ),
+                ),
+                x(
+                    "stop_distance",
+                    "slide distance",
+                    "blocks",
+                    d,
+                    d.map(|d| 0.05 * d.abs()),
+                    format!(
+                        "rigidref's exact run (a flat Coulomb slide would go v₀²/(2μg) = {flat:.4}; over the ground's discs it climbs bumps 0.09 high); within 5 %"
+                    ),
+                ),
                 pen(""),
             ]
         }
         Known2::Topple => {
             let t = theirs("hit_time");
             vec![
-                x("hit_time", "time from the push to 80°", "time", t, t.map(|t| 2.0 * p.dt + 0.05 * t),
-                    "rigidref's exact run; within 2 steps + 5 %".to_string()),
-                x("final_angle", "final |θ|", "rad", Some(std::f64::consts::FRAC_PI_2), Some(0.05),
-                    "lying on its side, π/2; within 0.05 rad (its ends rest on the ground's discs)".to_string()),
+                x(
+                    "hit_time",
+                    "time from the push to 80°",
+                    "time",
+                    t,
+                    t.map(|t| 2.0 * p.dt + 0.05 * t),
+                    "rigidref's exact run; within 2 steps + 5 %".to_string(),
+                ),
+                x(
+                    "final_angle",
+                    "final |θ|",
+                    "rad",
+                    Some(std::f64::consts::FRAC_PI_2),
+                    Some(0.05),
+                    "lying on its side, π/2; within 0.05 rad (its ends rest on the ground's discs)"
+                        .to_string(),
+                ),
                 pen(""),
             ]
         }
         Known2::Rest => vec![
-            x("rest_drift", "largest displacement after settling", "blocks", Some(0.0), Some(0.01),
-                format!("0 from t = {REST_FROM} on (a stack at rest stays); within 0.01 block")),
+            x(
+                "rest_drift",
+                "largest displacement after settling",
+                "blocks",
+                Some(0.0),
+                Some(0.01),
+                format!("0 from t = {REST_FROM} on (a stack at rest stays); within 0.01 block"),
+            ),
             pen(&format!(" from t = {REST_FROM} on")),
         ],
     };
     out.push(x("criterion_primal", "primal criterion (max)", "mass·block/time", None, None,
         "reported: 0 for Coulomb's law (ContactBench), on each step's last substep's contacts and impulses".to_string()));
-    out.push(x("criterion_dual", "dual criterion (max)", "block/time", None, None, "reported: 0 for Coulomb's law".to_string()));
-    out.push(x("criterion_complementarity", "complementarity (max)", "mass·block²/time²", None, None, "reported: 0 for Coulomb's law".to_string()));
+    out.push(x(
+        "criterion_dual",
+        "dual criterion (max)",
+        "block/time",
+        None,
+        None,
+        "reported: 0 for Coulomb's law".to_string(),
+    ));
+    out.push(x(
+        "criterion_complementarity",
+        "complementarity (max)",
+        "mass·block²/time²",
+        None,
+        None,
+        "reported: 0 for Coulomb's law".to_string(),
+    ));
     out
 }
 
@@ -475,7 +652,11 @@ pub fn reference(l: &Loaded2, out: &Path) -> Result<SceneResult, String> {
         trace: Some(super::relative(out, &path)),
         model: None,
         measured: super::judged(&expected, &reference, &reference),
-        plotted: Some(plotted_2d(format!("{} (Newton)", Engine::Rigidref.name()), &records, l)),
+        plotted: Some(plotted_2d(
+            format!("{} (Newton)", Engine::Rigidref.name()),
+            &records,
+            l,
+        )),
     };
     Ok(SceneResult {
         file: format!("{name}.json"),
@@ -492,10 +673,27 @@ pub fn reference(l: &Loaded2, out: &Path) -> Result<SceneResult, String> {
 /// A 2D engine's run of `settings` on `l` (its trace already written by the Python mirror under
 /// `out/traces/ENGINE-SETTINGS/`), measured and judged against `scene`'s expectations and
 /// rigidref's run; `failure`: the engine's process failed as a whole.
-pub fn engine_run(l: &Loaded2, scene: &SceneResult, engine: Engine, settings: Settings, failure: Option<&str>, out: &Path) -> RunResult {
+pub fn engine_run(
+    l: &Loaded2,
+    scene: &SceneResult,
+    engine: Engine,
+    settings: Settings,
+    failure: Option<&str>,
+    out: &Path,
+) -> RunResult {
     let name = stem(l.known.file);
-    let mut run = RunResult { engine, settings: Some(settings), status: RunStatus::Ran, trace: None, model: None, measured: Vec::new(), plotted: None };
-    let dir = out.join("traces").join(format!("{}-{}", engine.name(), settings.name()));
+    let mut run = RunResult {
+        engine,
+        settings: Some(settings),
+        status: RunStatus::Ran,
+        trace: None,
+        model: None,
+        measured: Vec::new(),
+        plotted: None,
+    };
+    let dir = out
+        .join("traces")
+        .join(format!("{}-{}", engine.name(), settings.name()));
     let path = dir.join(format!("{name}.jsonl"));
     let model_path = dir.join(format!("{name}.model.json"));
     let outcome = match failure {
@@ -506,7 +704,11 @@ pub fn engine_run(l: &Loaded2, scene: &SceneResult, engine: Engine, settings: Se
         Ok((model, records)) => {
             run.model = model;
             run.trace = Some(super::relative(out, &path));
-            run.measured = super::judged(&scene.expected, &observe_2d(l, &records), &super::reference_of(scene));
+            run.measured = super::judged(
+                &scene.expected,
+                &observe_2d(l, &records),
+                &super::reference_of(scene),
+            );
             run.plotted = Some(plotted_2d(run.label(), &records, l));
         }
         Err(e) => run.status = RunStatus::Failed(e),
@@ -516,10 +718,18 @@ pub fn engine_run(l: &Loaded2, scene: &SceneResult, engine: Engine, settings: Se
 
 /// The panels of a 2D scene's plot: what its observables are measured from.
 pub const PANELS_2D: [(&str, &str, &str); 5] = [
-    ("position", "largest displacement of a body from its start", "blocks"),
+    (
+        "position",
+        "largest displacement of a body from its start",
+        "blocks",
+    ),
     ("speed", "largest speed of a body", "blocks/time"),
     ("angle", "largest |θ| of a body", "rad"),
-    ("penetration", "deepest disc overlap (rigidref's detection)", "blocks"),
+    (
+        "penetration",
+        "deepest disc overlap (rigidref's detection)",
+        "blocks",
+    ),
     ("energy", "total energy", "mass·block²/time²"),
 ];
 
@@ -527,21 +737,47 @@ pub const PANELS_2D: [(&str, &str, &str); 5] = [
 /// against time: the quantities its observables are measured from. docs/validation.md
 /// §"The report".
 pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun {
-    let moving: Vec<usize> = (0..l.world.bodies.len()).filter(|&i| !l.world.bodies[i].pinned).collect();
+    let moving: Vec<usize> = (0..l.world.bodies.len())
+        .filter(|&i| !l.world.bodies[i].pinned)
+        .collect();
     let Some(first) = records.first() else {
-        return PlottedRun { label, t: Vec::new(), plots: Vec::new() };
+        return PlottedRun {
+            label,
+            t: Vec::new(),
+            plots: Vec::new(),
+        };
     };
-    let largest = |r: &Record2, f: &dyn Fn(&Record2, usize) -> f64| moving.iter().map(|&i| f(r, i)).fold(0.0, f64::max);
+    let largest = |r: &Record2, f: &dyn Fn(&Record2, usize) -> f64| {
+        moving.iter().map(|&i| f(r, i)).fold(0.0, f64::max)
+    };
     let mut world = l.world.clone();
     let mut contacts = Vec::new();
     let values: [Vec<Option<f64>>; 5] = [
-        records.iter().map(|r| Some(largest(r, &|r, i| {
-            let (a, b) = (r.bodies[i].x, first.bodies[i].x);
-            ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
-        }))).collect(),
-        records.iter().map(|r| Some(largest(r, &|r, i| (r.bodies[i].v[0].powi(2) + r.bodies[i].v[1].powi(2)).sqrt()))).collect(),
-        records.iter().map(|r| Some(largest(r, &|r, i| r.bodies[i].theta.abs()))).collect(),
-        records.iter().map(|r| Some(overlap_at(&mut world, r, &mut contacts))).collect(),
+        records
+            .iter()
+            .map(|r| {
+                Some(largest(r, &|r, i| {
+                    let (a, b) = (r.bodies[i].x, first.bodies[i].x);
+                    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+                }))
+            })
+            .collect(),
+        records
+            .iter()
+            .map(|r| {
+                Some(largest(r, &|r, i| {
+                    (r.bodies[i].v[0].powi(2) + r.bodies[i].v[1].powi(2)).sqrt()
+                }))
+            })
+            .collect(),
+        records
+            .iter()
+            .map(|r| Some(largest(r, &|r, i| r.bodies[i].theta.abs())))
+            .collect(),
+        records
+            .iter()
+            .map(|r| Some(overlap_at(&mut world, r, &mut contacts)))
+            .collect(),
         records.iter().map(|r| Some(r.energy.total)).collect(),
     ];
     let plots = PANELS_2D
@@ -552,8 +788,15 @@ pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun
             title: title.into(),
             unit: unit.into(),
             log: false,
-            series: vec![Series { name: String::new(), values }],
+            series: vec![Series {
+                name: String::new(),
+                values,
+            }],
         })
         .collect();
-    PlottedRun { label, t: records.iter().map(|r| r.t).collect(), plots }
+    PlottedRun {
+        label,
+        t: records.iter().map(|r| r.t).collect(),
+        plots,
+    }
 }

@@ -12,8 +12,8 @@ use crate::rigid3d::collide::pieces::{ConvexPieces, rotation};
 use crate::rigid3d::mesh::TriMesh;
 use crate::rigid3d::scene::Scene;
 use nalgebra::{Matrix3, Vector3};
-use rapier3d_f64::math::{Rotation, Vector};
 use rapier3d_f64::geometry::PairContacts;
+use rapier3d_f64::math::{Rotation, Vector};
 use rapier3d_f64::prelude::*;
 
 /// One body's state, world frame.
@@ -203,10 +203,19 @@ impl RapierMirror {
             .iter()
             .map(|h| {
                 let body = &self.world.bodies[*h];
-                let m = body.mass_properties().local_mprops.reconstruct_inertia_matrix();
+                let m = body
+                    .mass_properties()
+                    .local_mprops
+                    .reconstruct_inertia_matrix();
                 let cols = [m.x_axis, m.y_axis, m.z_axis];
-                let rows: Vec<[f64; 3]> = (0..3).map(|i| [cols[0][i], cols[1][i], cols[2][i]]).collect();
-                let mu: Vec<f64> = body.colliders().iter().map(|c| self.world.colliders[*c].friction()).collect();
+                let rows: Vec<[f64; 3]> = (0..3)
+                    .map(|i| [cols[0][i], cols[1][i], cols[2][i]])
+                    .collect();
+                let mu: Vec<f64> = body
+                    .colliders()
+                    .iter()
+                    .map(|c| self.world.colliders[*c].friction())
+                    .collect();
                 serde_json::json!({"mass": body.mass(), "inertia": rows, "mu": mu})
             })
             .collect();
@@ -266,7 +275,11 @@ impl RapierMirror {
                     let p = from_vector(pose1 * point.local_p1);
                     // rapier's normal points out of collider 1; the trace's from the other body
                     // into the body named first.
-                    let (bodies, normal) = if b1 >= 0 { ([b1, b2], -n) } else { ([b2, b1], n) };
+                    let (bodies, normal) = if b1 >= 0 {
+                        ([b1, b2], -n)
+                    } else {
+                        ([b2, b1], n)
+                    };
                     out.push(crate::rigid3d::trace::ContactRecord {
                         bodies,
                         p: p.into(),

@@ -528,7 +528,12 @@ fn the_nut_bag_demonstration_starts_raising_the_large_nuts_in_fifty_cycles() {
     let (rows, stderr) = nut_bag_demonstration("500");
     let (first, last) = (&rows[0], rows.last().unwrap());
     assert_eq!(first[3], 0.0, "the large nuts start in the bottom half");
-    assert!(last[3] >= first[3] + 0.25, "fraction {} → {}", first[3], last[3]);
+    assert!(
+        last[3] >= first[3] + 0.25,
+        "fraction {} → {}",
+        first[3],
+        last[3]
+    );
     let gap = |r: &Vec<f64>| r[1] - r[2];
     assert!(
         gap(last) > gap(first) + 50.0,

@@ -996,7 +996,14 @@ fn crosscheck_checks_detection_against_the_oracle() {
     let tmp = tempfile::tempdir().unwrap();
     let scene = common::project_root().join("scenes/touching_three_boxes.json");
     let scene = scene.to_str().unwrap();
-    let args = ["crosscheck", scene, "--time", "0.3", "--set", "solver=newton"];
+    let args = [
+        "crosscheck",
+        scene,
+        "--time",
+        "0.3",
+        "--set",
+        "solver=newton",
+    ];
     let out = rigidref(&args, tmp.path());
     common::assert_success(&out);
     let stdout = String::from_utf8_lossy(&out.stdout).to_string();
@@ -1005,7 +1012,8 @@ fn crosscheck_checks_detection_against_the_oracle() {
         .find(|l| l.starts_with("detection"))
         .unwrap_or_else(|| panic!("{stdout}"));
     assert!(
-        line.contains("pairs checked against the separating-axis oracle") && line.ends_with(": agree"),
+        line.contains("pairs checked against the separating-axis oracle")
+            && line.ends_with(": agree"),
         "{line}"
     );
     let out = rigidref(&[&args[..], &["--json"]].concat(), tmp.path());

@@ -381,13 +381,20 @@ fn complete_holds_every_contact_the_vertex_rule_finds() {
                 for c in &complete_contacts {
                     if !vertex_contacts.contains(c) {
                         let radius = match c.body2 {
-                            Some(j) => w.colliders()[c.body1].radius().min(w.colliders()[j].radius()),
+                            Some(j) => w.colliders()[c.body1]
+                                .radius()
+                                .min(w.colliders()[j].radius()),
                             None => w.colliders()[c.body1].radius(),
                         };
-                        let margin = rigidref::rigid3d::collide::manifold::speculative_margin(radius);
+                        let margin =
+                            rigidref::rigid3d::collide::manifold::speculative_margin(radius);
                         match (c.body2, c.feature) {
-                            (Some(_), Feature::Manifold { .. }) => assert!(c.depth >= -margin, "{c:?}"),
-                            (None, Feature::Vertex(_)) => assert!(c.depth <= 0.0 && c.depth > -margin, "{c:?}"),
+                            (Some(_), Feature::Manifold { .. }) => {
+                                assert!(c.depth >= -margin, "{c:?}")
+                            }
+                            (None, Feature::Vertex(_)) => {
+                                assert!(c.depth <= 0.0 && c.depth > -margin, "{c:?}")
+                            }
                             _ => panic!("{name}, step {k}: complete added {c:?}"),
                         }
                         assert!((c.frame.n.norm() - 1.0).abs() < 1e-12);

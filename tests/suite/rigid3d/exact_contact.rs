@@ -66,7 +66,11 @@ fn detection_agrees_with_the_oracle_on_random_and_degenerate_poses() {
     println!("{}", summary(&r));
     assert_eq!(r.disagreements, 0, "{}", summary(&r));
     // The campaign is not vacuous: a fair share overlaps, and many pairs touch within round-off.
-    assert!(r.overlapping > 8_000 && r.touching > 10_000, "{}", summary(&r));
+    assert!(
+        r.overlapping > 8_000 && r.touching > 10_000,
+        "{}",
+        summary(&r)
+    );
     assert!(
         r.least_depth_ratio >= 0.9 && r.worst_depth_ratio <= 1.0 / (0.9 * 0.98) + 1e-9,
         "{}",
@@ -132,12 +136,18 @@ fn aligned_cubes_overlapping_by_five_centimetres_meet_along_y_at_that_depth() {
     for c in &between {
         // 1e-12 m: the cube's coordinates are off-centre by an ulp (massprops' centring).
         assert!(
-            c.frame.n.x.abs() < 1e-15 && c.frame.n.z.abs() < 1e-15 && (c.frame.n.y.abs() - 1.0).abs() < 1e-15,
+            c.frame.n.x.abs() < 1e-15
+                && c.frame.n.z.abs() < 1e-15
+                && (c.frame.n.y.abs() - 1.0).abs() < 1e-15,
             "{c:?}"
         );
         assert!((c.depth - 0.05).abs() < 1e-12, "{c:?}");
     }
-    assert!(between.iter().any(|c| matches!(c.feature, Feature::Manifold { .. })));
+    assert!(
+        between
+            .iter()
+            .any(|c| matches!(c.feature, Feature::Manifold { .. }))
+    );
 }
 
 /// The largest distance of any body from its start over a run, the deepest contact of any step,
@@ -219,10 +229,19 @@ fn a_cube_balanced_edge_on_parallel_edge_tips_off_and_lands() {
     assert!(deepest < PENETRATION_BOUND * 0.2, "{deepest}");
     // The energy never rises by more than 1e-6 of itself (measured 5.2e-8: PGS's 100 sweeps
     // leave impulses slightly off, which can add a little, docs/contact.md §"Stabilisation").
-    assert!(highest_energy <= e0 * (1.0 + 1e-6), "{e0} → {highest_energy}");
+    assert!(
+        highest_energy <= e0 * (1.0 + 1e-6),
+        "{e0} → {highest_energy}"
+    );
     let (lower, upper) = (&world.bodies[0], &world.bodies[1]);
-    assert!((lower.x - Vector3::new(0.0, 0.1, 0.0)).norm() < 0.05, "{lower:?}");
-    assert!(upper.x.y < 0.15 && (upper.x - lower.x).xz().norm() > 0.2, "{upper:?}");
+    assert!(
+        (lower.x - Vector3::new(0.0, 0.1, 0.0)).norm() < 0.05,
+        "{lower:?}"
+    );
+    assert!(
+        upper.x.y < 0.15 && (upper.x - lower.x).xz().norm() > 0.2,
+        "{upper:?}"
+    );
 }
 
 /// The heavy-on-light stack (1 000 kg on 1 g, μ 0.9 cone, dt 1 ms, the exact solver) written
@@ -278,9 +297,15 @@ fn the_watch_measures_deep_overlaps_as_the_oracle_does() {
             &colliders[1].pieces.pieces[0],
             &bodies[1],
         );
-        let pair = measured.iter().find(|p| p.body2.is_some()).map_or(0.0, |p| p.depth);
+        let pair = measured
+            .iter()
+            .find(|p| p.body2.is_some())
+            .map_or(0.0, |p| p.depth);
         // 1e-12 m: the box shortcut and the oracle take the same minimum over the same axes.
-        assert!((pair - oracle).abs() <= 1e-12, "meshes {a}, {b}: watch {pair}, oracle {oracle}");
+        assert!(
+            (pair - oracle).abs() <= 1e-12,
+            "meshes {a}, {b}: watch {pair}, oracle {oracle}"
+        );
         if oracle > 0.1 * colliders[0].size().min(colliders[1].size()) {
             deep += 1;
         }
@@ -297,14 +322,29 @@ fn overlaps_and_wrong_contacts_warn_once_naming_the_bodies_and_the_step() {
     forced.params.stabilization = 0.0; // leave the overlap in place
     let (_, _, warnings, _) = run_and_watch(&forced, 3);
     let names = "body 0 (\"bottom\") and body 1 (\"top\")";
-    let overlap: Vec<_> = warnings.iter().filter(|w| w.contains("interpenetrate")).collect();
+    let overlap: Vec<_> = warnings
+        .iter()
+        .filter(|w| w.contains("interpenetrate"))
+        .collect();
     assert_eq!(overlap.len(), 1, "{warnings:?}");
-    assert!(overlap[0].starts_with("warning: step 0 (t = 0 s)"), "{overlap:?}");
-    assert!(overlap[0].contains(&format!("{names} interpenetrate by 0.1500 m")), "{overlap:?}");
+    assert!(
+        overlap[0].starts_with("warning: step 0 (t = 0 s)"),
+        "{overlap:?}"
+    );
+    assert!(
+        overlap[0].contains(&format!("{names} interpenetrate by 0.1500 m")),
+        "{overlap:?}"
+    );
     assert!(overlap[0].ends_with("the scene writes them overlapping; stabilisation pushes them apart at most at stabilization_max_speed (1 m/s)"), "{overlap:?}");
-    let deep: Vec<_> = warnings.iter().filter(|w| w.contains("more than the bound") && w.contains("a contact between")).collect();
+    let deep: Vec<_> = warnings
+        .iter()
+        .filter(|w| w.contains("more than the bound") && w.contains("a contact between"))
+        .collect();
     assert_eq!(deep.len(), 1, "{warnings:?}");
-    assert!(deep[0].starts_with("warning: step 1 ") && deep[0].contains(names), "{deep:?}");
+    assert!(
+        deep[0].starts_with("warning: step 1 ") && deep[0].contains(names),
+        "{deep:?}"
+    );
 
     // The bug: contacts along a side face, as deep as the cube is wide.
     let faults = Faults {
@@ -318,7 +358,11 @@ fn overlaps_and_wrong_contacts_warn_once_naming_the_bodies_and_the_step() {
         .filter(|w| w.contains("detection found a contact that is not there"))
         .collect();
     assert!(!wrong.is_empty(), "{warnings:?}");
-    assert!(wrong[0].starts_with("warning: step 1 ") && wrong[0].contains("body 0 (\"cube 1\") and body 1 (\"cube 2\")"), "{wrong:?}");
+    assert!(
+        wrong[0].starts_with("warning: step 1 ")
+            && wrong[0].contains("body 0 (\"cube 1\") and body 1 (\"cube 2\")"),
+        "{wrong:?}"
+    );
     // Once per pair: two pairs.
     assert!(wrong.len() <= 2, "{wrong:?}");
     // And the audit that crosscheck runs disagrees too; without the bug it agrees.
@@ -333,7 +377,12 @@ fn overlaps_and_wrong_contacts_warn_once_naming_the_bodies_and_the_step() {
             common::run(&mut w, 5, |_, _| {});
             w.detection_audit().unwrap().clone()
         });
-        assert_eq!(audit.disagreements > 0, expect, "bug {bug}: {:?}", audit.examples);
+        assert_eq!(
+            audit.disagreements > 0,
+            expect,
+            "bug {bug}: {:?}",
+            audit.examples
+        );
         assert!(audit.pairs >= 10);
     }
 }
@@ -362,7 +411,10 @@ fn an_overlap_written_into_a_scene_is_pushed_out_without_launching_the_body() {
     let (fastest, highest, end) = run(rigidref::rigid3d::scene::DEFAULT_MAX_PUSH_SPEED);
     let g_h = 9.8 * 0.01;
     assert!(fastest <= 1.0 + g_h, "rose at {fastest} m/s");
-    assert!(highest <= 0.3 + 1.0 / (2.0 * 9.8) + 0.01, "rose to {highest} m");
+    assert!(
+        highest <= 0.3 + 1.0 / (2.0 * 9.8) + 0.01,
+        "rose to {highest} m"
+    );
     // It ends resting on the lower cube.
     assert!((end - 0.3).abs() < 0.006, "ends at {end}");
     let (unbounded, _, _) = run(f64::INFINITY);

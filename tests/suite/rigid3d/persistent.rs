@@ -43,7 +43,11 @@ fn persistent(scene: &mut Scene) {
 #[test]
 fn kept_manifolds_agree_with_fresh_detection_within_the_bound_on_the_canonical_complete_scenes() {
     let scenes = complete_scenes();
-    assert!(scenes.len() >= 5, "too few complete scenes: {}", scenes.len());
+    assert!(
+        scenes.len() >= 5,
+        "too few complete scenes: {}",
+        scenes.len()
+    );
     let (mut kept, mut searched) = (0, 0);
     for (name, mut scene) in scenes {
         persistent(&mut scene);
@@ -75,7 +79,11 @@ fn kept_manifolds_agree_with_fresh_detection_within_the_bound_on_the_canonical_c
 
 #[test]
 fn kept_features_give_the_fresh_manifold_bit_for_bit_at_an_unchanged_pose() {
-    for name in ["cube_stack.json", "touching_pyramid.json", "edge_landing.json"] {
+    for name in [
+        "cube_stack.json",
+        "touching_pyramid.json",
+        "edge_landing.json",
+    ] {
         let mut scene = load_scene(&common::project_root().join("scenes").join(name)).unwrap();
         persistent(&mut scene);
         let mut world = World::new(&scene).unwrap();
@@ -89,8 +97,14 @@ fn kept_features_give_the_fresh_manifold_bit_for_bit_at_an_unchanged_pose() {
             detector.detect(&world.bodies, world.colliders(), method, &mut first);
             detector.detect(&world.bodies, world.colliders(), method, &mut second);
             detect_contacts(&world.bodies, world.colliders(), method, &mut fresh);
-            assert_eq!(first, fresh, "{name}: first call differs from fresh detection");
-            assert_eq!(second, fresh, "{name}: kept features differ at the same pose");
+            assert_eq!(
+                first, fresh,
+                "{name}: first call differs from fresh detection"
+            );
+            assert_eq!(
+                second, fresh,
+                "{name}: kept features differ at the same pose"
+            );
             served += detector.stats().manifolds_kept;
         }
         assert!(served > 0, "{name}: the kept features never served");
@@ -103,10 +117,22 @@ fn the_check_rejects_a_manifold_contact_along_a_wrong_axis() {
     let mut world = World::new(&scene).unwrap();
     common::run(&mut world, 50, |_, _| {});
     let mut fresh = Vec::new();
-    detect_contacts(&world.bodies, world.colliders(), CollisionMethod::Complete, &mut fresh);
+    detect_contacts(
+        &world.bodies,
+        world.colliders(),
+        CollisionMethod::Complete,
+        &mut fresh,
+    );
     let mut oracle = OracleBuffers::default();
     assert!(
-        kept_manifolds_agree(&world.bodies, world.colliders(), &fresh, &fresh, &mut oracle).is_ok()
+        kept_manifolds_agree(
+            &world.bodies,
+            world.colliders(),
+            &fresh,
+            &fresh,
+            &mut oracle
+        )
+        .is_ok()
     );
     // A body-pair manifold contact turned to a horizontal normal: the boxes overlap along it
     // by a box's width, far beyond the bound.
@@ -117,8 +143,14 @@ fn the_check_rejects_a_manifold_contact_along_a_wrong_axis() {
         .expect("cube_stack has manifold contacts between boxes");
     wrong[k].frame = ContactFrame::from_normal(&nalgebra::Vector3::x());
     assert!(
-        kept_manifolds_agree(&world.bodies, world.colliders(), &wrong, &fresh, &mut oracle)
-            .is_err()
+        kept_manifolds_agree(
+            &world.bodies,
+            world.colliders(),
+            &wrong,
+            &fresh,
+            &mut oracle
+        )
+        .is_err()
     );
     // A vertex-rule or ground contact changed by a bit is not allowed either.
     let mut nudged = fresh.clone();
@@ -128,7 +160,13 @@ fn the_check_rejects_a_manifold_contact_along_a_wrong_axis() {
         .expect("cube_stack has ground contacts");
     nudged[v].depth = f64::from_bits(nudged[v].depth.to_bits() + 1);
     assert!(
-        kept_manifolds_agree(&world.bodies, world.colliders(), &nudged, &fresh, &mut oracle)
-            .is_err()
+        kept_manifolds_agree(
+            &world.bodies,
+            world.colliders(),
+            &nudged,
+            &fresh,
+            &mut oracle
+        )
+        .is_err()
     );
 }

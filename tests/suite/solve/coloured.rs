@@ -9,8 +9,9 @@ use nalgebra::SVector;
 use proptest::prelude::*;
 use rigidref::problem::{ContactProblem3, FrictionModel};
 use rigidref::solve::pgs::Lanes;
-use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
+use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings};
 
+/// [`super::solve_seeded`] from seed 0: λ and the report.
 fn solve(
     problem: &ContactProblem3,
     iterations: u32,
@@ -18,16 +19,8 @@ fn solve(
     order: ContactOrder,
     threads: usize,
 ) -> (Vec<SVector<f64, 3>>, rigidref::solve::SolveReport) {
-    let mut workspace = PgsWorkspace::new(0);
-    workspace.set_threads(threads);
-    let mut lambda = Vec::new();
-    let settings = PgsSettings {
-        max_iterations: iterations,
-        tolerance,
-        order,
-        local: LocalSolve::Rows,
-    };
-    let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
+    let (lambda, report, _) =
+        super::solve_seeded(problem, iterations, tolerance, order, 0, threads);
     (lambda, report)
 }
 

@@ -102,3 +102,30 @@ pub(super) fn solve_on<const D: usize, const R: usize>(
         workspace.last_threads(),
     )
 }
+
+/// Solves `problem` in `order` from a workspace seeded with `seed` on `threads` threads:
+/// λ, the report and the workspace (for its sweeps' orders and groups).
+pub(super) fn solve_seeded(
+    problem: &rigidref::problem::ContactProblem3,
+    sweeps: u32,
+    tolerance: Option<f64>,
+    order: rigidref::solve::ContactOrder,
+    seed: u64,
+    threads: usize,
+) -> (
+    Vec<nalgebra::SVector<f64, 3>>,
+    rigidref::solve::SolveReport,
+    rigidref::solve::PgsWorkspace<6, 3>,
+) {
+    let mut workspace = rigidref::solve::PgsWorkspace::new(seed);
+    workspace.set_threads(threads);
+    let mut lambda = Vec::new();
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: sweeps,
+        tolerance,
+        order,
+        local: rigidref::solve::LocalSolve::Rows,
+    };
+    let report = rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
+    (lambda, report, workspace)
+}

@@ -13,7 +13,8 @@ use rigidref::solve::residual::siconos_error;
 use rigidref::solve::{NewtonSettings, solve_newton_local, solve_newton_local_until};
 
 fn boxes_stack() -> LocalProblem<3> {
-    let path = common::project_root().join("tests/data/siconos_hard/BoxesStack1-i100000-32.hdf5.dat");
+    let path =
+        common::project_root().join("tests/data/siconos_hard/BoxesStack1-i100000-32.hdf5.dat");
     match read_dat(&path).unwrap() {
         AnyLocalProblem::Three(p) => p,
         AnyLocalProblem::Two(_) => panic!("BoxesStack1 is a 3D problem"),

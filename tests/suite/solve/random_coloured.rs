@@ -7,37 +7,11 @@
 use crate::common;
 
 use common::problems::{build, spec, tiled};
-use nalgebra::SVector;
 use proptest::prelude::*;
 use rigidref::problem::{ContactProblem3, FrictionModel};
-use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
+use rigidref::solve::ContactOrder;
 
-/// Solves `problem` in `order` from a workspace seeded with `seed` on `threads` threads:
-/// λ, the report and the workspace (for its sweeps' orders and groups).
-fn solve(
-    problem: &ContactProblem3,
-    sweeps: u32,
-    tolerance: Option<f64>,
-    order: ContactOrder,
-    seed: u64,
-    threads: usize,
-) -> (
-    Vec<SVector<f64, 3>>,
-    rigidref::solve::SolveReport,
-    PgsWorkspace<6, 3>,
-) {
-    let mut workspace = PgsWorkspace::new(seed);
-    workspace.set_threads(threads);
-    let mut lambda = Vec::new();
-    let settings = PgsSettings {
-        max_iterations: sweeps,
-        tolerance,
-        order,
-        local: LocalSolve::Rows,
-    };
-    let report = solve_pgs(problem, &settings, &mut workspace, &mut lambda);
-    (lambda, report, workspace)
-}
+use super::solve_seeded as solve;
 
 /// A problem of many independent copies of a small random one: enough contacts per colour for
 /// groups of four and for two threads.

@@ -300,7 +300,11 @@ fn no_cli_module_imports_a_module_that_imports_it_back() {
     let edges = imports(&modules);
     // The reader sees the binary's imports: `super::` in a file of cli/ and `crate::cli::` in a
     // file of a folder below it.
-    assert!(edges["cli::view"].contains("cli::run"), "{:?}", edges["cli::view"]);
+    assert!(
+        edges["cli::view"].contains("cli::run"),
+        "{:?}",
+        edges["cli::view"]
+    );
     assert!(edges["cli::render::render3d"].contains("cli::run"));
     let deepest = modules.keys().map(|m| m.split("::").count()).max().unwrap();
     let mut found = Vec::new();

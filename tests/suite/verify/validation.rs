@@ -63,7 +63,15 @@ fn the_mirror_description_carries_every_scenes_masses_inertias_mu_gravity_and_st
         let scene = load_scene(&common::project_root().join("scenes").join(known.file)).unwrap();
         let d = MirrorScene::of_scene(&scene, "x", 10).unwrap();
         // Copied, not recomputed: equal to the bit.
-        assert_eq!((d.dt, d.h, d.mu, d.substeps), (scene.params.dt, scene.params.h(), scene.params.mu, scene.params.substeps));
+        assert_eq!(
+            (d.dt, d.h, d.mu, d.substeps),
+            (
+                scene.params.dt,
+                scene.params.h(),
+                scene.params.mu,
+                scene.params.substeps
+            )
+        );
         assert_eq!(d.gravity, <[f64; 3]>::from(scene.params.gravity));
         for (m, b) in d.bodies.iter().zip(&scene.bodies) {
             assert_eq!(m.mass, b.mass, "{}", known.file);
@@ -78,11 +86,17 @@ fn the_mirror_description_carries_every_scenes_masses_inertias_mu_gravity_and_st
                 MirrorShape::Box { half_extents } => {
                     for v in &b.mesh.vertices {
                         for k in 0..3 {
-                            assert!(v[k].abs() <= half_extents[k] * (1.0 + 1e-12), "{}", known.file);
+                            assert!(
+                                v[k].abs() <= half_extents[k] * (1.0 + 1e-12),
+                                "{}",
+                                known.file
+                            );
                         }
                     }
                 }
-                MirrorShape::Sphere { radius } => assert_eq!(*radius, b.ellipsoid.unwrap().semi_axes.x),
+                MirrorShape::Sphere { radius } => {
+                    assert_eq!(*radius, b.ellipsoid.unwrap().semi_axes.x)
+                }
                 MirrorShape::Hull { vertices } => assert!(vertices.len() >= 4),
             }
         }
@@ -111,13 +125,23 @@ fn validate_with_rapier_writes_the_markdown_json_and_a_plot_per_scene() {
     for known in SCENES_3D {
         let stem = known.file.trim_end_matches(".json");
         let svg = std::fs::read_to_string(out.join("plots").join(format!("{stem}.svg"))).unwrap();
-        assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"), "{stem}.svg");
-        assert!(svg.contains("rapier (default)") && svg.contains("rigidref (Newton)"), "{stem}.svg has no legend");
+        assert!(
+            svg.starts_with("<svg") || svg.starts_with("<?xml"),
+            "{stem}.svg"
+        );
+        assert!(
+            svg.contains("rapier (default)") && svg.contains("rigidref (Newton)"),
+            "{stem}.svg has no legend"
+        );
         assert!(md.contains(&format!("## {stem}")));
         let s = scene(report, known.file);
         for settings in ["default", "accurate"] {
             let r = run(s, "rapier", Some(settings));
-            assert_eq!(r["status"]["status"], "ran", "{stem} {settings}: {}", r["status"]);
+            assert_eq!(
+                r["status"]["status"], "ran",
+                "{stem} {settings}: {}",
+                r["status"]
+            );
             assert!(out.join(r["trace"].as_str().unwrap()).is_file());
         }
     }
@@ -136,12 +160,22 @@ fn rapiers_model_reads_back_the_scenes_masses_inertias_mu_and_step() {
             // rapier stores the inverse mass and principal moments in a principal frame (f64):
             // read back to a few ulps of the scale.
             let mass = b["mass"].as_f64().unwrap();
-            assert!((mass - body.mass).abs() <= 1e-12 * body.mass, "{}: mass {mass} vs {}", known.file, body.mass);
+            assert!(
+                (mass - body.mass).abs() <= 1e-12 * body.mass,
+                "{}: mass {mass} vs {}",
+                known.file,
+                body.mass
+            );
             let scale = body.inertia.norm();
             for i in 0..3 {
                 for j in 0..3 {
                     let got = b["inertia"][i][j].as_f64().unwrap();
-                    assert!((got - body.inertia[(i, j)]).abs() <= 1e-12 * scale, "{}: J[{i}][{j}] {got} vs {}", known.file, body.inertia[(i, j)]);
+                    assert!(
+                        (got - body.inertia[(i, j)]).abs() <= 1e-12 * scale,
+                        "{}: J[{i}][{j}] {got} vs {}",
+                        known.file,
+                        body.inertia[(i, j)]
+                    );
                 }
             }
             if sc.params.check_collisions {
@@ -160,7 +194,13 @@ fn rigidref_judged_by_the_same_code_passes_every_observable_with_a_closed_form()
     for known in SCENES_3D {
         let r = run(scene(report, known.file), "rigidref", None);
         for m in r["measured"].as_array().unwrap() {
-            assert_ne!(m["passed"], Value::Bool(false), "{}: rigidref fails {}", known.file, m);
+            assert_ne!(
+                m["passed"],
+                Value::Bool(false),
+                "{}: rigidref fails {}",
+                known.file,
+                m
+            );
         }
     }
 }
@@ -175,26 +215,43 @@ fn rigidrefs_errors_are_its_documented_first_order_terms() {
     let t = 2.0;
     let documented = sc.params.gravity.norm() * sc.params.h() * t / 2.0;
     let error = value(run(s, "rigidref", None), "position_error");
-    assert!((error - documented).abs() <= 1e-12 * 10.0, "projectile: {error} vs g h t/2 = {documented}");
+    assert!(
+        (error - documented).abs() <= 1e-12 * 10.0,
+        "projectile: {error} vs g h t/2 = {documented}"
+    );
     // |L| and E of the free body grow by the explicit step's documented gain (to first order:
     // the gain is summed along the exact solution, the run's own differs by O(h)).
     let b = &sc.bodies[0];
     let (_, l_gain) = explicit_gains(&b.inertia, &(b.r0.transpose() * b.omega0), sc.params.h(), t);
     let drift = value(run(s, "rigidref", None), "angular_momentum_drift");
-    assert!((drift / l_gain - 1.0).abs() < 0.2, "projectile: |L| drift {drift} vs documented {l_gain}");
+    assert!(
+        (drift / l_gain - 1.0).abs() < 0.2,
+        "projectile: |L| drift {drift} vs documented {l_gain}"
+    );
     let s = scene(report, "dzhanibekov.json");
     let sc = load_scene(&root.join("dzhanibekov.json")).unwrap();
     let b = &sc.bodies[0];
-    let (e_gain, _) = explicit_gains(&b.inertia, &(b.r0.transpose() * b.omega0), sc.params.h(), 10.0);
+    let (e_gain, _) = explicit_gains(
+        &b.inertia,
+        &(b.r0.transpose() * b.omega0),
+        sc.params.h(),
+        10.0,
+    );
     let drift = value(run(s, "rigidref", None), "energy_drift");
-    assert!((drift / e_gain - 1.0).abs() < 0.2, "dzhanibekov: energy drift {drift} vs documented {e_gain}");
+    assert!(
+        (drift / e_gain - 1.0).abs() < 0.2,
+        "dzhanibekov: energy drift {drift} vs documented {e_gain}"
+    );
     // A slide stops v₀h/2 short of v₀²/(2μg), up to one step's travel at the end (≤ v₀ h).
     for file in ["sliding_cube.json", "sliding_box.json"] {
         let sc = load_scene(&root.join(file)).unwrap();
         let (v0, h) = (sc.bodies[0].v0.norm(), sc.params.h());
         let exact = v0 * v0 / (2.0 * sc.params.mu * sc.params.gravity.norm());
         let d = value(run(scene(report, file), "rigidref", None), "stop_distance");
-        assert!((d - (exact - v0 * h / 2.0)).abs() <= v0 * h / 2.0, "{file}: {d} vs {exact} − v₀h/2");
+        assert!(
+            (d - (exact - v0 * h / 2.0)).abs() <= v0 * h / 2.0,
+            "{file}: {d} vs {exact} − v₀h/2"
+        );
     }
     // Rolling: the exact solver's contact does not slip (round-off), its acceleration is (5/7) g sin θ.
     let r = run(scene(report, "ball_incline_rolls.json"), "rigidref", None);
@@ -205,14 +262,23 @@ fn rigidrefs_errors_are_its_documented_first_order_terms() {
         let r = run(scene(report, known.file), "rigidref", None);
         for m in r["measured"].as_array().unwrap() {
             if m["key"].as_str().unwrap().starts_with("criterion") {
-                assert!(m["value"].as_f64().unwrap() <= 1e-9, "{}: {}", known.file, m);
+                assert!(
+                    m["value"].as_f64().unwrap() <= 1e-9,
+                    "{}: {}",
+                    known.file,
+                    m
+                );
             }
         }
     }
     // Every layer of the heavy-on-light stack carries the weight above it, to 1e-6.
     let r = run(scene(report, "heavy_on_light.json"), "rigidref", None);
     for key in ["lower_layer", "upper_layer"] {
-        assert!((value(r, key) - 1.0).abs() < 1e-6, "{key}: {}", value(r, key));
+        assert!(
+            (value(r, key) - 1.0).abs() < 1e-6,
+            "{key}: {}",
+            value(r, key)
+        );
     }
 }
 
@@ -222,20 +288,38 @@ fn an_engine_that_is_not_installed_is_reported_never_dropped() {
     let out = tmp.path().join("out");
     let o = validate(
         &out,
-        &["--engines", "rapier,mujoco,drake", "--scenes", "sliding_cube", "--python", "/nonexistent/python3"],
+        &[
+            "--engines",
+            "rapier,mujoco,drake",
+            "--scenes",
+            "sliding_cube",
+            "--python",
+            "/nonexistent/python3",
+        ],
     );
     common::assert_success(&o);
     let err = common::stderr(&o);
-    assert!(err.contains("mujoco: not installed: cannot run the Python interpreter /nonexistent/python3"), "{err}");
+    assert!(
+        err.contains(
+            "mujoco: not installed: cannot run the Python interpreter /nonexistent/python3"
+        ),
+        "{err}"
+    );
     let r = report(&out);
     let s = scene(&r, "sliding_cube.json");
     for engine in ["mujoco", "drake"] {
         for settings in ["default", "accurate"] {
-            assert_eq!(run(s, engine, Some(settings))["status"]["status"], "not_installed");
+            assert_eq!(
+                run(s, engine, Some(settings))["status"]["status"],
+                "not_installed"
+            );
         }
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("| mujoco | **not installed**: cannot run the Python interpreter"), "{md}");
+    assert!(
+        md.contains("| mujoco | **not installed**: cannot run the Python interpreter"),
+        "{md}"
+    );
     assert!(md.contains("not installed | not installed"), "{md}");
 }
 
@@ -243,8 +327,14 @@ fn an_engine_that_is_not_installed_is_reported_never_dropped() {
 fn unknown_engines_and_scenes_are_one_line_errors() {
     let tmp = tempfile::tempdir().unwrap();
     for (args, says) in [
-        (vec!["--engines", "bullet"], "--engines: unknown engine \"bullet\""),
-        (vec!["--engines", "rapier", "--scenes", "sliding cube"], "--scenes: \"sliding cube\" is not a known-answer scene"),
+        (
+            vec!["--engines", "bullet"],
+            "--engines: unknown engine \"bullet\"",
+        ),
+        (
+            vec!["--engines", "rapier", "--scenes", "sliding cube"],
+            "--scenes: \"sliding cube\" is not a known-answer scene",
+        ),
     ] {
         let o = validate(&tmp.path().join("out"), &args);
         assert!(!o.status.success());
@@ -262,11 +352,22 @@ fn unknown_engines_and_scenes_are_one_line_errors() {
 fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
-    let o = validate(&out, &["--engines", "pymunk", "--python", "/nonexistent/python3"]);
+    let o = validate(
+        &out,
+        &["--engines", "pymunk", "--python", "/nonexistent/python3"],
+    );
     common::assert_success(&o);
     let r = report(&out);
-    let files: Vec<&str> = r["scenes"].as_array().unwrap().iter().map(|s| s["file"].as_str().unwrap()).collect();
-    assert_eq!(files, ["block_slide.json", "bar_topple.json", "stack_rest.json"]);
+    let files: Vec<&str> = r["scenes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["file"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        files,
+        ["block_slide.json", "bar_topple.json", "stack_rest.json"]
+    );
     for file in &files {
         let s = scene(&r, file);
         assert_eq!(s["dimension"], 2);
@@ -278,13 +379,24 @@ fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
             }
         }
         for settings in ["default", "accurate"] {
-            assert_eq!(run(s, "pymunk", Some(settings))["status"]["status"], "not_installed");
+            assert_eq!(
+                run(s, "pymunk", Some(settings))["status"]["status"],
+                "not_installed"
+            );
         }
     }
     // The stack stays put to round-off once settled; the slide over the ground's discs stops
     // short of the flat slide's v0²/(2μg) = 1/(2·0.33·1) (it climbs their bumps).
-    assert!(value(run(scene(&r, "stack_rest.json"), "rigidref", None), "rest_drift") < 1e-9);
-    let slide = value(run(scene(&r, "block_slide.json"), "rigidref", None), "stop_distance");
+    assert!(
+        value(
+            run(scene(&r, "stack_rest.json"), "rigidref", None),
+            "rest_drift"
+        ) < 1e-9
+    );
+    let slide = value(
+        run(scene(&r, "block_slide.json"), "rigidref", None),
+        "stop_distance",
+    );
     assert!(slide > 0.1 && slide < 0.9 / 0.66, "{slide}");
     // rigidref's exact run meets Coulomb's law on its own impulses to round-off: the criteria on
     // each step's last substep's contacts (their impulses and the solved problem's contact
@@ -292,21 +404,35 @@ fn validate_with_pymunk_runs_the_2d_scenes_and_writes_their_rows() {
     // the velocities are O(1) blocks/time.
     for file in &files {
         let reference = run(scene(&r, file), "rigidref", None);
-        for key in ["criterion_primal", "criterion_dual", "criterion_complementarity"] {
+        for key in [
+            "criterion_primal",
+            "criterion_dual",
+            "criterion_complementarity",
+        ] {
             let k = value(reference, key);
             assert!(k <= 1e-9, "{file}: {key} = {k:e}");
         }
         // One plot per 2D scene, each observable's series against time, linked from report.md.
         let stem = file.trim_end_matches(".json");
         let svg = std::fs::read_to_string(out.join("plots").join(format!("{stem}.svg"))).unwrap();
-        for title in ["largest displacement of a body", "largest |θ| of a body", "deepest disc overlap"] {
+        for title in [
+            "largest displacement of a body",
+            "largest |θ| of a body",
+            "deepest disc overlap",
+        ] {
             assert!(svg.contains(title), "{stem}.svg lacks {title:?}");
         }
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("Plots: [`plots/block_slide.svg`](plots/block_slide.svg)"), "{md}");
+    assert!(
+        md.contains("Plots: [`plots/block_slide.svg`](plots/block_slide.svg)"),
+        "{md}"
+    );
     assert!(md.contains("## Headline, 2D scenes"), "{md}");
-    assert!(md.contains("| block_slide | 3/3 ✓ | not installed | not installed |"), "{md}");
+    assert!(
+        md.contains("| block_slide | 3/3 ✓ | not installed | not installed |"),
+        "{md}"
+    );
     assert!(!md.contains("Headline, 3D scenes"), "{md}");
     assert!(out.join("mirrors/pymunk_mirror.py").is_file());
 }
@@ -321,12 +447,18 @@ fn the_2d_mirror_description_carries_every_bodys_mass_moment_blocks_mu_gravity_a
         let world = rigidref::blocks2d::scene::load_scene2(&path).unwrap().world;
         let d = MirrorScene2::of_world(&world, "x", stem(k.file), 10).unwrap();
         let p = &world.params;
-        assert_eq!((d.dt, d.substeps, d.h, d.mu, d.slop), (p.dt, p.substeps, p.dt / f64::from(p.substeps), p.mu, p.slop));
+        assert_eq!(
+            (d.dt, d.substeps, d.h, d.mu, d.slop),
+            (p.dt, p.substeps, p.dt / f64::from(p.substeps), p.mu, p.slop)
+        );
         assert_eq!(d.gravity, [p.gravity_vector().x, p.gravity_vector().y]);
         assert_eq!(d.block_radius, std::f64::consts::FRAC_1_SQRT_2);
         assert_eq!(d.bodies.len(), world.bodies.len());
         for (m, b) in d.bodies.iter().zip(&world.bodies) {
-            assert_eq!((m.mass, m.inertia, m.pinned, m.x0, m.theta0), (b.mass, b.inertia, b.pinned, [b.x.x, b.x.y], b.theta));
+            assert_eq!(
+                (m.mass, m.inertia, m.pinned, m.x0, m.theta0),
+                (b.mass, b.inertia, b.pinned, [b.x.x, b.x.y], b.theta)
+            );
             assert_eq!(m.blocks.len(), b.blocks.len());
             for (q, block) in m.blocks.iter().zip(&b.blocks) {
                 assert_eq!(*q, [block.local.x, block.local.y]);
@@ -354,17 +486,39 @@ fn a_validation_that_stops_midway_keeps_the_runs_it_finished() {
     .unwrap();
     std::fs::set_permissions(&python, std::fs::Permissions::from_mode(0o755)).unwrap();
     let out = tmp.path().join("out");
-    let o = validate(&out, &["--engines", "rapier,mujoco", "--scenes", "projectile", "--python", python.to_str().unwrap()]);
-    assert!(!o.status.success(), "the stand-in Python was to stop the validation");
+    let o = validate(
+        &out,
+        &[
+            "--engines",
+            "rapier,mujoco",
+            "--scenes",
+            "projectile",
+            "--python",
+            python.to_str().unwrap(),
+        ],
+    );
+    assert!(
+        !o.status.success(),
+        "the stand-in Python was to stop the validation"
+    );
     let r = report(&out);
     let s = scene(&r, "projectile.json");
     assert_eq!(run(s, "rigidref", None)["status"]["status"], "ran");
     for settings in ["default", "accurate"] {
         assert_eq!(run(s, "rapier", Some(settings))["status"]["status"], "ran");
-        assert_eq!(run(s, "mujoco", Some(settings))["status"]["status"], "pending");
+        assert_eq!(
+            run(s, "mujoco", Some(settings))["status"]["status"],
+            "pending"
+        );
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    assert!(md.contains("| projectile | 2/2 ✓ | 2/2 ✓ | 2/2 ✓ | pending | pending |"), "{md}");
+    assert!(
+        md.contains("| projectile | 2/2 ✓ | 2/2 ✓ | 2/2 ✓ | pending | pending |"),
+        "{md}"
+    );
     let svg = std::fs::read_to_string(out.join("plots/projectile.svg")).unwrap();
-    assert!(svg.contains("rapier (accurate)"), "the plot lacks rapier's finished run");
+    assert!(
+        svg.contains("rapier (accurate)"),
+        "the plot lacks rapier's finished run"
+    );
 }
