@@ -282,6 +282,44 @@ pub fn siconos_error<const R: usize, P: ProblemView<R> + ?Sized>(
     problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> f64 {
+    siconos_error_measures(problem, lambda).relative()
+}
+
+/// The three ways Siconos' error has been normalised (docs/problem-library.md §"Siconos' error
+/// measure"): the absolute natural-map norm and the two denominators.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SiconosErrorMeasures {
+    /// √(Σ_k ‖λ_k − proj_K(λ_k − ŵ_k)‖²), not divided (mixed N·s and m/s, as Siconos').
+    pub absolute: f64,
+    /// ‖q‖ (m/s), Siconos 4.1–4.3's denominator.
+    pub q_norm: f64,
+    /// max(‖q‖, ‖λ‖, ‖w‖), Siconos 4.4's denominator.
+    pub scale: f64,
+}
+
+impl SiconosErrorMeasures {
+    /// Siconos 4.4's error: absolute / max(‖q‖, ‖λ‖, ‖w‖) (not divided below machine epsilon).
+    pub fn relative(&self) -> f64 {
+        divided(self.absolute, self.scale)
+    }
+
+    /// Siconos 4.1–4.3's error: absolute / ‖q‖ (not divided below machine epsilon); at least
+    /// [`Self::relative`], by up to max(‖λ‖, ‖w‖)/‖q‖.
+    pub fn q_normalised(&self) -> f64 {
+        divided(self.absolute, self.q_norm)
+    }
+}
+
+fn divided(error: f64, by: f64) -> f64 {
+    if by > f64::EPSILON { error / by } else { error }
+}
+
+/// [`siconos_error`]'s numerator and both denominators, for reporting the error in Siconos'
+/// 4.4 measure, the older ‖q‖-normalised one and unnormalised.
+pub fn siconos_error_measures<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
+    lambda: &[SVector<f64, R>],
+) -> SiconosErrorMeasures {
     let w = problem.constraint_velocity(lambda);
     let mut sum = 0.0;
     for k in 0..problem.count() {
@@ -297,11 +335,10 @@ pub fn siconos_error<const R: usize, P: ProblemView<R> + ?Sized>(
         };
     }
     let norm = |v: &[SVector<f64, R>]| v.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt();
-    let scale = problem.dense_b().norm().max(norm(lambda)).max(norm(&w));
-    let error = sum.sqrt();
-    if scale > f64::EPSILON {
-        error / scale
-    } else {
-        error
+    let q_norm = problem.dense_b().norm();
+    SiconosErrorMeasures {
+        absolute: sum.sqrt(),
+        q_norm,
+        scale: q_norm.max(norm(lambda)).max(norm(&w)),
     }
 }

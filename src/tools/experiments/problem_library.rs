@@ -13,7 +13,7 @@ use crate::problem::local_json::AnyProblemFile;
 use crate::problem::siconos::{AnyLocalProblem, read_dat};
 use crate::problem::{ContactCriteria, FrictionModel, LocalProblem, RowBounds};
 use crate::solve::criteria::criteria;
-use crate::solve::residual::{coulomb_residual, residual, siconos_error};
+use crate::solve::residual::{coulomb_residual, residual, siconos_error, siconos_error_measures};
 use crate::solve::{
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
     solve_pgs_local_until,
@@ -77,8 +77,14 @@ pub struct Attempt {
     pub iterations: u32,
     /// Wall time of the solve, s (the problem's reading excluded).
     pub seconds: f64,
-    /// Siconos' error of the answer (relative).
+    /// Siconos' error of the answer (relative), the measure every solver stops on.
     pub error: f64,
+    /// Siconos' error divided by ‖q‖ alone (Siconos 4.1–4.3's measure; box friction: as
+    /// `error`, whose measure is rigidref's own).
+    pub q_normalised_error: f64,
+    /// Siconos' error not divided (its natural-map norm, mixed N·s and m/s; box friction: the
+    /// box residual, m/s).
+    pub absolute_error: f64,
     /// rigidref's residual of the answer, m/s (docs/contact.md §"Residual").
     pub residual: f64,
     /// The exact Coulomb residual of the answer, m/s.
@@ -280,6 +286,22 @@ pub fn library_error<const R: usize>(problem: &LocalProblem<R>, lambda: &[SVecto
     if scale > f64::EPSILON { r / scale } else { r }
 }
 
+/// The answer's error in the ‖q‖-normalised and absolute measures (issue 48 item 2: an answer
+/// near the tolerance reads differently in each): Siconos' measure for the Coulomb cone
+/// ([`siconos_error_measures`]); for box friction, the box residual (m/s) and it over ‖q‖.
+pub fn other_error_measures<const R: usize>(
+    problem: &LocalProblem<R>,
+    lambda: &[SVector<f64, R>],
+) -> (f64, f64) {
+    if problem.friction == FrictionModel::Cone || R < 3 {
+        let m = siconos_error_measures(problem, lambda);
+        return (m.q_normalised(), m.absolute);
+    }
+    let r = residual(problem, lambda);
+    let q = problem.dense_q().norm();
+    (if q > f64::EPSILON { r / q } else { r }, r)
+}
+
 /// One solver on one problem, stopped on [`library_error`].
 pub fn attempt<const R: usize>(
     problem: &LocalProblem<R>,
@@ -314,12 +336,15 @@ pub fn attempt<const R: usize>(
     };
     let seconds = started.elapsed().as_secs_f64();
     let error = library_error(problem, &lambda);
+    let (q_normalised_error, absolute_error) = other_error_measures(problem, &lambda);
     Attempt {
         solver,
         converged: error <= tolerance,
         iterations: report.iterations,
         seconds,
         error,
+        q_normalised_error,
+        absolute_error,
         residual: residual(problem, &lambda),
         coulomb_residual: coulomb_residual(problem, &lambda),
         criteria: criteria(problem, &lambda).1,

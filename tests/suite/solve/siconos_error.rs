@@ -58,3 +58,54 @@ fn siconos_error_equals_the_value_siconos_computed() {
     }
     assert_eq!((three, two), (4, 2));
 }
+
+/// The ‖q‖-normalised (Siconos 4.1–4.3) and absolute measures of the same non-solutions: the
+/// absolute error is Siconos 4.4's error times max(‖q‖, ‖λ‖, ‖w‖), and the ‖q‖-normalised one
+/// is it over ‖q‖, with the norms recomputed here from W, q and λ. Their ratio to Siconos' own
+/// value is exact up to the division's rounding and the norms' summation order (1e-13).
+#[test]
+fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator() {
+    use rigidref::solve::residual::siconos_error_measures;
+    let folder = common::project_root().join("tests/data");
+    let text = std::fs::read_to_string(folder.join("siconos_error/errors.json")).unwrap();
+    let data: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut larger_than_q = 0;
+    for case in data["cases"].as_array().unwrap() {
+        let file = case["file"].as_str().unwrap();
+        let lambda: Vec<f64> = case["lambda"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect();
+        let want = case["error_norm_q"].as_f64().unwrap();
+        let (measures, q, l, w) = match read_dat(&folder.join(file)).unwrap() {
+            AnyLocalProblem::Three(p) => {
+                let lam = impulses::<3>(&lambda);
+                let w: Vec<f64> = p.velocity(&lam).iter().flat_map(|v| v.iter().copied()).collect();
+                (siconos_error_measures(&p, &lam), p.dense_q(), lambda.clone(), w)
+            }
+            AnyLocalProblem::Two(p) => {
+                let lam = impulses::<2>(&lambda);
+                let w: Vec<f64> = p.velocity(&lam).iter().flat_map(|v| v.iter().copied()).collect();
+                (siconos_error_measures(&p, &lam), p.dense_q(), lambda.clone(), w)
+            }
+        };
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let q_norm = q.norm();
+        let scale = q_norm.max(norm(&l)).max(norm(&w));
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * b.abs();
+        assert!(close(measures.relative(), want), "{file}: {measures:?} vs {want:e}");
+        assert!(close(measures.absolute, want * scale), "{file}: absolute {measures:?}");
+        assert!(
+            close(measures.q_normalised(), want * scale / q_norm),
+            "{file}: ‖q‖-normalised {measures:?}"
+        );
+        assert!(measures.q_normalised() >= measures.relative());
+        if scale > 1.000001 * q_norm {
+            larger_than_q += 1;
+        }
+    }
+    // At least one case where ‖λ‖ or ‖w‖ exceeds ‖q‖, so that the two relative measures differ.
+    assert!(larger_than_q >= 1, "no case tells the two measures apart");
+}
