@@ -230,7 +230,10 @@ fn vertices_on_the_surface_skip_the_search_and_give_the_fresh_contacts() {
         let stats = world.detection_stats();
         eprintln!("{name}: {stats:?}");
         assert_eq!(stats.checked, world.step * u64::from(scene.params.substeps));
-        assert_eq!(stats.mismatches, 0, "{name}: cached detection differed from fresh");
+        assert_eq!(
+            stats.mismatches, 0,
+            "{name}: cached detection differed from fresh"
+        );
         assert!(
             stats.on_surface > 20,
             "{name}: {} of {} vertex queries answered on the surface",
@@ -255,5 +258,8 @@ fn the_check_catches_vertices_skipped_after_they_left_the_surface() {
         let world = with_faults(faults, || run_checked(&mut scene, 1.0));
         mismatches += world.detection_stats().mismatches;
     }
-    assert!(mismatches > 0, "vertices skipped off the surface went unnoticed");
+    assert!(
+        mismatches > 0,
+        "vertices skipped off the surface went unnoticed"
+    );
 }

@@ -855,8 +855,16 @@ fn edge_pairs_skipped_by_their_bound_change_nothing() {
         }
     });
     let (fast, every) = both.into_inner();
-    assert!(fast.edge_pairs_skipped > 1000, "{} pairs skipped", fast.edge_pairs_skipped);
+    assert!(
+        fast.edge_pairs_skipped > 1000,
+        "{} pairs skipped",
+        fast.edge_pairs_skipped
+    );
     assert_eq!(every.edge_pairs_skipped, 0);
     // Edge axes were chosen too: the comparison covers the case where an edge pair matters.
-    assert!(edges_chosen.get() > 20, "an edge axis chosen {} times", edges_chosen.get());
+    assert!(
+        edges_chosen.get() > 20,
+        "an edge axis chosen {} times",
+        edges_chosen.get()
+    );
 }
