@@ -31,6 +31,10 @@ pub struct Faults {
     /// `collision: complete` takes the face axis of greatest penetration instead of least: a
     /// normal in the contact plane, as deep as a body's width (the GJK/EPA failure of issue 46).
     pub deepest_face_axis: bool,
+    /// Detection skips a candidate vertex whose last search found it on the other body's
+    /// surface without checking that it still is (docs/contact.md §"Temporal coherence",
+    /// "Vertices on the surface").
+    pub surface_skip_unchecked: bool,
 }
 
 #[cfg(feature = "fault-injection")]
@@ -43,6 +47,7 @@ impl Faults {
         transposed_world_inertia: false,
         stale_detection_cache: false,
         deepest_face_axis: false,
+        surface_skip_unchecked: false,
     };
 }
 

@@ -28,6 +28,10 @@ pub struct CacheStats {
     /// Of those, the ones answered on a nearest triangle kept from an earlier step, without
     /// the BVH search.
     pub nearest_kept: u64,
+    /// Of those, the ones answered without the search because the vertex's last search found
+    /// it on the surface and it still is, within half the surface tolerance of the same
+    /// triangle (no contact: docs/contact.md §"Temporal coherence", "Vertices on the surface").
+    pub on_surface: u64,
     /// 3D, persistent manifolds: piece-pair manifolds re-derived from kept features.
     pub manifolds_kept: u64,
     /// 3D, persistent manifolds: piece-pair manifolds found by the full separating-axis search.
@@ -67,6 +71,7 @@ impl CacheStats {
             mismatches: self.mismatches - before.mismatches,
             queries: self.queries - before.queries,
             nearest_kept: self.nearest_kept - before.nearest_kept,
+            on_surface: self.on_surface - before.on_surface,
             manifolds_kept: self.manifolds_kept - before.manifolds_kept,
             manifolds_searched: self.manifolds_searched - before.manifolds_searched,
             kept_differs: self.kept_differs - before.kept_differs,

@@ -7,7 +7,7 @@
 //! the contacts are the same, bit for bit. docs/contact.md §"Temporal coherence".
 
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
-use super::mesh_pair::{MeshCollider, NearestTriangle, vertex_contact};
+use super::mesh_pair::{MeshCollider, NearestTriangle, VertexQuery, vertex_contact};
 use super::persistent::KeptFeatures;
 use super::pieces::pose;
 use super::separating_axes::{Placement, SatBuffers};
@@ -188,7 +188,7 @@ pub fn cached_pair_contacts(
     let margin = pair_margin(&colliders[i], &colliders[j]);
     let gap = |other: usize| 2.0 * margin + 1e-9 * colliders[other].radius();
     let gaps = (gap(j), gap(i));
-    let (mut queries, mut nearest_kept) = (0, 0);
+    let (mut queries, mut nearest_kept, mut on_surface) = (0, 0, 0);
     for c in candidates.iter_mut() {
         let (vertex, (own, other), (body, against), nearest, gap) = match c {
             Candidate::VertexOfFirst(v, nearest) => (*v, (i, j), (bi, bj), nearest, gaps.0),
@@ -196,7 +196,7 @@ pub fn cached_pair_contacts(
             Candidate::Pieces(..) => continue,
         };
         let kept = matches!(nearest, NearestTriangle::Kept(_));
-        let queried = vertex_contact(
+        let answer = vertex_contact(
             own,
             body,
             vertex as usize,
@@ -206,8 +206,10 @@ pub fn cached_pair_contacts(
             (nearest, gap),
             out,
         );
+        let queried = answer != VertexQuery::Culled;
         queries += queried as u64;
         nearest_kept += (queried && kept) as u64;
+        on_surface += (answer == VertexQuery::OnSurface) as u64;
     }
     if pieces {
         let count = candidates
@@ -243,4 +245,5 @@ pub fn cached_pair_contacts(
     }
     cache.stats.queries += queries;
     cache.stats.nearest_kept += nearest_kept;
+    cache.stats.on_surface += on_surface;
 }

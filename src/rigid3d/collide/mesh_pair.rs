@@ -29,7 +29,17 @@ pub enum NearestTriangle {
     Ambiguous,
     /// This triangle, nearer than every other by more than the gap when it was found.
     Kept(u32),
+    /// Ambiguous, and its last search found the vertex on the surface: within
+    /// [`ON_SURFACE_FRACTION`] of the mesh's bounding radius of this triangle. While it still is,
+    /// it is no contact, and the search is skipped ([`vertex_contact`]).
+    OnSurface(u32),
 }
+
+/// A vertex within this fraction of the mesh's bounding radius of one of its triangles is on
+/// the surface for [`NearestTriangle::OnSurface`]: half of [`SURFACE_TOLERANCE`], so that the
+/// search's signed distance, at most this distance plus round-off in magnitude, is never below
+/// −[`SURFACE_TOLERANCE`] of the radius, the contact threshold.
+pub const ON_SURFACE_FRACTION: f64 = 0.5 * SURFACE_TOLERANCE;
 
 /// A body's mesh prepared for queries: parry's triangle mesh with its BVH and pseudo-normals
 /// (for a reliable inside test), in the body frame.
@@ -179,16 +189,26 @@ impl MeshCollider {
     /// ambiguous; and when unknown, by the search, after which the triangle is kept if the
     /// vertex is within `gap` of the surface and the triangle is nearer than every other by
     /// more than `gap` (shallow vertices only, so that the comparison's neighbourhood stays
-    /// small), else marked ambiguous. docs/contact.md §"Temporal coherence".
+    /// small), else marked ambiguous, or on the surface when it is within
+    /// [`ON_SURFACE_FRACTION`] of the radius of it ([`NearestTriangle::OnSurface`]; so too after
+    /// each search of an ambiguous vertex). docs/contact.md §"Temporal coherence".
     pub fn signed_distance_keeping(
         &self,
         p: &Vector3<f64>,
         nearest: &mut NearestTriangle,
         gap: f64,
     ) -> SignedDistance {
+        let on_surface = |sd: &SignedDistance| {
+            (sd.distance.abs() <= ON_SURFACE_FRACTION * self.radius)
+                .then_some(NearestTriangle::OnSurface(sd.triangle as u32))
+        };
         match *nearest {
             NearestTriangle::Kept(triangle) => self.signed_distance_on(p, triangle),
-            NearestTriangle::Ambiguous => self.signed_distance(p),
+            NearestTriangle::Ambiguous | NearestTriangle::OnSurface(_) => {
+                let sd = self.signed_distance(p);
+                *nearest = on_surface(&sd).unwrap_or(NearestTriangle::Ambiguous);
+                sd
+            }
             NearestTriangle::Unknown => {
                 let sd = self.signed_distance(p);
                 let depth = sd.distance.abs();
@@ -196,11 +216,22 @@ impl MeshCollider {
                     if depth < gap && self.is_unique_nearest(p, sd.triangle as u32, depth, gap) {
                         NearestTriangle::Kept(sd.triangle as u32)
                     } else {
-                        NearestTriangle::Ambiguous
+                        on_surface(&sd).unwrap_or(NearestTriangle::Ambiguous)
                     };
                 sd
             }
         }
+    }
+
+    /// Whether `p` (body frame) is within [`ON_SURFACE_FRACTION`] of the bounding radius of
+    /// `triangle` (its distance to a point parry's projection puts on the triangle): then the
+    /// surface is at most that far, and [`Self::signed_distance`]'s answer, a nearest point's
+    /// distance, is no contact ([`vertex_contact`]). False when it is NaN.
+    pub fn still_on_surface(&self, p: &Vector3<f64>, triangle: u32) -> bool {
+        let q = to_parry(p);
+        let (projection, _) =
+            (self.shape.triangle(triangle)).project_local_point_and_get_location(q, false);
+        (projection.point - q).length() <= ON_SURFACE_FRACTION * self.radius
     }
 
     /// [`Self::signed_distance`] when `triangle` is known to be `p`'s unique nearest triangle
@@ -274,6 +305,18 @@ impl MeshCollider {
     }
 }
 
+/// How [`vertex_contact`] answered a vertex.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VertexQuery {
+    /// Outside j's box or sphere (or sphere tree): no signed distance.
+    Culled,
+    /// Still on j's surface where its last search found it ([`NearestTriangle::OnSurface`]):
+    /// no contact, without the search.
+    OnSurface,
+    /// By its signed distance (searched, or on a kept triangle).
+    Answered,
+}
+
 /// Appends a contact for every vertex of body `i` inside body `j` by more than
 /// [`SURFACE_TOLERANCE`] of j's bounding radius: point the vertex,
 /// depth its distance to j's surface, normal the outward direction of j's surface there
@@ -310,7 +353,7 @@ pub fn vertex_contacts(
 /// its contact if it is inside body j. `nearest`: what is known of the vertex's nearest triangle
 /// of j and the gap that keeps it ([`MeshCollider::signed_distance_keeping`]; `Ambiguous` for
 /// the plain search); a kept triangle spares the BVH search and gives the same contact. Returns
-/// whether it computed a signed distance (the vertex passed the cheap tests).
+/// how the vertex was answered ([`VertexQuery`]).
 #[allow(clippy::too_many_arguments)]
 pub fn vertex_contact(
     i: usize,
@@ -321,18 +364,28 @@ pub fn vertex_contact(
     collider_j: &MeshCollider,
     (nearest, gap): (&mut NearestTriangle, f64),
     out: &mut Vec<Contact>,
-) -> bool {
+) -> VertexQuery {
     let local = &body_i.mesh.vertices[vertex];
     let point = body_i.x + body_i.rotation * local;
     let in_j = body_j.rotation.transpose() * (point - body_j.x);
     if !collider_j.may_contain(&in_j) {
-        return false;
+        return VertexQuery::Culled;
     }
     // In no leaf sphere: outside j's solid, so no contact (docs/contact.md §"Sphere trees").
     if let Some(tree) = &collider_j.sphere_tree
         && !tree.may_contain(&in_j)
     {
-        return false;
+        return VertexQuery::Culled;
+    }
+    // Found on j's surface by its last search and still within half the surface tolerance of
+    // the same triangle: the search's distance would be at most that (plus round-off) in
+    // magnitude, above the contact threshold −SURFACE_TOLERANCE ρ_j, so no contact
+    // (docs/contact.md §"Temporal coherence", "Vertices on the surface").
+    if let NearestTriangle::OnSurface(triangle) = *nearest
+        && (crate::common::faults::fault!(surface_skip_unchecked)
+            || collider_j.still_on_surface(&in_j, triangle))
+    {
+        return VertexQuery::OnSurface;
     }
     let sd = collider_j.signed_distance_keeping(&in_j, nearest, gap);
     if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
@@ -348,5 +401,5 @@ pub fn vertex_contact(
             depth: -sd.distance,
         });
     }
-    true
+    VertexQuery::Answered
 }
