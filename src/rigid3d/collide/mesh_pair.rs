@@ -227,6 +227,7 @@ impl MeshCollider {
     /// `triangle` (its distance to a point parry's projection puts on the triangle): then the
     /// surface is at most that far, and [`Self::signed_distance`]'s answer, a nearest point's
     /// distance, is no contact ([`vertex_contact`]). False when it is NaN.
+    /// docs/contact.md §"Temporal coherence" ("Vertices on the surface").
     pub fn still_on_surface(&self, p: &Vector3<f64>, triangle: u32) -> bool {
         let q = to_parry(p);
         let (projection, _) =
