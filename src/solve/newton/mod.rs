@@ -18,7 +18,8 @@
 //! where W's rank deficiency alone would make it singular; ε held at 1e-12 and raised only after
 //! a failed step), globalised by a non-monotone Armijo line search on θ = ½‖F‖² (against the
 //! largest θ of the last five iterations). Where that stalls (the best law norm not halved in
-//! [`STALL`] iterations) or runs out of iterations, a run from λ = 0 follows (when the start was
+//! [`STALL`] iterations, and, for a run from the start, not recovered to convergence by
+//! [`STALL_EXTENDED`]) or runs out of iterations, a run from λ = 0 follows (when the start was
 //! warm), then the proximal-point loop (docs/contact.md §"Proximal-point globalisation"): each
 //! subproblem has W + H and b − H λ_c, H = η diag(W), about a centre λ_c, is solved by the same
 //! Newton iteration to a tenth of the law norm at the centre, and η = σ ‖F(λ_c)‖ / max|b| follows
