@@ -9,13 +9,13 @@
 //! performance profile: for solver s, ρ_s(τ) is the fraction of problems it solved within τ
 //! times the fastest solver's time on that problem.
 
+use crate::problem::SolveReport;
 use crate::problem::local_json::AnyProblemFile;
 use crate::problem::siconos::{AnyLocalProblem, read_dat};
 use crate::problem::{ContactCriteria, FrictionModel, LocalProblem, RowBounds};
+use crate::solve::auto::{AutoSettings, solve_auto_local_until};
 use crate::solve::criteria::criteria;
 use crate::solve::residual::{coulomb_residual, residual, siconos_error};
-use crate::problem::SolveReport;
-use crate::solve::auto::{AutoSettings, solve_auto_local_until};
 use crate::solve::{
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
     solve_pgs_local_until,

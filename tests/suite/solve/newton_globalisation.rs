@@ -9,8 +9,8 @@ use crate::common;
 use nalgebra::SVector;
 use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
 use rigidref::problem::{LocalProblem, SolveMethod};
-use rigidref::solve::residual::siconos_error;
 use rigidref::solve::auto::{AutoPath, AutoSettings, solve_auto_local_until};
+use rigidref::solve::residual::siconos_error;
 use rigidref::solve::{NewtonSettings, solve_newton_local, solve_newton_local_until};
 
 fn boxes_stack() -> LocalProblem<3> {
