@@ -150,16 +150,21 @@ def siconos_input(rigidref, path, dim, scratch):
     return str(out), True
 
 
-def rigidref_solve(rigidref, path, tolerance, timeout):
+def rigidref_solve(rigidref, path, tolerance, timeout, solver="newton"):
     try:
-        r = run([rigidref, "solve-problems", str(path), "--solver", "newton", "--json", "--quiet",
+        r = run([rigidref, "solve-problems", str(path), "--solver", solver, "--json", "--quiet",
                  "--tolerance", repr(tolerance)], timeout)
     except subprocess.TimeoutExpired:
-        return {"solver": "newton", "timeout": timeout}
+        return {"solver": solver, "timeout": timeout}
     if r.returncode != 0:
-        return {"solver": "newton", "failed": r.stderr.strip()}
+        return {"solver": solver, "failed": r.stderr.strip()}
     attempt = json.loads(r.stdout)["problems"][0]["attempts"][0]
-    return {"solver": "newton", "iterations": str(attempt["iterations"]),
+    iterations = str(attempt["iterations"])
+    if solver == "auto":
+        # The automatic choice's path: NSGS sweeps + Newton iterations.
+        sweeps = attempt.get("sweeps", 0)
+        iterations = f"{attempt.get('method')} {sweeps}+{attempt['iterations'] - sweeps}"
+    return {"solver": solver, "iterations": iterations,
             "seconds": attempt["seconds"], "error": attempt["error"],
             "converged": attempt["converged"], "method": attempt.get("method")}
 
@@ -203,6 +208,8 @@ def ratio_cell(ours, fastest):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("inputs", nargs="+", help="problem files or folders of them")
+    parser.add_argument("--rigidref-solver", default="newton", choices=["newton", "auto"],
+                        help="rigidref's solver: newton (default) or auto (NSGS, then Newton)")
     parser.add_argument("--rigidref", default=os.environ.get(
         "RIGIDREF_BIN", str(ROOT / "target" / "release" / "rigidref")))
     parser.add_argument("--tolerance", type=float, default=1e-8)
@@ -229,7 +236,8 @@ def main():
                 continue
             dim, contacts, lambda0 = local
             print(f"{path.name} ({dim}D, {contacts} contacts)", file=sys.stderr, flush=True)
-            ours = rigidref_solve(args.rigidref, path, args.tolerance, args.timeout)
+            ours = rigidref_solve(args.rigidref, path, args.tolerance, args.timeout,
+                                  args.rigidref_solver)
             try:
                 source, converted = siconos_input(args.rigidref, path, dim, scratch)
             except RuntimeError as e:
@@ -252,7 +260,7 @@ def main():
                      "fastest": fastest["solver"] if fastest else None,
                      "ratio": ratio_cell(ours, fastest)})
 
-    print(f"| problem | contacts | rigidref newton | Siconos NSGS | Siconos NSN_AC | Siconos PROX "
+    print(f"| problem | contacts | rigidref {args.rigidref_solver} | Siconos NSGS | Siconos NSN_AC | Siconos PROX "
           f"| Siconos fastest | rigidref ÷ fastest |")
     print("|---|---:|---|---|---|---|---|---:|")
     for row in rows:
@@ -265,7 +273,7 @@ def main():
               f"| {row['fastest'] or '–'} | {row['ratio']} |")
     solved = sum(1 for r in rows if r["rigidref"].get("converged"))
     any_siconos = sum(1 for r in rows if r["fastest"])
-    print(f"\n{len(rows)} problems; rigidref newton solved {solved}, Siconos (any solver) "
+    print(f"\n{len(rows)} problems; rigidref {args.rigidref_solver} solved {solved}, Siconos (any solver) "
           f"{any_siconos}; tolerance {args.tolerance:g} in Siconos' error measure.")
     for n in notes:
         print(f"- {n}")

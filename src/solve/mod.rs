@@ -19,6 +19,7 @@
 //!   maximum-dissipation parts);
 //! - [`shock`]: shock propagation, a layer-by-layer pass after PGS (an option).
 
+pub mod auto;
 pub mod colour;
 pub mod criteria;
 pub mod local;

@@ -18,7 +18,8 @@
 //! where W's rank deficiency alone would make it singular; ε held at 1e-12 and raised only after
 //! a failed step), globalised by a non-monotone Armijo line search on θ = ½‖F‖² (against the
 //! largest θ of the last five iterations). Where that stalls (the best law norm not halved in
-//! [`STALL`] iterations) or runs out of iterations, a run from λ = 0 follows (when the start was
+//! [`STALL`] iterations, and, for a run from the start, not recovered to convergence by
+//! [`STALL_EXTENDED`]) or runs out of iterations, a run from λ = 0 follows (when the start was
 //! warm), then the proximal-point loop (docs/contact.md §"Proximal-point globalisation"): each
 //! subproblem has W + H and b − H λ_c, H = η diag(W), about a centre λ_c, is solved by the same
 //! Newton iteration to a tenth of the law norm at the centre, and η = σ ‖F(λ_c)‖ / max|b| follows
@@ -133,9 +134,25 @@ const LINE_SEARCH_HALVINGS: u32 = 12;
 /// (1e-12, 1e-8, 1e-4, 1).
 const EPS_FLOOR: f64 = 1e-12;
 
-/// A run of Newton iterations ends (unsuccessfully) when its best law norm has not halved in
-/// this many iterations: it is wandering, and the proximal loop takes over.
+/// A run of Newton iterations stalls when its best law norm has not halved in this many
+/// iterations: it is wandering, and the proximal loop takes over.
 const STALL: u32 = 10;
+/// A run from the problem's start that has stalled goes on until its best law norm has not
+/// halved in this many iterations; if it recovers it goes on as before, if not it ends with the
+/// best point of the stall ([`STALL`]): docs/contact.md §"Newton solver", **Stall rule**.
+const STALL_EXTENDED: u32 = 25;
+
+/// Which stall rule a run of iterations obeys.
+#[derive(Clone, Copy, PartialEq)]
+enum Stall {
+    /// Ends [`STALL`] iterations after the best law norm last halved (proximal subproblems).
+    Short,
+    /// Stalls after [`STALL`], ends after [`STALL_EXTENDED`] iterations without halving, and
+    /// then returns the best point as of the stall (runs from the start, warm or cold).
+    Extended,
+    /// No stall rule: only the iteration limit ends the run.
+    Never,
+}
 /// The proximal parameter η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem (Siconos' PROX
 /// default σ = 5 on its relative error).
 const PROXIMAL_SIGMA: f64 = 5.0;
@@ -179,9 +196,14 @@ fn iterate<const R: usize>(
     lambda: &mut DVector<f64>,
     proximal: Option<&Proximal>,
     max_iterations: u32,
-    stall: u32,
+    stall: Stall,
     accept: &mut Accept,
 ) -> Run {
+    let (window, end) = match stall {
+        Stall::Short => (STALL, STALL),
+        Stall::Extended => (STALL, STALL_EXTENDED),
+        Stall::Never => (u32::MAX, u32::MAX),
+    };
     let n = system.rows();
     let mut w = DVector::zeros(n);
     let mut f = DVector::zeros(n);
@@ -198,8 +220,11 @@ fn iterate<const R: usize>(
     // The best point so far by the law norm: the non-monotone search may end above it, and an
     // unsuccessful run returns it rather than its last iterate.
     let mut best: (f64, DVector<f64>) = (f64::INFINITY, lambda.clone());
-    // The best law norm the run must halve within `stall` iterations, and when it was set.
+    // The best law norm the run must halve within `window` iterations, and when it was set.
     let mut mark = (f64::INFINITY, 0);
+    // The best point when the run first stalled (`window` iterations without halving), while
+    // it goes on until `end` iterations without halving: what it returns unless it converges.
+    let mut stalled: Option<(f64, DVector<f64>)> = None;
     loop {
         let norm = law_norm(system, &f);
         if norm < best.0 {
@@ -215,11 +240,15 @@ fn iterate<const R: usize>(
                 reached: true,
             };
         }
-        if iterations >= max_iterations || iterations - mark.1 >= stall {
-            *lambda = best.1;
+        if stalled.is_none() && iterations - mark.1 >= window && window < end {
+            stalled = Some(best.clone());
+        }
+        if iterations >= max_iterations || iterations - mark.1 >= end {
+            let (norm, point) = stalled.unwrap_or(best);
+            *lambda = point;
             return Run {
                 iterations,
-                norm: best.0,
+                norm,
                 reached: false,
             };
         }
@@ -268,10 +297,11 @@ fn iterate<const R: usize>(
             epsilon *= 1e4;
         }
         if !stepped {
-            *lambda = best.1;
+            let (norm, point) = stalled.unwrap_or(best);
+            *lambda = point;
             return Run {
                 iterations,
-                norm: best.0,
+                norm,
                 reached: false,
             };
         }
@@ -376,7 +406,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         &mut x,
         None,
         settings.max_iterations,
-        STALL,
+        Stall::Extended,
         &mut accept,
     );
     let mut iterations = first.iterations;
@@ -392,7 +422,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             &mut cold,
             None,
             settings.max_iterations,
-            STALL,
+            Stall::Extended,
             &mut accept,
         );
         iterations += again.iterations;
@@ -422,7 +452,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
             &mut plain,
             None,
             settings.max_iterations,
-            u32::MAX,
+            Stall::Never,
             &mut accept,
         );
         iterations += run.iterations;
@@ -504,9 +534,9 @@ fn proximal_point<const R: usize>(
     let mut norm = original_norm(&centre);
     let adaptive = schedule == Schedule::Adaptive;
     let (mut eta, inner_ratio, stall) = if adaptive {
-        (adapted(norm), PROXIMAL_INNER_RATIO, STALL)
+        (adapted(norm), PROXIMAL_INNER_RATIO, Stall::Short)
     } else {
-        (1.0, TENFOLD_INNER_RATIO, u32::MAX)
+        (1.0, TENFOLD_INNER_RATIO, Stall::Never)
     };
     // The best point by the original law norm, from the entry point on: what is returned when
     // nothing solves, and whether the loop improved on its entry at all.
@@ -566,7 +596,7 @@ fn proximal_point<const R: usize>(
         &mut last,
         None,
         settings.max_iterations,
-        u32::MAX,
+        Stall::Never,
         accept,
     );
     iterations += run.iterations;

@@ -9,9 +9,11 @@
 //! performance profile: for solver s, ρ_s(τ) is the fraction of problems it solved within τ
 //! times the fastest solver's time on that problem.
 
+use crate::problem::SolveReport;
 use crate::problem::local_json::AnyProblemFile;
 use crate::problem::siconos::{AnyLocalProblem, read_dat};
 use crate::problem::{ContactCriteria, FrictionModel, LocalProblem, RowBounds};
+use crate::solve::auto::{AutoSettings, solve_auto_local_until};
 use crate::solve::criteria::criteria;
 use crate::solve::residual::{coulomb_residual, residual, siconos_error, siconos_error_measures};
 use crate::solve::{
@@ -32,6 +34,9 @@ pub enum LibrarySolver {
     PgsExact,
     /// The Newton solver (semismooth Newton on the Alart–Curnier function with its fallbacks).
     Newton,
+    /// The automatic choice: NSGS while its rate promises the tolerance soon, then Newton
+    /// warm-started from its λ (docs/contact.md §"Automatic choice: NSGS, then Newton").
+    Auto,
 }
 
 impl LibrarySolver {
@@ -41,6 +46,7 @@ impl LibrarySolver {
             LibrarySolver::Pgs => "pgs",
             LibrarySolver::PgsExact => "pgs-exact",
             LibrarySolver::Newton => "newton",
+            LibrarySolver::Auto => "auto",
         }
     }
 }
@@ -91,8 +97,12 @@ pub struct Attempt {
     pub coulomb_residual: f64,
     /// The worst physical criteria over the contacts (docs/contact.md §"Physical criteria").
     pub criteria: ContactCriteria,
-    /// For Newton: `newton` or `proximal` (which produced the answer).
+    /// For Newton: `newton` or `proximal` (which produced the answer); for the automatic
+    /// choice its path: `nsgs`, `nsgs+newton` or `nsgs+proximal`.
     pub method: &'static str,
+    /// For the automatic choice: the NSGS sweeps of its first phase (the rest of `iterations`
+    /// are Newton iterations); 0 for the other solvers.
+    pub sweeps: u32,
 }
 
 /// One problem of the library and every solver's attempt.
@@ -312,6 +322,8 @@ pub fn attempt<const R: usize>(
     let mut stop = |lambda: &[SVector<f64, R>]| library_error(problem, lambda) <= tolerance;
     let mut lambda = Vec::new();
     let started = Instant::now();
+    let mut sweeps = 0;
+    let mut path = None;
     let report = match solver {
         LibrarySolver::Pgs | LibrarySolver::PgsExact => {
             let pgs = PgsSettings {
@@ -333,6 +345,23 @@ pub fn attempt<const R: usize>(
             };
             solve_newton_local_until(problem, &newton, &mut stop, &mut lambda)
         }
+        LibrarySolver::Auto => {
+            let auto = AutoSettings {
+                newton: NewtonSettings {
+                    max_iterations: settings.newton_iterations,
+                    ..NewtonSettings::default()
+                },
+                light_tolerance: tolerance,
+                ..AutoSettings::default()
+            };
+            let done = solve_auto_local_until(problem, &auto, &mut stop, &mut lambda);
+            sweeps = done.sweeps;
+            path = Some(done.path.name());
+            SolveReport {
+                iterations: done.sweeps + done.newton_iterations,
+                ..done.report
+            }
+        }
     };
     let seconds = started.elapsed().as_secs_f64();
     let error = library_error(problem, &lambda);
@@ -348,7 +377,8 @@ pub fn attempt<const R: usize>(
         residual: residual(problem, &lambda),
         coulomb_residual: coulomb_residual(problem, &lambda),
         criteria: criteria(problem, &lambda).1,
-        method: report.method.name(),
+        method: path.unwrap_or(report.method.name()),
+        sweeps,
     }
 }
 
@@ -380,10 +410,21 @@ pub fn markdown_table(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> St
     for e in entries {
         s += &format!("| {} | {} | {:.0e} |", e.name, e.contacts, e.asymmetry);
         for a in &e.attempts {
+            let iterations = if a.solver == LibrarySolver::Auto {
+                format!(
+                    "{} ({}: {} sweeps + {})",
+                    a.iterations,
+                    a.method,
+                    a.sweeps,
+                    a.iterations - a.sweeps
+                )
+            } else {
+                a.iterations.to_string()
+            };
             s += &format!(
                 " {} | {} | {:.3e} | {:.1e} | {:.1e} |",
                 if a.converged { "yes" } else { "**no**" },
-                a.iterations,
+                iterations,
                 a.seconds,
                 a.error,
                 physical(&a.criteria)
