@@ -90,7 +90,8 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
             for r in 0..R {
                 for d in 0..D {
                     self.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
-                    self.inverse_mass_jacobian_t[s][r][d].0[l] = e.inverse_mass_jacobian_t[s][(d, r)];
+                    self.inverse_mass_jacobian_t[s][r][d].0[l] =
+                        e.inverse_mass_jacobian_t[s][(d, r)];
                 }
             }
         }
@@ -179,9 +180,8 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
     pub(super) fn lane_apply(&self, l: usize, u: &mut [SVector<f64, D>; 2], r: usize, delta: f64) {
         for s in 0..2 {
             if self.present[s].lane(l) {
-                let column = SVector::<f64, D>::from_fn(|d, _| {
-                    self.inverse_mass_jacobian_t[s][r][d].0[l]
-                });
+                let column =
+                    SVector::<f64, D>::from_fn(|d, _| self.inverse_mass_jacobian_t[s][r][d].0[l]);
                 u[s].axpy(delta, &column, 1.0);
             }
         }

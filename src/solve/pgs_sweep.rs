@@ -3,11 +3,11 @@
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
 
 use super::local::LocalSolve;
+use super::pgs_lanes::LANES;
 use super::pgs_residual::row_residual;
 use super::pgs_settings::{ContactOrder, Lanes, PgsSettings};
 use super::pgs_threads::share;
 use super::pgs_visit::{solve_contact, solve_free_rows, visit_exactly};
-use super::pgs_lanes::LANES;
 use super::pgs_workspace::{
     CachedRows, LaneRows, PgsWorkspace, Slot, colour_at, lane_copies, write_back,
 };
@@ -102,17 +102,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             };
             // SAFETY: see `Shared`: within a colour no other visit touches contact k's λ or
             // its moving bodies' Δu, and the threads meet at a barrier between colours.
-            unsafe {
-                visit_shared(
-                    problem,
-                    &entries[i],
-                    k,
-                    moving,
-                    shared,
-                    bodies,
-                    contacts,
-                )
-            };
+            unsafe { visit_shared(problem, &entries[i], k, moving, shared, bodies, contacts) };
         };
         // Thread t's share of the sweep's i-th colour: a contiguous part of its groups and of
         // the rest (with four at a time), or of its contacts.

@@ -150,7 +150,11 @@ pub(super) fn lane_copies<const D: usize, const R: usize>(
     lane: usize,
     delta_velocity: &[SVector<f64, D>],
 ) -> [SVector<f64, D>; 2] {
-    let copy = |s: usize| group.body(lane, s).map_or(SVector::zeros(), |b| delta_velocity[b]);
+    let copy = |s: usize| {
+        group
+            .body(lane, s)
+            .map_or(SVector::zeros(), |b| delta_velocity[b])
+    };
     [copy(0), copy(1)]
 }
 
@@ -269,7 +273,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.slot.clear();
         self.slot.resize(count, Slot::One(0));
         self.mass_rows.clear();
-        (self.mass_rows).extend(problem.bodies.iter().map(|b| nonzero_columns(&b.inverse_mass)));
+        (self.mass_rows).extend(
+            problem
+                .bodies
+                .iter()
+                .map(|b| nonzero_columns(&b.inverse_mass)),
+        );
         let PgsWorkspace {
             entries,
             entry_contact,
@@ -339,11 +348,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn hold_side_fixed(&mut self, k: usize, s: usize) {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s] = SMatrix::zeros(),
-            Slot::Lane(i) => self.groups[i / LANES].set_inverse_mass_jacobian_t(
-                i % LANES,
-                s,
-                &SMatrix::zeros(),
-            ),
+            Slot::Lane(i) => {
+                self.groups[i / LANES].set_inverse_mass_jacobian_t(i % LANES, s, &SMatrix::zeros())
+            }
         }
     }
 
@@ -606,7 +613,10 @@ fn build_entry<const D: usize, const R: usize>(
 pub(super) fn nonzero_columns<const D: usize>(m: &SMatrix<f64, D, D>) -> [(usize, usize); D] {
     std::array::from_fn(|i| {
         let first = (0..D).find(|&j| m[(i, j)] != 0.0).unwrap_or(D);
-        let end = (0..D).rev().find(|&j| m[(i, j)] != 0.0).map_or(D, |j| j + 1);
+        let end = (0..D)
+            .rev()
+            .find(|&j| m[(i, j)] != 0.0)
+            .map_or(D, |j| j + 1);
         (first, end)
     })
 }
@@ -668,10 +678,20 @@ mod tests {
     fn inverse_mass_times_over_nonzero_columns_is_nalgebras_product_to_the_bit() {
         let mut state = 0x49u64;
         let mut next = move || {
-            state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             (state >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0
         };
-        let pick = |x: f64, y: f64| if x < -0.6 { 0.0 } else if x < -0.3 { -0.0 } else { y };
+        let pick = |x: f64, y: f64| {
+            if x < -0.6 {
+                0.0
+            } else if x < -0.3 {
+                -0.0
+            } else {
+                y
+            }
+        };
         for case in 0..2000 {
             let mut m = SMatrix::<f64, 6, 6>::zeros();
             if case % 7 != 0 {
@@ -701,7 +721,11 @@ mod tests {
             let full = m * jt;
             let short = inverse_mass_times(&m, &nonzero_columns(&m), &jt);
             for (a, b) in full.iter().zip(short.iter()) {
-                assert_eq!(a.to_bits(), b.to_bits(), "case {case}: {full} against {short}");
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "case {case}: {full} against {short}"
+                );
             }
         }
     }

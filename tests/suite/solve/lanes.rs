@@ -312,7 +312,10 @@ fn self_contacts_and_joints_keep_the_one_at_a_time_sweep() {
 fn groups_of_four_serve_a_problem_above_the_old_limit_with_the_same_bits() {
     let mut numbers = Numbers(0x4916);
     for friction in [FrictionModel::Box, FrictionModel::Cone] {
-        let problem = tiled(&random_problem::<6, 3>(&mut numbers, 30, 200, friction), 100);
+        let problem = tiled(
+            &random_problem::<6, 3>(&mut numbers, 30, 200, friction),
+            100,
+        );
         assert!(problem.contacts.len() > 16_384);
         let one = solve(&problem, 3, Lanes::Off);
         assert_eq!(one.3, 0, "{friction:?}: groups ran with Lanes::Off");
