@@ -54,7 +54,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             RowBounds::Free => c.lambda0,
         };
         lambda.push(SVector::zeros());
-        workspace.apply_rows(k, &start);
+        workspace.apply_rows(problem, k, &start);
         lambda[k] = start;
     }
 

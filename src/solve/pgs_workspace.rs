@@ -532,26 +532,42 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     }
 
     /// Changes λ of contact `k` by `delta`, row by row, and updates the bodies' Δu to match
-    /// (the warm start): a lane's Δu copied once for its rows and written back once, the same
-    /// arithmetic as row by row on the bodies' Δu.
-    pub(super) fn apply_rows(&mut self, k: usize, delta: &SVector<f64, R>) {
+    /// (the warm start, in problem order). A contact kept in a one-contact record reads its
+    /// M_s⁻¹ J_sᵀ there; a contact kept in a lane has it formed again from the problem
+    /// ([`inverse_mass_times`], the same function of the same numbers as the set-up, so the
+    /// same bits), which reads the problem front to back instead of jumping between the groups
+    /// (where a lane's columns lie apart). Either way Δu_s += (M_s⁻¹ J_sᵀ)_r δ_r row by row, as
+    /// [`Entry::apply`] does.
+    pub(super) fn apply_rows(
+        &mut self,
+        problem: &ContactProblem<D, R>,
+        k: usize,
+        delta: &SVector<f64, R>,
+    ) {
         match self.slot[k] {
             Slot::One(i) => {
                 for r in 0..R {
                     self.entries[i].apply(&mut self.delta_velocity, r, delta[r]);
                 }
             }
-            Slot::Lane(i) => {
-                let (group, lane) = (&self.groups[i / LANES], i % LANES);
-                let mut rows = LaneRows {
-                    group,
-                    lane,
-                    delta_velocity: lane_copies(group, lane, &self.delta_velocity),
-                };
+            Slot::Lane(_) => {
+                let c = &problem.contacts[k];
+                let sides: [Option<SMatrix<f64, D, R>>; 2] = std::array::from_fn(|s| {
+                    c.bodies[s].map(|b| {
+                        inverse_mass_times(
+                            &problem.bodies[b].inverse_mass,
+                            &self.mass_rows[b],
+                            &c.jacobian[s].transpose(),
+                        )
+                    })
+                });
                 for r in 0..R {
-                    rows.apply(r, delta[r]);
+                    for s in 0..2 {
+                        if let (Some(b), Some(side)) = (c.bodies[s], &sides[s]) {
+                            self.delta_velocity[b].axpy(delta[r], &side.column(r), 1.0);
+                        }
+                    }
                 }
-                write_back(group, lane, &rows.delta_velocity, &mut self.delta_velocity);
             }
         }
     }
