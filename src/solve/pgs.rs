@@ -13,10 +13,7 @@
 //! ([`super::pgs_residual`]); here the driver, [`solve_pgs`].
 
 use super::local::LocalSolve;
-pub use super::pgs_settings::{
-    ContactOrder, Lanes, MAX_CONTACTS_IN_GROUPS, MIN_CONTACTS_PER_THREAD, PgsSettings,
-    max_contacts_in_groups,
-};
+pub use super::pgs_settings::{ContactOrder, Lanes, MIN_CONTACTS_PER_THREAD, PgsSettings};
 pub use super::pgs_workspace::PgsWorkspace;
 use super::projection::project_feasible;
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
@@ -31,7 +28,24 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     workspace: &mut PgsWorkspace<D, R>,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> SolveReport {
-    workspace.prepare(problem, settings.order);
+    // What the threads and the groups of four exclude: a contact between a body and itself,
+    // and (groups only) a joint's free rows.
+    let (self_contact, joint) = (problem.contacts.iter()).fold((false, false), |(s, j), c| {
+        (
+            s || (c.bodies[0].is_some() && c.bodies[0] == c.bodies[1]),
+            j || c.bounds == RowBounds::Free,
+        )
+    });
+    // The groups of four at every size: their entries are built in place, in one pass
+    // ([`PgsWorkspace::prepare`]).
+    let lanes = settings.order.is_coloured()
+        && settings.local == LocalSolve::Rows
+        && workspace.lanes != Lanes::Off
+        && !crate::common::faults::fault!(stale_friction_bound)
+        && !self_contact
+        && !joint
+        && super::pgs_lanes::dimensions_fit::<D, R>();
+    workspace.prepare(problem, settings.order, lanes);
     workspace.draw_sweep_colours(settings.order, settings.max_iterations);
     lambda.clear();
     for (k, c) in problem.contacts.iter().enumerate() {
@@ -40,22 +54,12 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             RowBounds::Free => c.lambda0,
         };
         lambda.push(SVector::zeros());
-        for r in 0..R {
-            workspace.apply(k, r, start[r]);
-        }
+        workspace.apply_rows(problem, k, &start);
         lambda[k] = start;
     }
 
     let mut iterations = 0;
     let mut converged = false;
-    // One pass over the entries for what the threads and the groups of four exclude: a contact
-    // between a body and itself, and (groups only) a joint's free rows.
-    let (self_contact, joint) = (workspace.entries.iter()).fold((false, false), |(s, j), e| {
-        (
-            s || (e.bodies[0].is_some() && e.bodies[0] == e.bodies[1]),
-            j || e.bounds == RowBounds::Free,
-        )
-    });
     // Threads only where a colour gives each at least MIN_CONTACTS_PER_THREAD visits on
     // average: below that, starting them and meeting at every colour's barrier costs more than
     // the visits (the result is the same bits either way).
@@ -66,27 +70,6 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !self_contact
         && problem.contacts.len() >= MIN_CONTACTS_PER_THREAD * workspace.threads * colours;
     workspace.last_threads = if threaded { workspace.threads } else { 1 };
-    let lanes = settings.order.is_coloured()
-        && settings.local == LocalSolve::Rows
-        && workspace.lanes != Lanes::Off
-        && !crate::common::faults::fault!(stale_friction_bound)
-        && !self_contact
-        && !joint
-        && problem.contacts.len() <= max_contacts_in_groups::<D, R>()
-        && super::pgs_lanes::dimensions_fit::<D, R>();
-    workspace.groups.clear();
-    if lanes {
-        let PgsWorkspace {
-            entries,
-            order,
-            colour_starts,
-            moving,
-            groups,
-            group_starts,
-            ..
-        } = &mut *workspace;
-        super::pgs_lanes::lay_out(entries, order, colour_starts, moving, groups, group_starts);
-    }
     if threaded {
         (iterations, converged) = workspace.sweep_in_threads(problem, settings, lanes, lambda);
     }

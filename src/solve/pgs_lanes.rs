@@ -13,14 +13,15 @@
 // as the derivation writes them.
 #![allow(clippy::needless_range_loop)]
 
-use super::sweep_entry::{Entry, Shared};
+use super::sweep_entry::{Entry, RowLaw, Shared};
 pub(super) use super::wide::LANES;
 use super::wide::{Mask, Wide};
 use crate::problem::FrictionModel;
-use nalgebra::SVector;
+use nalgebra::{SMatrix, SVector};
 
 /// A group of four contacts of one colour as a visit reads them, each quantity lane by lane
-/// (lane l is the group's l-th contact). The entries' quantities, rearranged; nothing new.
+/// (lane l is the group's l-th contact): where these contacts' entries are kept, each written
+/// into its lane once by the solve's set-up ([`super::pgs_workspace::PgsWorkspace::prepare`]).
 #[derive(Clone, Debug)]
 pub(super) struct LaneGroup<const D: usize, const R: usize> {
     /// The contacts' indices in the problem (for λ).
@@ -56,66 +57,134 @@ pub(super) const fn dimensions_fit<const D: usize, const R: usize>() -> bool {
     D < 8 && R >= 1
 }
 
-/// Lays out the groups: per colour (positions `starts[c]..starts[c + 1]` of the visiting order,
-/// whose entries are `entries[position]`), its first ⌊n / 4⌋ × 4 contacts in groups of four,
-/// `groups[group_starts[c]..group_starts[c + 1]]`; the rest of each colour is visited one at a
-/// time. `order[position]` is the contact's index.
-pub(super) fn lay_out<const D: usize, const R: usize>(
-    entries: &[Entry<D, R>],
-    order: &[usize],
-    starts: &[usize],
-    moving: &[bool],
-    groups: &mut Vec<LaneGroup<D, R>>,
-    group_starts: &mut Vec<usize>,
-) {
-    groups.clear();
-    group_starts.clear();
-    group_starts.push(0);
-    for colour in starts.windows(2) {
-        let (a, b) = (colour[0], colour[1]);
-        for first in (a..a + grouped(b - a)).step_by(LANES) {
-            let zero = Wide::splat(0.0);
-            let mut g = LaneGroup {
-                contact: [0; LANES],
-                body: [[0; LANES]; 2],
-                present: [Mask::NONE; 2],
-                moving: [[false; LANES]; 2],
-                jacobian_t: [[[zero; D]; R]; 2],
-                inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
-                b: [zero; R],
-                diagonal: [zero; R],
-                tangent_rho: zero,
-                mu: zero,
-                compliance: zero,
-            };
-            for l in 0..LANES {
-                let e = &entries[first + l];
-                g.contact[l] = order[first + l];
-                for s in 0..2 {
-                    // The static world's side stays zero (its Δu is zero and never written).
-                    let Some(body) = e.bodies[s] else { continue };
-                    g.body[s][l] = body;
-                    g.present[s].set(l);
-                    g.moving[s][l] = moving[body];
-                    for r in 0..R {
-                        for d in 0..D {
-                            g.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
-                            g.inverse_mass_jacobian_t[s][r][d].0[l] =
-                                e.inverse_mass_jacobian_t[s][(d, r)];
-                        }
-                    }
-                }
-                for r in 0..R {
-                    g.b[r].0[l] = e.b[r];
-                    g.diagonal[r].0[l] = e.law.diagonal[r];
-                }
-                g.tangent_rho.0[l] = e.law.tangent_rho;
-                g.mu.0[l] = e.law.mu;
-                g.compliance.0[l] = e.law.compliance;
-            }
-            groups.push(g);
+impl<const D: usize, const R: usize> LaneGroup<D, R> {
+    /// A group with every lane empty (all zero; no side a body), to be filled lane by lane with
+    /// [`LaneGroup::set_lane`] where it is stored.
+    pub(super) fn empty() -> Self {
+        let zero = Wide::splat(0.0);
+        LaneGroup {
+            contact: [0; LANES],
+            body: [[0; LANES]; 2],
+            present: [Mask::NONE; 2],
+            moving: [[false; LANES]; 2],
+            jacobian_t: [[[zero; D]; R]; 2],
+            inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
+            b: [zero; R],
+            diagonal: [zero; R],
+            tangent_rho: zero,
+            mu: zero,
+            compliance: zero,
         }
-        group_starts.push(groups.len());
+    }
+
+    /// Puts contact `k`'s entry `e` in lane `l` (an empty lane): each quantity of the entry
+    /// into its lane, nothing computed. `moving[b]`: whether body b's inverse mass is not zero.
+    pub(super) fn set_lane(&mut self, l: usize, k: usize, e: &Entry<D, R>, moving: &[bool]) {
+        self.contact[l] = k;
+        for s in 0..2 {
+            // The static world's side stays zero (its Δu is zero and never written).
+            let Some(body) = e.bodies[s] else { continue };
+            self.body[s][l] = body;
+            self.present[s].set(l);
+            self.moving[s][l] = moving[body];
+            for r in 0..R {
+                for d in 0..D {
+                    self.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
+                    self.inverse_mass_jacobian_t[s][r][d].0[l] =
+                        e.inverse_mass_jacobian_t[s][(d, r)];
+                }
+            }
+        }
+        for r in 0..R {
+            self.b[r].0[l] = e.b[r];
+            self.diagonal[r].0[l] = e.law.diagonal[r];
+        }
+        self.tangent_rho.0[l] = e.law.tangent_rho;
+        self.mu.0[l] = e.law.mu;
+        self.compliance.0[l] = e.law.compliance;
+    }
+
+    /// The contact in lane `l` (its index in the problem).
+    #[inline(always)]
+    pub(super) fn contact(&self, l: usize) -> usize {
+        self.contact[l]
+    }
+
+    /// Lane `l`'s body on side `s` (`None`: the static world).
+    #[inline(always)]
+    pub(super) fn body(&self, l: usize, s: usize) -> Option<usize> {
+        self.present[s].lane(l).then_some(self.body[s][l])
+    }
+
+    /// Lane `l`'s constants as a one-at-a-time visit reads them.
+    #[inline(always)]
+    pub(super) fn law(&self, l: usize) -> RowLaw<R> {
+        RowLaw {
+            diagonal: SVector::from_fn(|r, _| self.diagonal[r].0[l]),
+            tangent_rho: self.tangent_rho.0[l],
+            mu: self.mu.0[l],
+            compliance: self.compliance.0[l],
+        }
+    }
+
+    /// Lane `l`'s row scales as shock propagation changes them (the diagonal and ρ).
+    pub(super) fn set_scales(&mut self, l: usize, diagonal: &SVector<f64, R>, tangent_rho: f64) {
+        for r in 0..R {
+            self.diagonal[r].0[l] = diagonal[r];
+        }
+        self.tangent_rho.0[l] = tangent_rho;
+    }
+
+    /// Row r of J_s of lane `l` (column r of J_sᵀ), as a vector.
+    #[inline(always)]
+    fn jacobian_column(&self, l: usize, s: usize, r: usize) -> SVector<f64, D> {
+        SVector::from_fn(|d, _| self.jacobian_t[s][r][d].0[l])
+    }
+
+    /// M_s⁻¹ J_sᵀ of lane `l` (D × R).
+    pub(super) fn inverse_mass_jacobian_t(&self, l: usize, s: usize) -> SMatrix<f64, D, R> {
+        SMatrix::from_fn(|d, r| self.inverse_mass_jacobian_t[s][r][d].0[l])
+    }
+
+    /// Sets M_s⁻¹ J_sᵀ of lane `l` (shock propagation holds a side fixed with zero).
+    pub(super) fn set_inverse_mass_jacobian_t(
+        &mut self,
+        l: usize,
+        s: usize,
+        m: &SMatrix<f64, D, R>,
+    ) {
+        for r in 0..R {
+            for d in 0..D {
+                self.inverse_mass_jacobian_t[s][r][d].0[l] = m[(d, r)];
+            }
+        }
+    }
+
+    /// Lane `l`'s w_r = b_r + J₁,r u₁ + J₂,r u₂ (without compliance), u_s being side s's Δu
+    /// (anything for the static world's side): [`Entry::velocity`]'s arithmetic on the same
+    /// numbers (nalgebra's dot product of the same vectors), so the same bits.
+    #[inline(always)]
+    pub(super) fn lane_velocity(&self, l: usize, u: &[SVector<f64, D>; 2], r: usize) -> f64 {
+        let mut w = self.b[r].0[l];
+        for s in 0..2 {
+            if self.present[s].lane(l) {
+                w += self.jacobian_column(l, s, r).dot(&u[s]);
+            }
+        }
+        w
+    }
+
+    /// Lane `l`'s λ_r changes by `delta`: u_s += (M_s⁻¹ J_sᵀ)_r δ for each side that is a body,
+    /// as [`Entry::apply`] computes it.
+    #[inline(always)]
+    pub(super) fn lane_apply(&self, l: usize, u: &mut [SVector<f64, D>; 2], r: usize, delta: f64) {
+        for s in 0..2 {
+            if self.present[s].lane(l) {
+                let column =
+                    SVector::<f64, D>::from_fn(|d, _| self.inverse_mass_jacobian_t[s][r][d].0[l]);
+                u[s].axpy(delta, &column, 1.0);
+            }
+        }
     }
 }
 

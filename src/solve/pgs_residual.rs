@@ -2,7 +2,8 @@
 //! after each sweep (the tolerance's test) and at the end (the report), and the Coulomb
 //! residual of the report. docs/contact.md §"Residual".
 
-use super::pgs_workspace::PgsWorkspace;
+use super::pgs_lanes::{LANES, LaneGroup};
+use super::pgs_workspace::{PgsWorkspace, lane_copies};
 use super::residual::{
     RowScales, constraint_residual, contact_coulomb_residual, coulomb_scale, free_residual,
 };
@@ -27,16 +28,25 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         problem: &ContactProblem<D, R>,
         lambda: &[SVector<f64, R>],
     ) -> f64 {
-        (0..problem.contacts.len())
-            .map(|k| {
-                let w = self.contact_velocity(problem, k, &lambda[k]);
-                if problem.contacts[k].bounds == RowBounds::Free {
-                    return free_residual(&w);
-                }
-                let rho = coulomb_scale(&self.scales[k]);
-                contact_coulomb_residual(problem.contacts[k].mu, &lambda[k], &w, rho)
-            })
-            .fold(0.0, f64::max)
+        let mut largest = 0.0;
+        for_each_velocity(
+            problem,
+            &self.groups,
+            &self.entries,
+            &self.entry_contact,
+            &self.delta_velocity,
+            lambda,
+            |k, w| {
+                let term = if problem.contacts[k].bounds == RowBounds::Free {
+                    free_residual(w)
+                } else {
+                    let rho = coulomb_scale(&self.scales[k]);
+                    contact_coulomb_residual(problem.contacts[k].mu, &lambda[k], w, rho)
+                };
+                largest = f64::max(largest, term);
+            },
+        );
+        largest
     }
 
     pub(super) fn residual(
@@ -46,8 +56,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     ) -> f64 {
         row_residual(
             problem,
+            &self.groups,
             &self.entries,
-            &self.slot,
+            &self.entry_contact,
             &self.scales,
             &self.delta_velocity,
             lambda,
@@ -55,23 +66,64 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     }
 }
 
+/// Calls `f(k, w_k)` for every contact k, w_k its full velocity (compliance included), in the
+/// order the entries are stored: the groups lane by lane, then the one-at-a-time entries (so
+/// that the pass reads them front to back, wherever the problem order jumps).
+fn for_each_velocity<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    groups: &[LaneGroup<D, R>],
+    entries: &[Entry<D, R>],
+    entry_contact: &[usize],
+    delta_velocity: &[SVector<f64, D>],
+    lambda: &[SVector<f64, R>],
+    mut f: impl FnMut(usize, &SVector<f64, R>),
+) {
+    for group in groups {
+        for lane in 0..LANES {
+            let k = group.contact(lane);
+            let u = lane_copies(group, lane, delta_velocity);
+            let c = &problem.contacts[k];
+            let w = SVector::<f64, R>::from_fn(|r, _| {
+                group.lane_velocity(lane, &u, r) + c.row_compliance(r) * lambda[k][r]
+            });
+            f(k, &w);
+        }
+    }
+    for (entry, &k) in entries.iter().zip(entry_contact) {
+        let c = &problem.contacts[k];
+        let w = SVector::<f64, R>::from_fn(|r, _| {
+            entry.velocity(delta_velocity, r) + c.row_compliance(r) * lambda[k][r]
+        });
+        f(k, &w);
+    }
+}
+
 /// The residual (docs/contact.md §"Residual") of λ with the bodies' Δu, m/s: the largest row
-/// term over all contacts.
+/// term over all contacts (taken in the order the entries are stored; the largest of the same
+/// terms in any order).
 pub(super) fn row_residual<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
+    groups: &[LaneGroup<D, R>],
     entries: &[Entry<D, R>],
-    slot: &[usize],
+    entry_contact: &[usize],
     scales: &[RowScales<R>],
     delta_velocity: &[SVector<f64, D>],
     lambda: &[SVector<f64, R>],
 ) -> f64 {
-    (0..problem.contacts.len())
-        .map(|k| {
+    let mut largest = 0.0;
+    for_each_velocity(
+        problem,
+        groups,
+        entries,
+        entry_contact,
+        delta_velocity,
+        lambda,
+        |k, w| {
             let c = &problem.contacts[k];
-            let w = SVector::<f64, R>::from_fn(|r, _| {
-                entries[slot[k]].velocity(delta_velocity, r) + c.row_compliance(r) * lambda[k][r]
-            });
-            constraint_residual(problem.friction, c.bounds, c.mu, &lambda[k], &w, &scales[k])
-        })
-        .fold(0.0, f64::max)
+            let term =
+                constraint_residual(problem.friction, c.bounds, c.mu, &lambda[k], w, &scales[k]);
+            largest = f64::max(largest, term);
+        },
+    );
+    largest
 }

@@ -61,29 +61,6 @@ impl ContactOrder {
 /// sweeps on several threads ([`PgsWorkspace::set_threads`]); smaller solves stay on one.
 pub const MIN_CONTACTS_PER_THREAD: usize = 64;
 
-/// The most contacts for which a coloured solve of 3D bodies visits its colours' contacts four
-/// at a time (docs/contact.md §"Four contacts per lane"; [`max_contacts_in_groups`]). The groups are laid out from the entries at the
-/// start of each solve, one more pass over every contact's data. Measured against one contact
-/// at a time: PGS about 30 % faster at 926–2 292 contacts and 13–25 % at 7 168–9 178, equal at
-/// 20 480–28 672, slower at 36 568 (37.6–42.5 → 49.4–51.0 ms) and 96 322 (118.5–119.5 →
-/// 149.1–153.2 ms) (docs/performance.md §"Issue 33, fourth part"). Either way the result is the
-/// same bits.
-pub const MAX_CONTACTS_IN_GROUPS: usize = 16_384;
-
-/// The most contacts for which a coloured solve of bodies of dimension `D` visits its colours'
-/// contacts four at a time: [`MAX_CONTACTS_IN_GROUPS`] for 3D bodies (D = 6), where it was
-/// measured; no limit for 2D bodies (D ≤ 3), whose entries are less than half the size and
-/// where the groups were measured faster at every size tried (the factory's pile of 20 466 and
-/// 41 156 contacts: PGS 61.1 → 37.4 ms and 186.5–227.4 → 119.1–128.2 ms per step,
-/// docs/performance.md §"Issue 49: the solver side"). Either way the result is the same bits.
-pub const fn max_contacts_in_groups<const D: usize, const R: usize>() -> usize {
-    if D <= 3 {
-        usize::MAX
-    } else {
-        MAX_CONTACTS_IN_GROUPS
-    }
-}
-
 /// Whether and how a coloured sweep, row by row, visits its colours' contacts four at a time
 /// (docs/contact.md §"Four contacts per lane"); the same bits in every case.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

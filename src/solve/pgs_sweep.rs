@@ -3,11 +3,14 @@
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
 
 use super::local::LocalSolve;
+use super::pgs_lanes::LANES;
 use super::pgs_residual::row_residual;
 use super::pgs_settings::{ContactOrder, Lanes, PgsSettings};
 use super::pgs_threads::share;
 use super::pgs_visit::{solve_contact, solve_free_rows, visit_exactly};
-use super::pgs_workspace::{CachedRows, PgsWorkspace, colour_at};
+use super::pgs_workspace::{
+    CachedRows, LaneRows, PgsWorkspace, Slot, colour_at, lane_copies, write_back,
+};
 use super::sweep_entry::{Entry, Shared};
 use crate::problem::{ContactProblem, RowBounds};
 use nalgebra::SVector;
@@ -64,6 +67,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         let lanes_setting = self.lanes;
         let PgsWorkspace {
             entries,
+            entry_contact,
             slot,
             scales,
             order,
@@ -83,6 +87,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             lambda: lambda.as_mut_ptr(),
         };
         let (entries, order, moving, starts) = (&*entries, &*order, &*moving, &*colour_starts);
+        let (slot, entry_contact) = (&*slot, &*entry_contact);
         let (groups, group_starts) = (&*groups, &*group_starts);
         let (sweep_colours, colours) = (&*sweep_colours, colour_starts.len().saturating_sub(1));
         let native = lanes_setting == Lanes::Native;
@@ -90,22 +95,14 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         // not Sync on their own.
         let shared = &shared;
         let visit = |position: usize| {
-            // The entries are laid out in visiting order: entry `position` is contact
-            // order[position].
+            // Contacts visited one at a time have their entry in `entries`.
             let k = order[position];
+            let Slot::One(i) = slot[k] else {
+                unreachable!("a contact in a group is visited with its group")
+            };
             // SAFETY: see `Shared`: within a colour no other visit touches contact k's λ or
             // its moving bodies' Δu, and the threads meet at a barrier between colours.
-            unsafe {
-                visit_shared(
-                    problem,
-                    &entries[position],
-                    k,
-                    moving,
-                    shared,
-                    bodies,
-                    contacts,
-                )
-            };
+            unsafe { visit_shared(problem, &entries[i], k, moving, shared, bodies, contacts) };
         };
         // Thread t's share of the sweep's i-th colour: a contiguous part of its groups and of
         // the rest (with four at a time), or of its contacts.
@@ -135,7 +132,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                     std::slice::from_raw_parts(shared.lambda, contacts),
                 )
             };
-            let done = row_residual(problem, entries, slot, scales, dv, l) <= tolerance;
+            let done =
+                row_residual(problem, groups, entries, entry_contact, scales, dv, l) <= tolerance;
             reached.store(done, std::sync::atomic::Ordering::Relaxed);
             done
         };
@@ -199,7 +197,7 @@ pub(super) fn visit<const D: usize, const R: usize>(
     lambda: &mut SVector<f64, R>,
 ) {
     let contact = &problem.contacts[k];
-    let law = workspace.entry(k).law;
+    let law = workspace.law(k);
     if local == LocalSolve::Exact {
         // q = w_now − A λ_now: the velocity the rest of the problem gives this constraint.
         let q =
@@ -219,7 +217,24 @@ pub(super) fn visit<const D: usize, const R: usize>(
         }
         return;
     }
-    if let Some(mut rows) = workspace.cached_rows(k) {
+    let i = match workspace.slot[k] {
+        Slot::One(i) => i,
+        Slot::Lane(i) => {
+            // A contact of a group visited on its own (shock propagation): a contact, not a
+            // joint, between two different bodies, as every grouped contact is.
+            let (group, lane) = (&workspace.groups[i / LANES], i % LANES);
+            let mut rows = LaneRows {
+                group,
+                lane,
+                delta_velocity: lane_copies(group, lane, &workspace.delta_velocity),
+            };
+            solve_contact(problem.friction, &law, &contact.lambda0, &mut rows, lambda);
+            let copies = rows.delta_velocity;
+            write_back(group, lane, &copies, &mut workspace.delta_velocity);
+            return;
+        }
+    };
+    if let Some(mut rows) = workspace.cached_rows(i) {
         let (bounds, lambda0) = (rows.entry.bounds, rows.entry.lambda0);
         match bounds {
             RowBounds::Free => solve_free_rows(&law, &mut rows, lambda),
@@ -228,7 +243,7 @@ pub(super) fn visit<const D: usize, const R: usize>(
             }
         }
         let copies = rows.delta_velocity;
-        let bodies = workspace.entry(k).bodies;
+        let bodies = workspace.entries[i].bodies;
         for s in 0..2 {
             if let Some(b) = bodies[s] {
                 workspace.delta_velocity[b] = copies[s];
@@ -236,7 +251,7 @@ pub(super) fn visit<const D: usize, const R: usize>(
         }
         return;
     }
-    let mut rows = workspace.rows(k);
+    let mut rows = workspace.entry_rows(i);
     match contact.bounds {
         RowBounds::Free => solve_free_rows(&law, &mut rows, lambda),
         RowBounds::Contact => {

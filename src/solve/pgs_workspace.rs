@@ -1,8 +1,10 @@
 //! What a PGS solve keeps from solve to solve, and its set-up: each contact's entry (what a
-//! sweep reads) and row scales, in visiting order; the coloured order's colours; the bodies'
-//! Δu; the seeded generator of the random orders. docs/contact.md §"PGS", §"Coloured order".
+//! sweep reads) and row scales, built once in visiting order, as a lane of a group of four where
+//! a coloured sweep takes four at a time and as a one-contact entry elsewhere; the coloured
+//! order's colours; the bodies' Δu; the seeded generator of the random orders.
+//! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
 
-use super::pgs_lanes::LaneGroup;
+use super::pgs_lanes::{LANES, LaneGroup, grouped};
 use super::pgs_settings::{ContactOrder, Lanes};
 use super::pgs_visit::ContactRows;
 use super::residual::RowScales;
@@ -19,15 +21,17 @@ use rand_chacha::ChaCha8Rng;
 pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Δu per body: the velocity change the current λ causes.
     pub(super) delta_velocity: Vec<SVector<f64, D>>,
-    /// Per contact, what a sweep reads, in problem order.
+    /// What a sweep reads of the contacts it visits one at a time, in visiting order (every
+    /// contact where the sweeps go one at a time; else the rest of each colour after its
+    /// groups); `entry_contact[i]` is entry i's contact.
     pub(super) entries: Vec<Entry<D, R>>,
+    pub(super) entry_contact: Vec<usize>,
     /// Row scales per contact (the full block, for the exact local solve and the residuals).
     pub(super) scales: Vec<RowScales<R>>,
     /// The visiting order.
     pub(super) order: Vec<usize>,
-    /// Where each contact's entry is in `entries` (the visiting order for the coloured order,
-    /// else the problem order).
-    pub(super) slot: Vec<usize>,
+    /// Where each contact's entry is: in `entries` or in a lane of `groups`.
+    pub(super) slot: Vec<Slot>,
     /// With the coloured order: where each colour starts in `order` (the end appended), and
     /// the colouring's scratch.
     pub(super) colour_starts: Vec<usize>,
@@ -35,6 +39,9 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) colour_of: Vec<usize>,
     /// Per body: whether its inverse mass is not zero (a pinned body's Δu never changes).
     pub(super) moving: Vec<bool>,
+    /// Per body, per row of its M⁻¹, the columns outside of which the row is zero
+    /// ([`nonzero_columns`]: found once per body, used by each of its contacts' M⁻¹Jᵀ).
+    pub(super) mass_rows: Vec<[(usize, usize); D]>,
     /// Threads a coloured sweep runs on ([`PgsWorkspace::set_threads`]; 1 by default).
     pub(super) threads: usize,
     /// Threads the last solve's sweeps ran on.
@@ -43,7 +50,8 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// ([`PgsWorkspace::set_lanes`]; natively by default).
     pub(super) lanes: Lanes,
     /// With four contacts at a time: the groups, colour by colour, colour c's being
-    /// `groups[group_starts[c]..group_starts[c + 1]]`; empty when the last solve went one
+    /// `groups[group_starts[c]..group_starts[c + 1]]`, each holding the entries of its four
+    /// contacts (built there, not copied from `entries`); empty when the last solve went one
     /// contact at a time.
     pub(super) groups: Vec<LaneGroup<D, R>>,
     pub(super) group_starts: Vec<usize>,
@@ -72,6 +80,97 @@ impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
     #[inline(always)]
     fn apply(&mut self, r: usize, delta: f64) {
         self.entry.apply(self.delta_velocity, r, delta);
+    }
+}
+
+/// Where a contact's entry is kept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Slot {
+    /// `entries[i]`, visited one at a time.
+    One(usize),
+    /// Lane `i % LANES` of `groups[i / LANES]`.
+    Lane(usize),
+}
+
+/// A contact kept in a lane of a group, visited on its own (shock propagation, the warm start,
+/// the residuals), with copies of its two sides' Δu (zeros for the static world): the
+/// arithmetic of [`CachedRows`] on the same numbers, so the same bits.
+pub(super) struct LaneRows<'a, const D: usize, const R: usize> {
+    pub(super) group: &'a LaneGroup<D, R>,
+    pub(super) lane: usize,
+    pub(super) delta_velocity: [SVector<f64, D>; 2],
+}
+
+impl<const D: usize, const R: usize> ContactRows<R> for LaneRows<'_, D, R> {
+    #[inline(always)]
+    fn velocity(&self, r: usize) -> f64 {
+        self.group.lane_velocity(self.lane, &self.delta_velocity, r)
+    }
+    #[inline(always)]
+    fn apply(&mut self, r: usize, delta: f64) {
+        self.group
+            .lane_apply(self.lane, &mut self.delta_velocity, r, delta);
+    }
+}
+
+/// A contact's rows wherever its entry is, with the bodies' Δu (the exact local solve's and the
+/// warm start's visits): one-at-a-time entries as [`BodyRows`], lanes as [`LaneRows`] with their
+/// copies written back after each update.
+pub(super) struct SlotRows<'a, const D: usize, const R: usize> {
+    workspace: &'a mut PgsWorkspace<D, R>,
+    k: usize,
+}
+
+impl<const D: usize, const R: usize> ContactRows<R> for SlotRows<'_, D, R> {
+    fn velocity(&self, r: usize) -> f64 {
+        self.workspace.row_velocity(self.k, r)
+    }
+    fn apply(&mut self, r: usize, delta: f64) {
+        let ws = &mut *self.workspace;
+        match ws.slot[self.k] {
+            Slot::One(i) => ws.entries[i].apply(&mut ws.delta_velocity, r, delta),
+            Slot::Lane(i) => {
+                let (group, lane) = (&ws.groups[i / LANES], i % LANES);
+                let mut rows = LaneRows {
+                    group,
+                    lane,
+                    delta_velocity: lane_copies(group, lane, &ws.delta_velocity),
+                };
+                rows.apply(r, delta);
+                write_back(group, lane, &rows.delta_velocity, &mut ws.delta_velocity);
+            }
+        }
+    }
+}
+
+/// Copies of the Δu of lane `lane`'s two sides (zeros for the static world).
+#[inline(always)]
+pub(super) fn lane_copies<const D: usize, const R: usize>(
+    group: &LaneGroup<D, R>,
+    lane: usize,
+    delta_velocity: &[SVector<f64, D>],
+) -> [SVector<f64, D>; 2] {
+    let copy = |s: usize| {
+        group
+            .body(lane, s)
+            .map_or(SVector::zeros(), |b| delta_velocity[b])
+    };
+    [copy(0), copy(1)]
+}
+
+/// Writes lane `lane`'s copies of its sides' Δu back (every side that is a body, as the
+/// one-at-a-time visit with [`CachedRows`] does).
+#[inline(always)]
+pub(super) fn write_back<const D: usize, const R: usize>(
+    group: &LaneGroup<D, R>,
+    lane: usize,
+    copies: &[SVector<f64, D>; 2],
+    delta_velocity: &mut [SVector<f64, D>],
+) {
+    for s in 0..2 {
+        if let Some(b) = group.body(lane, s) {
+            delta_velocity[b] = copies[s];
+        }
     }
 }
 
@@ -114,6 +213,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         PgsWorkspace {
             delta_velocity: Vec::new(),
             entries: Vec::new(),
+            entry_contact: Vec::new(),
             scales: Vec::new(),
             order: Vec::new(),
             slot: Vec::new(),
@@ -121,6 +221,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             colour_masks: Vec::new(),
             colour_of: Vec::new(),
             moving: Vec::new(),
+            mass_rows: Vec::new(),
             threads: 1,
             last_threads: 1,
             lanes: Lanes::Native,
@@ -138,18 +239,28 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         &self.delta_velocity[i]
     }
 
-    /// Builds the entries for `problem`. With a coloured order the contacts are coloured
-    /// first and the entries laid out in visiting order (`slot[k]` is contact k's place), so a
-    /// sweep reads them front to back; otherwise in problem order.
-    pub(super) fn prepare(&mut self, problem: &ContactProblem<D, R>, order: ContactOrder) {
+    /// Builds the entries for `problem`, once, where the sweeps read them. With a coloured
+    /// order the contacts are coloured first and the entries laid out in visiting order: with
+    /// `lanes`, each colour's first ⌊n / 4⌋ × 4 contacts straight into its groups of four, lane
+    /// by lane, and the rest of the colour into `entries`; else all into `entries`. Otherwise
+    /// in problem order. `slot[k]` is contact k's place.
+    pub(super) fn prepare(
+        &mut self,
+        problem: &ContactProblem<D, R>,
+        order: ContactOrder,
+        lanes: bool,
+    ) {
         self.delta_velocity.clear();
         self.delta_velocity
             .resize(problem.bodies.len(), SVector::zeros());
         self.entries.clear();
+        self.entry_contact.clear();
         self.scales.clear();
         self.order.clear();
         self.colour_starts.clear();
         self.sweep_colours.clear();
+        self.groups.clear();
+        self.group_starts.clear();
         self.local_fallbacks = 0;
         let count = problem.contacts.len();
         if order.is_coloured() {
@@ -160,59 +271,101 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.scales
             .resize(count, RowScales::of_block(SMatrix::zeros()));
         self.slot.clear();
-        self.slot.resize(count, 0);
-        for i in 0..count {
-            let k = self.order[i];
-            self.slot[k] = i;
-            let c = &problem.contacts[k];
-            let side = |s: usize| match c.bodies[s] {
-                Some(b) => problem.bodies[b].inverse_mass * c.jacobian[s].transpose(),
-                None => SMatrix::zeros(),
-            };
-            let sides = [side(0), side(1)];
-            // The contact's Delassus block from the same per-body M⁻¹Jᵀ the updates use, once:
-            // A_kk = Σ_s J_s (M_s⁻¹ J_sᵀ), symmetrised, plus compliance on its rows
-            // (docs/contact.md §"Delassus operator"; `ContactProblem::delassus_block` forms
-            // J M⁻¹ first, the same to round-off).
-            let mut a = SMatrix::<f64, R, R>::zeros();
-            for ((body, jacobian), side) in c.bodies.iter().zip(&c.jacobian).zip(&sides) {
-                if body.is_some() {
-                    a += jacobian * side;
+        self.slot.resize(count, Slot::One(0));
+        self.mass_rows.clear();
+        (self.mass_rows).extend(
+            problem
+                .bodies
+                .iter()
+                .map(|b| nonzero_columns(&b.inverse_mass)),
+        );
+        let PgsWorkspace {
+            entries,
+            entry_contact,
+            scales,
+            order,
+            slot,
+            colour_starts,
+            moving,
+            mass_rows,
+            groups,
+            group_starts,
+            ..
+        } = self;
+        let mass_rows = &*mass_rows;
+        if !lanes {
+            for &k in order.iter() {
+                slot[k] = Slot::One(entries.len());
+                entries.push(build_entry(problem, mass_rows, k, &mut scales[k]));
+                entry_contact.push(k);
+            }
+            return;
+        }
+        group_starts.push(0);
+        for colour in colour_starts.windows(2) {
+            let (a, b) = (colour[0], colour[1]);
+            let in_groups = a + grouped(b - a);
+            for position in a..b {
+                let k = order[position];
+                let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
+                if position < in_groups {
+                    let lane = (position - a) % LANES;
+                    if lane == 0 {
+                        groups.push(LaneGroup::empty());
+                    }
+                    let g = groups.len() - 1;
+                    groups[g].set_lane(lane, k, &entry, moving);
+                    slot[k] = Slot::Lane(g * LANES + lane);
+                } else {
+                    slot[k] = Slot::One(entries.len());
+                    entries.push(entry);
+                    entry_contact.push(k);
                 }
             }
-            let mut block = (a + a.transpose()) * 0.5;
-            for r in 0..R {
-                block[(r, r)] += c.row_compliance(r);
-            }
-            self.scales[k] = RowScales::of_block(block);
-            let scales = self.scales[k];
-            self.entries.push(Entry {
-                bodies: c.bodies,
-                jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
-                inverse_mass_jacobian_t: sides,
-                b: c.b,
-                law: RowLaw {
-                    diagonal: scales.diagonal,
-                    tangent_rho: scales.tangent_rho,
-                    mu: c.mu,
-                    compliance: c.compliance,
-                },
-                bounds: c.bounds,
-                lambda0: c.lambda0,
-            });
+            group_starts.push(groups.len());
         }
     }
 
-    /// Contact `k`'s entry.
+    /// Contact `k`'s constants as a visit reads them.
     #[inline(always)]
-    pub(super) fn entry(&self, k: usize) -> &Entry<D, R> {
-        &self.entries[self.slot[k]]
+    pub(super) fn law(&self, k: usize) -> RowLaw<R> {
+        match self.slot[k] {
+            Slot::One(i) => self.entries[i].law,
+            Slot::Lane(i) => self.groups[i / LANES].law(i % LANES),
+        }
     }
 
-    /// Contact `k`'s entry, to change (shock propagation holds sides fixed).
-    pub(super) fn entry_mut(&mut self, k: usize) -> &mut Entry<D, R> {
-        let i = self.slot[k];
-        &mut self.entries[i]
+    /// M_s⁻¹ J_sᵀ of contact `k`.
+    pub(super) fn inverse_mass_jacobian_t(&self, k: usize, s: usize) -> SMatrix<f64, D, R> {
+        match self.slot[k] {
+            Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s],
+            Slot::Lane(i) => self.groups[i / LANES].inverse_mass_jacobian_t(i % LANES, s),
+        }
+    }
+
+    /// Holds side `s` of contact `k` fixed (shock propagation): its M_s⁻¹ J_sᵀ set to zero, so
+    /// that a visit does not move it.
+    pub(super) fn hold_side_fixed(&mut self, k: usize, s: usize) {
+        match self.slot[k] {
+            Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s] = SMatrix::zeros(),
+            Slot::Lane(i) => {
+                self.groups[i / LANES].set_inverse_mass_jacobian_t(i % LANES, s, &SMatrix::zeros())
+            }
+        }
+    }
+
+    /// Sets contact `k`'s row scales (shock propagation: those of its free sides).
+    pub(super) fn set_scales(&mut self, k: usize, scales: RowScales<R>) {
+        match self.slot[k] {
+            Slot::One(i) => {
+                self.entries[i].law.diagonal = scales.diagonal;
+                self.entries[i].law.tangent_rho = scales.tangent_rho;
+            }
+            Slot::Lane(i) => {
+                self.groups[i / LANES].set_scales(i % LANES, &scales.diagonal, scales.tangent_rho)
+            }
+        }
+        self.scales[k] = scales;
     }
 
     /// Puts the contacts in the coloured order ([`ContactOrder::Coloured`]: coloured in problem
@@ -322,7 +475,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn prefetch(&self, k: usize) {
         #[cfg(target_arch = "x86_64")]
         {
-            let entry = self.entry(k) as *const Entry<D, R> as *const i8;
+            let Slot::One(i) = self.slot[k] else { return };
+            let entry = &self.entries[i] as *const Entry<D, R> as *const i8;
             let bytes = std::mem::size_of::<Entry<D, R>>();
             for offset in (0..bytes).step_by(64) {
                 // SAFETY: a prefetch never faults and reads nothing into the program; the
@@ -336,20 +490,26 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         }
     }
 
-    /// The rows of contact `k` with the bodies' Δu, borrowed apart.
+    /// The rows of contact `k` with the bodies' Δu, wherever its entry is.
     #[inline(always)]
-    pub(super) fn rows(&mut self, k: usize) -> BodyRows<'_, D, R> {
+    pub(super) fn rows(&mut self, k: usize) -> SlotRows<'_, D, R> {
+        SlotRows { workspace: self, k }
+    }
+
+    /// The rows of the one-at-a-time entry `i` with the bodies' Δu, borrowed apart.
+    #[inline(always)]
+    pub(super) fn entry_rows(&mut self, i: usize) -> BodyRows<'_, D, R> {
         BodyRows {
-            entry: &self.entries[self.slot[k]],
+            entry: &self.entries[i],
             delta_velocity: &mut self.delta_velocity,
         }
     }
 
-    /// Contact `k`'s rows with copies of its bodies' Δu (zeros for the static world), or `None`
+    /// Entry `i`'s rows with copies of its bodies' Δu (zeros for the static world), or `None`
     /// when both sides are the same body (then the copies would not see each other's writes).
     #[inline(always)]
-    pub(super) fn cached_rows(&self, k: usize) -> Option<CachedRows<'_, D, R>> {
-        let entry = self.entry(k);
+    pub(super) fn cached_rows(&self, i: usize) -> Option<CachedRows<'_, D, R>> {
+        let entry = &self.entries[i];
         if entry.bodies[0].is_some() && entry.bodies[0] == entry.bodies[1] {
             return None;
         }
@@ -362,13 +522,153 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ for row `r` of contact `k` (without compliance).
     pub(super) fn row_velocity(&self, k: usize, r: usize) -> f64 {
-        self.entry(k).velocity(&self.delta_velocity, r)
+        match self.slot[k] {
+            Slot::One(i) => self.entries[i].velocity(&self.delta_velocity, r),
+            Slot::Lane(i) => {
+                let (group, lane) = (&self.groups[i / LANES], i % LANES);
+                group.lane_velocity(lane, &lane_copies(group, lane, &self.delta_velocity), r)
+            }
+        }
     }
 
-    /// Changes λ_r of contact `k` by `delta` and updates the bodies' Δu to match.
-    pub(super) fn apply(&mut self, k: usize, r: usize, delta: f64) {
-        self.rows(k).apply(r, delta);
+    /// Changes λ of contact `k` by `delta`, row by row, and updates the bodies' Δu to match
+    /// (the warm start, in problem order). A contact kept in a one-contact record reads its
+    /// M_s⁻¹ J_sᵀ there; a contact kept in a lane has it formed again from the problem
+    /// ([`inverse_mass_times`], the same function of the same numbers as the set-up, so the
+    /// same bits), which reads the problem front to back instead of jumping between the groups
+    /// (where a lane's columns lie apart). Either way Δu_s += (M_s⁻¹ J_sᵀ)_r δ_r row by row, as
+    /// [`Entry::apply`] does.
+    pub(super) fn apply_rows(
+        &mut self,
+        problem: &ContactProblem<D, R>,
+        k: usize,
+        delta: &SVector<f64, R>,
+    ) {
+        match self.slot[k] {
+            Slot::One(i) => {
+                for r in 0..R {
+                    self.entries[i].apply(&mut self.delta_velocity, r, delta[r]);
+                }
+            }
+            Slot::Lane(_) => {
+                let c = &problem.contacts[k];
+                let sides: [Option<SMatrix<f64, D, R>>; 2] = std::array::from_fn(|s| {
+                    c.bodies[s].map(|b| {
+                        inverse_mass_times(
+                            &problem.bodies[b].inverse_mass,
+                            &self.mass_rows[b],
+                            &c.jacobian[s].transpose(),
+                        )
+                    })
+                });
+                for r in 0..R {
+                    for s in 0..2 {
+                        if let (Some(b), Some(side)) = (c.bodies[s], &sides[s]) {
+                            self.delta_velocity[b].axpy(delta[r], &side.column(r), 1.0);
+                        }
+                    }
+                }
+            }
+        }
     }
+}
+
+/// Contact `k`'s entry (what a sweep reads of it), built from the problem, and its row scales
+/// into `scales`: M_s⁻¹ J_sᵀ per side (from the body's M⁻¹ and its rows' nonzero columns
+/// `mass_rows`), the Delassus block from them, J_sᵀ, b and the constants.
+fn build_entry<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    mass_rows: &[[(usize, usize); D]],
+    k: usize,
+    scales: &mut RowScales<R>,
+) -> Entry<D, R> {
+    let c = &problem.contacts[k];
+    let side = |s: usize| match c.bodies[s] {
+        Some(b) => inverse_mass_times(
+            &problem.bodies[b].inverse_mass,
+            &mass_rows[b],
+            &c.jacobian[s].transpose(),
+        ),
+        None => SMatrix::zeros(),
+    };
+    let sides = [side(0), side(1)];
+    // The contact's Delassus block from the same per-body M⁻¹Jᵀ the updates use, once:
+    // A_kk = Σ_s J_s (M_s⁻¹ J_sᵀ), symmetrised, plus compliance on its rows
+    // (docs/contact.md §"Delassus operator"; `ContactProblem::delassus_block` forms
+    // J M⁻¹ first, the same to round-off).
+    let mut a = SMatrix::<f64, R, R>::zeros();
+    for ((body, jacobian), side) in c.bodies.iter().zip(&c.jacobian).zip(&sides) {
+        if body.is_some() {
+            a += jacobian * side;
+        }
+    }
+    let mut block = (a + a.transpose()) * 0.5;
+    for r in 0..R {
+        block[(r, r)] += c.row_compliance(r);
+    }
+    *scales = RowScales::of_block(block);
+    Entry {
+        bodies: c.bodies,
+        jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
+        inverse_mass_jacobian_t: sides,
+        b: c.b,
+        law: RowLaw {
+            diagonal: scales.diagonal,
+            tangent_rho: scales.tangent_rho,
+            mu: c.mu,
+            compliance: c.compliance,
+        },
+        bounds: c.bounds,
+        lambda0: c.lambda0,
+    }
+}
+
+/// Per row i of `m`, the columns (first, end) outside of which m_ij is zero (first = end = D for
+/// a zero row): a 3D body's M⁻¹ = diag(m⁻¹ I₃, J⁻¹) has one column in each of its first three
+/// rows and three in the others, so its contacts' M⁻¹Jᵀ take 12 products per column, not 36.
+pub(super) fn nonzero_columns<const D: usize>(m: &SMatrix<f64, D, D>) -> [(usize, usize); D] {
+    std::array::from_fn(|i| {
+        let first = (0..D).find(|&j| m[(i, j)] != 0.0).unwrap_or(D);
+        let end = (0..D)
+            .rev()
+            .find(|&j| m[(i, j)] != 0.0)
+            .map_or(D, |j| j + 1);
+        (first, end)
+    })
+}
+
+/// M⁻¹ Jᵀ (D × R), each entry Σ_j m_ij (Jᵀ)_jr summed as nalgebra's product sums it (j
+/// ascending, from the first product), over row i's nonzero columns `rows[i]` only. Where that
+/// sum is not zero and Jᵀ is finite it is nalgebra's sum over every column to the bit: the
+/// terms left out are ±0, and adding ±0 to a sum that ends nonzero changes no bit of the end
+/// (a running sum differs at most in the sign of a zero, which the next nonzero term erases).
+/// Elsewhere (a zero sum, whose sign the left-out zeros decide; a zero row; a non-finite Jᵀ,
+/// where 0 · ∞ is NaN) the full sum is taken. docs/contact.md §"Four contacts per lane".
+#[inline(always)]
+pub(super) fn inverse_mass_times<const D: usize, const R: usize>(
+    m: &SMatrix<f64, D, D>,
+    rows: &[(usize, usize); D],
+    jacobian_t: &SMatrix<f64, D, R>,
+) -> SMatrix<f64, D, R> {
+    let finite = jacobian_t.iter().all(|x| x.is_finite());
+    let sum = |i: usize, r: usize, columns: std::ops::Range<usize>| {
+        let first = columns.start;
+        let mut sum = m[(i, first)] * jacobian_t[(first, r)];
+        for j in first + 1..columns.end {
+            sum = m[(i, j)] * jacobian_t[(j, r)] + sum;
+        }
+        sum
+    };
+    SMatrix::from_fn(|i, r| {
+        let (first, end) = rows[i];
+        if finite && first < end {
+            let short = sum(i, r, first..end);
+            if short != 0.0 {
+                return short;
+            }
+        }
+        sum(i, r, 0..D)
+    })
 }
 
 /// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
@@ -379,5 +679,70 @@ pub(super) fn colour_at(sweep_colours: &[usize], colours: usize, sweep: usize, i
         i
     } else {
         sweep_colours[sweep * colours + i]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The set-up's M⁻¹Jᵀ over each row's nonzero columns is nalgebra's full product to the bit,
+    /// signed zeros included: block-diagonal inverse masses (a 3D body's diag(m⁻¹ I₃, J⁻¹), a
+    /// pinned body's zeros, −0 outside the blocks) against Jacobians with zero and −0 entries,
+    /// whole zero rows, products that cancel to zero, and an infinite entry.
+    #[test]
+    fn inverse_mass_times_over_nonzero_columns_is_nalgebras_product_to_the_bit() {
+        let mut state = 0x49u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0
+        };
+        let pick = |x: f64, y: f64| {
+            if x < -0.6 {
+                0.0
+            } else if x < -0.3 {
+                -0.0
+            } else {
+                y
+            }
+        };
+        for case in 0..2000 {
+            let mut m = SMatrix::<f64, 6, 6>::zeros();
+            if case % 7 != 0 {
+                for i in 0..3 {
+                    m[(i, i)] = pick(next(), 0.5);
+                }
+                for i in 3..6 {
+                    for j in 3..6 {
+                        m[(i, j)] = pick(next(), next());
+                    }
+                }
+                // −0 outside the blocks on some bodies.
+                if case % 3 == 0 {
+                    m[(0, 4)] = -0.0;
+                    m[(5, 1)] = -0.0;
+                }
+            }
+            let mut jt = SMatrix::<f64, 6, 3>::from_fn(|_, _| pick(next(), next()));
+            if case % 11 == 0 {
+                // Cancels: m₃₃ j₃ + m₃₄ j₄ = 0 where the entries allow.
+                jt[(3, 0)] = m[(3, 4)];
+                jt[(4, 0)] = -m[(3, 3)];
+            }
+            if case % 13 == 0 {
+                jt[(case % 6, case % 3)] = f64::INFINITY;
+            }
+            let full = m * jt;
+            let short = inverse_mass_times(&m, &nonzero_columns(&m), &jt);
+            for (a, b) in full.iter().zip(short.iter()) {
+                assert_eq!(
+                    a.to_bits(),
+                    b.to_bits(),
+                    "case {case}: {full} against {short}"
+                );
+            }
+        }
     }
 }

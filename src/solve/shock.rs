@@ -140,9 +140,9 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
     for s in 0..2 {
         let Some(b) = c.bodies[s] else { continue };
         if layer[b].is_some_and(|l| l < current) {
-            workspace.entry_mut(k).inverse_mass_jacobian_t[s] = SMatrix::zeros();
+            workspace.hold_side_fixed(k, s);
         } else {
-            block += c.jacobian[s] * workspace.entry(k).inverse_mass_jacobian_t[s];
+            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t(k, s);
         }
     }
     let mut block = (block + block.transpose()) * 0.5;
@@ -154,7 +154,5 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
         tangent_rho: super::residual::tangent_eigenvalue(&block),
         block,
     };
-    workspace.entry_mut(k).law.diagonal = scales.diagonal;
-    workspace.entry_mut(k).law.tangent_rho = scales.tangent_rho;
-    workspace.scales[k] = scales;
+    workspace.set_scales(k, scales);
 }

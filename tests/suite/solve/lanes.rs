@@ -289,26 +289,9 @@ fn four_contacts_per_lane_keep_the_sign_of_a_zero_velocity() {
 
 /// Where a contact joins a body to itself, or a constraint is a joint, the sweep goes one at a
 /// time (the groups' copies of Δu could not see each other's writes; a joint's rows are not a
-/// contact's), and so does a 3D problem of more than `MAX_CONTACTS_IN_GROUPS` contacts (where
-/// laying out the groups costs more than they gain): the workspace says so. A 2D problem of
-/// that size keeps its groups (`max_contacts_in_groups`: no limit in 2D).
+/// contact's): the workspace says so. The plain problem keeps its groups.
 #[test]
-fn self_contacts_joints_and_large_problems_keep_the_one_at_a_time_sweep() {
-    let limit = rigidref::solve::pgs::MAX_CONTACTS_IN_GROUPS;
-    assert_eq!(
-        rigidref::solve::pgs::max_contacts_in_groups::<6, 3>(),
-        limit
-    );
-    let mut numbers = Numbers(11);
-    let at_limit = random_problem::<6, 3>(&mut numbers, 500, limit, FrictionModel::Box);
-    assert!(solve(&at_limit, 1, Lanes::Native).3 > 0);
-    let mut above = at_limit.clone();
-    above.contacts.push(above.contacts[0].clone());
-    assert_eq!(solve(&above, 1, Lanes::Native).3, 0);
-    let mut numbers = Numbers(11);
-    let mut planar = random_problem::<3, 2>(&mut numbers, 500, limit, FrictionModel::Box);
-    planar.contacts.push(planar.contacts[0].clone());
-    assert!(solve(&planar, 1, Lanes::Native).3 > 0);
+fn self_contacts_and_joints_keep_the_one_at_a_time_sweep() {
     let mut numbers = Numbers(7);
     let mut problem = random_problem::<6, 3>(&mut numbers, 10, 40, FrictionModel::Box);
     assert!(solve(&problem, 1, Lanes::Native).3 > 0);
@@ -318,4 +301,86 @@ fn self_contacts_joints_and_large_problems_keep_the_one_at_a_time_sweep() {
     let body = problem.contacts[5].bodies[0];
     problem.contacts[5].bodies[1] = body;
     assert_eq!(solve(&problem, 1, Lanes::Native).3, 0);
+}
+
+/// Groups of four at every size: a 3D problem of 20 000 contacts (100 disjoint copies of a
+/// random problem of 200; above the 16 384 where the groups used to stop, when they were laid
+/// out in a second pass) is solved four at a time, with every contact but the few left over per
+/// colour in a group, and gives the one-at-a-time sweep's answer to the bit (tolerance zero:
+/// each lane does the one-contact visit's arithmetic), box and cone, after 3 sweeps.
+#[test]
+fn groups_of_four_serve_a_problem_above_the_old_limit_with_the_same_bits() {
+    let mut numbers = Numbers(0x4916);
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        let problem = tiled(
+            &random_problem::<6, 3>(&mut numbers, 30, 200, friction),
+            100,
+        );
+        assert!(problem.contacts.len() > 16_384);
+        let one = solve(&problem, 3, Lanes::Off);
+        assert_eq!(one.3, 0, "{friction:?}: groups ran with Lanes::Off");
+        let grouped = solve(&problem, 3, Lanes::Native);
+        assert!(
+            4 * grouped.3 >= problem.contacts.len() / 2,
+            "{friction:?}: only {} groups",
+            grouped.3
+        );
+        assert_same_bits(&grouped, &one, &format!("{friction:?}"));
+    }
+}
+
+/// A coloured solve of 4 sweeps then the shock pass, with the groups as `lanes` says: λ, Δu,
+/// the groups the solve visited and the visits the pass made.
+fn shock_pass<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    lanes: Lanes,
+) -> (Vec<SVector<f64, R>>, Vec<SVector<f64, D>>, usize, u64) {
+    let settings = rigidref::solve::PgsSettings {
+        max_iterations: 4,
+        tolerance: None,
+        order: rigidref::solve::ContactOrder::Coloured,
+        local: rigidref::solve::LocalSolve::Rows,
+    };
+    let mut workspace = rigidref::solve::PgsWorkspace::new(0);
+    workspace.set_lanes(lanes);
+    let mut lambda = Vec::new();
+    rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
+    let groups = workspace.last_groups();
+    let report =
+        rigidref::solve::shock::propagate_shock(problem, &settings, &mut workspace, &mut lambda);
+    let du = (0..problem.bodies.len())
+        .map(|i| *workspace.delta_velocity(i))
+        .collect();
+    (lambda, du, groups, report.visits)
+}
+
+/// [`shock_pass`] with and without the groups on random problems: the same bits.
+fn shock_same_bits<const D: usize, const R: usize>(seed: u64) {
+    let mut numbers = Numbers(seed);
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        for case in 0..5 {
+            let problem = random_problem::<D, R>(&mut numbers, 30, 200, friction);
+            let one = shock_pass(&problem, Lanes::Off);
+            let grouped = shock_pass(&problem, Lanes::Native);
+            let what = format!("{D}×{R} {friction:?} case {case}");
+            assert!(
+                grouped.2 > 0 && one.2 == 0,
+                "{what}: groups {grouped:?}",
+                grouped = grouped.2
+            );
+            assert!(grouped.3 > 0, "{what}: the pass visited nothing");
+            assert!(bits(&grouped.0) == bits(&one.0), "{what}: λ differs");
+            assert!(bits(&grouped.1) == bits(&one.1), "{what}: Δu differs");
+        }
+    }
+}
+
+/// Shock propagation after a coloured solve reads and changes the contacts where the solve
+/// kept them: in their groups' lanes with the groups of four, in the one-contact records
+/// without. Random problems with pinned bodies (the layers' supports), 2D and 3D, box and cone:
+/// after the solve and the pass, λ and every body's Δu are the same bits either way.
+#[test]
+fn shock_propagation_reads_the_groups_with_the_one_at_a_time_bits() {
+    shock_same_bits::<6, 3>(0x5A0C);
+    shock_same_bits::<3, 2>(0x5A0D);
 }
