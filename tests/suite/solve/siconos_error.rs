@@ -82,21 +82,45 @@ fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator(
         let (measures, q, l, w) = match read_dat(&folder.join(file)).unwrap() {
             AnyLocalProblem::Three(p) => {
                 let lam = impulses::<3>(&lambda);
-                let w: Vec<f64> = p.velocity(&lam).iter().flat_map(|v| v.iter().copied()).collect();
-                (siconos_error_measures(&p, &lam), p.dense_q(), lambda.clone(), w)
+                let w: Vec<f64> = p
+                    .velocity(&lam)
+                    .iter()
+                    .flat_map(|v| v.iter().copied())
+                    .collect();
+                (
+                    siconos_error_measures(&p, &lam),
+                    p.dense_q(),
+                    lambda.clone(),
+                    w,
+                )
             }
             AnyLocalProblem::Two(p) => {
                 let lam = impulses::<2>(&lambda);
-                let w: Vec<f64> = p.velocity(&lam).iter().flat_map(|v| v.iter().copied()).collect();
-                (siconos_error_measures(&p, &lam), p.dense_q(), lambda.clone(), w)
+                let w: Vec<f64> = p
+                    .velocity(&lam)
+                    .iter()
+                    .flat_map(|v| v.iter().copied())
+                    .collect();
+                (
+                    siconos_error_measures(&p, &lam),
+                    p.dense_q(),
+                    lambda.clone(),
+                    w,
+                )
             }
         };
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         let q_norm = q.norm();
         let scale = q_norm.max(norm(&l)).max(norm(&w));
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-13 * b.abs();
-        assert!(close(measures.relative(), want), "{file}: {measures:?} vs {want:e}");
-        assert!(close(measures.absolute, want * scale), "{file}: absolute {measures:?}");
+        assert!(
+            close(measures.relative(), want),
+            "{file}: {measures:?} vs {want:e}"
+        );
+        assert!(
+            close(measures.absolute, want * scale),
+            "{file}: absolute {measures:?}"
+        );
         assert!(
             close(measures.q_normalised(), want * scale / q_norm),
             "{file}: ‖q‖-normalised {measures:?}"
