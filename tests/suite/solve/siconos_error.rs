@@ -59,13 +59,34 @@ fn siconos_error_equals_the_value_siconos_computed() {
     assert_eq!((three, two), (4, 2));
 }
 
+/// Siconos' error measures of `lambda` (stacked) on `problem`, with q and w = W λ + q stacked.
+fn measures_q_and_w<const R: usize>(
+    problem: &LocalProblem<R>,
+    lambda: &[f64],
+) -> (
+    rigidref::solve::residual::SiconosErrorMeasures,
+    nalgebra::DVector<f64>,
+    Vec<f64>,
+) {
+    let lam = impulses::<R>(lambda);
+    let w = problem
+        .velocity(&lam)
+        .iter()
+        .flat_map(|v| v.iter().copied())
+        .collect();
+    (
+        rigidref::solve::residual::siconos_error_measures(problem, &lam),
+        problem.dense_q(),
+        w,
+    )
+}
+
 /// The ‖q‖-normalised (Siconos 4.1–4.3) and absolute measures of the same non-solutions: the
 /// absolute error is Siconos 4.4's error times max(‖q‖, ‖λ‖, ‖w‖), and the ‖q‖-normalised one
 /// is it over ‖q‖, with the norms recomputed here from W, q and λ. Their ratio to Siconos' own
 /// value is exact up to the division's rounding and the norms' summation order (1e-13).
 #[test]
 fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator() {
-    use rigidref::solve::residual::siconos_error_measures;
     let folder = common::project_root().join("tests/data");
     let text = std::fs::read_to_string(folder.join("siconos_error/errors.json")).unwrap();
     let data: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -79,36 +100,11 @@ fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator(
             .map(|v| v.as_f64().unwrap())
             .collect();
         let want = case["error_norm_q"].as_f64().unwrap();
-        let (measures, q, l, w) = match read_dat(&folder.join(file)).unwrap() {
-            AnyLocalProblem::Three(p) => {
-                let lam = impulses::<3>(&lambda);
-                let w: Vec<f64> = p
-                    .velocity(&lam)
-                    .iter()
-                    .flat_map(|v| v.iter().copied())
-                    .collect();
-                (
-                    siconos_error_measures(&p, &lam),
-                    p.dense_q(),
-                    lambda.clone(),
-                    w,
-                )
-            }
-            AnyLocalProblem::Two(p) => {
-                let lam = impulses::<2>(&lambda);
-                let w: Vec<f64> = p
-                    .velocity(&lam)
-                    .iter()
-                    .flat_map(|v| v.iter().copied())
-                    .collect();
-                (
-                    siconos_error_measures(&p, &lam),
-                    p.dense_q(),
-                    lambda.clone(),
-                    w,
-                )
-            }
+        let (measures, q, w) = match read_dat(&folder.join(file)).unwrap() {
+            AnyLocalProblem::Three(p) => measures_q_and_w(&p, &lambda),
+            AnyLocalProblem::Two(p) => measures_q_and_w(&p, &lambda),
         };
+        let l = lambda;
         let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
         let q_norm = q.norm();
         let scale = q_norm.max(norm(&l)).max(norm(&w));
