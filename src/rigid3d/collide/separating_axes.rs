@@ -284,18 +284,6 @@ impl SatBuffers {
         stop_above: f64,
     ) -> Result<LeastPenetration, Axis> {
         let bv = &self.b_vertices;
-        let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points
-                .iter()
-                .map(|p| n.dot(p))
-                .fold(f64::INFINITY, f64::min)
-        };
-        let highest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points
-                .iter()
-                .map(|p| n.dot(p))
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
         // 1. Face axes of A, then of B (B's plane moved into A's frame).
         let mut face_a = (usize::MAX, f64::NEG_INFINITY);
         // The teeth tests' deliberate bug: the face of greatest penetration, as GJK/EPA gave in
@@ -495,18 +483,6 @@ impl SatBuffers {
         at: &Placement,
         axis: Axis,
     ) -> Option<(Vector3<f64>, f64)> {
-        let lowest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points
-                .iter()
-                .map(|p| n.dot(p))
-                .fold(f64::INFINITY, f64::min)
-        };
-        let highest = |points: &[Vector3<f64>], n: &Vector3<f64>| {
-            points
-                .iter()
-                .map(|p| n.dot(p))
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
         let bv = &self.b_vertices;
         match axis {
             Axis::FaceOfA(f) => {
@@ -764,4 +740,20 @@ pub fn closest_points_of_segments(
         }
     }
     (p0 + d1 * s, q0 + d2 * t)
+}
+
+/// The least of n·p over `points` (+∞ for none): a polytope's support along −n, as a height.
+fn lowest(points: &[Vector3<f64>], n: &Vector3<f64>) -> f64 {
+    points
+        .iter()
+        .map(|p| n.dot(p))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The greatest of n·p over `points` (−∞ for none): a polytope's support along n, as a height.
+fn highest(points: &[Vector3<f64>], n: &Vector3<f64>) -> f64 {
+    points
+        .iter()
+        .map(|p| n.dot(p))
+        .fold(f64::NEG_INFINITY, f64::max)
 }
