@@ -15,12 +15,14 @@ use std::path::{Path, PathBuf};
 #[command(after_long_help = "\
 Each problem is read into local form (W, q, μ: docs/contact.md §\"The local form\") and solved
 by every solver named, each stopped as soon as Siconos' error measure of its answer is at or
-below the tolerance (checked after every PGS sweep and at every Newton iterate):
+below the tolerance (checked after every PGS sweep, at every Newton iterate and at each centre
+of the proximal fallback; not inside a proximal subproblem, which stops on its own law norm):
 
   error = √(Σ_k ‖λ_k − proj_K(λ_k − ŵ_k)‖²) / max(‖q‖, ‖λ‖, ‖w‖),
 
-w = W λ + q and ŵ De Saxcé's velocity (docs/problem-library.md §\"Siconos' error measure\"), the
-measure of Acary, Brémond and Huber (2018). A box-friction problem (a rigidref problem of the
+w = W λ + q and ŵ De Saxcé's velocity (docs/problem-library.md §\"Siconos' error measure\"):
+Siconos ≥ 4.4's denominator; Siconos 4.1–4.3 divide by ‖q‖ alone (--json gives that one as
+q_normalised_error, and the undivided absolute_error). A box-friction problem (a rigidref problem of the
 assignment's friction model) is judged by its own law instead: rigidref's residual divided by
 max(‖q‖, ‖w‖). The table gives per problem and solver: converged or
 not, iterations (PGS sweeps, Newton iterations with its fallbacks), wall time of the solve, the

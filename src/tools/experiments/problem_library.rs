@@ -3,9 +3,9 @@
 //! docs/problem-library.md.
 //!
 //! Every solver stops on the same criterion, Siconos' error measure
-//! ([`crate::solve::residual::siconos_error`]) at or below the tolerance, checked after every
-//! PGS sweep and at every Newton iterate, so that iterations and times compare like with like
-//! (as in Acary, Brémond and Huber 2018). The comparison is summed up by a Dolan–Moré
+//! ([`crate::solve::residual::siconos_error`], Siconos ≥ 4.4's) at or below the tolerance,
+//! checked after every PGS sweep, at every Newton iterate and at each centre of the proximal
+//! fallback, so that iterations and times compare like with like. The comparison is summed up by a Dolan–Moré
 //! performance profile: for solver s, ρ_s(τ) is the fraction of problems it solved within τ
 //! times the fastest solver's time on that problem.
 
