@@ -144,6 +144,29 @@ impl<const D: usize, const R: usize> ContactProblem<D, R> {
         (a + a.transpose()) * 0.5
     }
 
+    /// The problem of the normal rows alone, written into `out` (its buffers reused): the same
+    /// bodies, and per contact row 0 of J₁, J₂, b and λ₀, with the same μ, compliance and bounds.
+    /// Post-stabilisation solves it where friction is zero (docs/blocks2d.md
+    /// §"Post-stabilisation", "Normal rows only").
+    pub fn normal_rows_into(&self, out: &mut ContactProblem<D, 1>) {
+        out.friction = self.friction;
+        out.bodies.clone_from(&self.bodies);
+        out.contacts.clear();
+        out.contacts
+            .extend(self.contacts.iter().map(|c| ProblemContact {
+                bodies: c.bodies,
+                jacobian: [
+                    c.jacobian[0].fixed_rows::<1>(0).into_owned(),
+                    c.jacobian[1].fixed_rows::<1>(0).into_owned(),
+                ],
+                b: SVector::<f64, 1>::new(c.b[0]),
+                mu: c.mu,
+                compliance: c.compliance,
+                lambda0: SVector::<f64, 1>::new(c.lambda0[0]),
+                bounds: c.bounds,
+            }));
+    }
+
     /// The dense Jacobian (R·contacts × D·bodies), assembled naively; for tests and for solvers
     /// that want matrices.
     pub fn dense_jacobian(&self) -> DMatrix<f64> {

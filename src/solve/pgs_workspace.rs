@@ -234,6 +234,14 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         }
     }
 
+    /// Continues the seeded random orders of `other` (a workspace of the same bodies with
+    /// another row count): the next solve draws what `other`'s next solve would have drawn.
+    /// Post-stabilisation hands the generator over when it changes between its full and its
+    /// normal-rows workspace (docs/blocks2d.md §"Post-stabilisation", "Normal rows only").
+    pub fn continue_orders_of<const R2: usize>(&mut self, other: &PgsWorkspace<D, R2>) {
+        self.rng.clone_from(&other.rng);
+    }
+
     /// Δu of body `i` after the last solve: add it to the body's velocity.
     pub fn delta_velocity(&self, i: usize) -> &SVector<f64, D> {
         &self.delta_velocity[i]

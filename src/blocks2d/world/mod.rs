@@ -30,11 +30,12 @@ use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
 use super::joints::{Pin2, Spring2};
 use super::params::{ContactModel, MAX_ADAPTIVE_SUBSTEPS, Params2};
+use crate::problem::ContactProblem;
 use crate::sim::{
     BodyId, ContactGeometry, NonFinite, PhaseTimes, Simulation, SubstepSolve, readable,
 };
 use crate::solve::shock::propagate_shock;
-use crate::solve::{PgsSettings, SolveReport, SolverSettings, SolverWorkspace};
+use crate::solve::{LocalSolve, PgsSettings, SolveReport, Solver, SolverSettings, SolverWorkspace};
 use nalgebra::{SVector, Vector2, Vector3};
 use std::time::Instant;
 
@@ -117,6 +118,18 @@ pub struct World2 {
     position_problem: ContactProblem2,
     position_lambda: Vec<SVector<f64, 2>>,
     position_workspace: SolverWorkspace<3, 2>,
+    /// Post-stabilisation's normal rows alone, their impulses and workspace: the solve it runs
+    /// where no pin adds its rows (docs/blocks2d.md §"Post-stabilisation", "Normal rows only").
+    normal_problem: ContactProblem<3, 1>,
+    normal_lambda: Vec<SVector<f64, 1>>,
+    normal_workspace: SolverWorkspace<3, 1>,
+    /// Whether the last post-stabilisation solved the normal rows alone (its δu is then in
+    /// `normal_workspace`, else in `position_workspace`).
+    stabilised_normal_rows: bool,
+    /// Whether post-stabilisation may solve the normal rows alone where it can (the default);
+    /// off, it always solves both rows of every contact, as before: the same bits, slower
+    /// ([`World2::set_normal_rows_post_stabilization`]).
+    normal_rows_post_stabilization: bool,
     /// Each body's (vx, vy, ω) before the current substep's forces: restitution's approach speed.
     before_kick: Vec<Vector3<f64>>,
     warm: WarmStart2,
@@ -156,6 +169,15 @@ impl World2 {
             position_problem: empty_problem2(),
             position_lambda: Vec::new(),
             position_workspace: SolverWorkspace::with_threads(params.seed, params.threads),
+            normal_problem: ContactProblem {
+                friction: crate::problem::FrictionModel::Box,
+                bodies: Vec::new(),
+                contacts: Vec::new(),
+            },
+            normal_lambda: Vec::new(),
+            normal_workspace: SolverWorkspace::with_threads(params.seed, params.threads),
+            stabilised_normal_rows: false,
+            normal_rows_post_stabilization: true,
             before_kick: Vec::new(),
             warm: WarmStart2::default(),
             shock_lambda: Vec::new(),
@@ -340,7 +362,10 @@ impl World2 {
         let clock = Instant::now();
         for (i, b) in self.bodies.iter_mut().enumerate() {
             if stabilised {
-                let du = self.position_workspace.delta_velocity(i);
+                let du = match self.stabilised_normal_rows {
+                    true => self.normal_workspace.delta_velocity(i),
+                    false => self.position_workspace.delta_velocity(i),
+                };
                 b.step_position(h, &Vector2::new(du[0], du[1]), du[2]);
             } else {
                 b.step_position(h, &Vector2::zeros(), 0.0);

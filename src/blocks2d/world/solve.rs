@@ -106,40 +106,87 @@ impl World2 {
     }
 
     /// Cline and Pai's post-stabilisation: solve the same constraint rows for a velocity that
-    /// would remove the penetration beyond the slop (and the pins' error) in one substep, normal
-    /// rows only (μ = 0), for the position update alone; the velocity change is left in `position_workspace`.
-    /// docs/blocks2d.md §"Post-stabilisation".
+    /// would remove the penetration beyond the slop (and the pins' error) in one substep, μ = 0,
+    /// for the position update alone; the velocity change is left in `normal_workspace` or
+    /// `position_workspace` ([`World2::post_stabilization_rows`]). With PGS row by row and no
+    /// pin, the normal rows alone: the same bits as both rows, since a tangent row bounded by
+    /// μ λn = 0 never moves. docs/blocks2d.md §"Post-stabilisation".
     pub(super) fn post_stabilize(
         &mut self,
         contacts: &[Contact2],
         velocity_problem: &ContactProblem2,
         h: f64,
     ) {
-        let problem = &mut self.position_problem;
-        problem.friction = velocity_problem.friction;
-        problem.bodies.clone_from(&velocity_problem.bodies);
-        problem.contacts.clone_from(&velocity_problem.contacts);
-        for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
-            pc.b = SVector::<f64, 2>::new(-(c.depth - self.params.slop).max(0.0) / h, 0.0);
-            pc.mu = 0.0;
-            pc.lambda0 = SVector::zeros();
-        }
-        // A pin's rows: J δu = −C/h, so that the position update closes the pin's error C.
-        for (pc, pin) in problem.contacts[contacts.len()..]
-            .iter_mut()
-            .zip(&self.pins)
-        {
-            pc.b = pin.error(&self.bodies) / h;
-            pc.lambda0 = SVector::zeros();
-        }
         let settings = self.solver_settings();
-        let report = crate::solve::solve(
-            &self.position_problem,
-            &settings,
-            &mut self.position_workspace,
-            &mut self.position_lambda,
-        );
+        let normal_rows = self.post_stabilization_rows() == 1;
+        let slop = self.params.slop;
+        let report = if normal_rows {
+            let problem = &mut self.normal_problem;
+            velocity_problem.normal_rows_into(problem);
+            for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
+                pc.b = SVector::<f64, 1>::new(-(c.depth - slop).max(0.0) / h);
+                pc.mu = 0.0;
+                pc.lambda0 = SVector::zeros();
+            }
+            if !self.stabilised_normal_rows {
+                (self.normal_workspace.pgs).continue_orders_of(&self.position_workspace.pgs);
+            }
+            crate::solve::solve(
+                &self.normal_problem,
+                &settings,
+                &mut self.normal_workspace,
+                &mut self.normal_lambda,
+            )
+        } else {
+            let problem = &mut self.position_problem;
+            problem.friction = velocity_problem.friction;
+            problem.bodies.clone_from(&velocity_problem.bodies);
+            problem.contacts.clone_from(&velocity_problem.contacts);
+            for (pc, c) in problem.contacts.iter_mut().zip(contacts) {
+                pc.b = SVector::<f64, 2>::new(-(c.depth - slop).max(0.0) / h, 0.0);
+                pc.mu = 0.0;
+                pc.lambda0 = SVector::zeros();
+            }
+            // A pin's rows: J δu = −C/h, so that the position update closes the pin's error C.
+            for (pc, pin) in problem.contacts[contacts.len()..]
+                .iter_mut()
+                .zip(&self.pins)
+            {
+                pc.b = pin.error(&self.bodies) / h;
+                pc.lambda0 = SVector::zeros();
+            }
+            if self.stabilised_normal_rows {
+                (self.position_workspace.pgs).continue_orders_of(&self.normal_workspace.pgs);
+            }
+            crate::solve::solve(
+                &self.position_problem,
+                &settings,
+                &mut self.position_workspace,
+                &mut self.position_lambda,
+            )
+        };
+        self.stabilised_normal_rows = normal_rows;
         self.post_stabilization_residual = self.post_stabilization_residual.max(report.residual);
+    }
+
+    /// The rows per contact the next post-stabilisation solves: 1 (the normal rows alone)
+    /// where the solve is PGS row by row and no pin adds its two free rows (and
+    /// [`World2::set_normal_rows_post_stabilization`] has not turned it off), else 2.
+    /// docs/blocks2d.md §"Post-stabilisation", "Normal rows only".
+    pub fn post_stabilization_rows(&self) -> usize {
+        let settings = self.solver_settings();
+        let normal_rows = self.normal_rows_post_stabilization
+            && self.pins.is_empty()
+            && settings.solver == Solver::Pgs
+            && settings.pgs.local == LocalSolve::Rows;
+        if normal_rows { 1 } else { 2 }
+    }
+
+    /// Whether post-stabilisation may solve the normal rows alone where it can (on by
+    /// default); off, it solves both rows of every contact. The same bits either way: for
+    /// comparing the two (tests/suite/blocks2d/physics.rs).
+    pub fn set_normal_rows_post_stabilization(&mut self, on: bool) {
+        self.normal_rows_post_stabilization = on;
     }
 
     /// The starter's penalty contact: a spring k d plus damping c (approach speed) along the

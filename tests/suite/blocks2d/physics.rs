@@ -441,3 +441,69 @@ fn two_moving_bodies_part_at_e_times_their_closing_speed() {
         );
     }
 }
+
+/// Post-stabilisation solves the normal rows alone where it can (PGS row by row, no pin;
+/// docs/blocks2d.md §"Post-stabilisation", "Normal rows only"), and that gives the solve of both
+/// rows to the bit: a pile of 200 bricks, 60 steps of the factory's settings and of the other
+/// orders (the 2D scenes' random order with their 4 substeps, the problem order, the fixed
+/// coloured order), run both ways, ends with the same positions, angles, velocities and
+/// post-stabilisation residual, as bits. The pile's post-stabilisation does move it (a run
+/// without it ends elsewhere), and a world with a pin solves both rows.
+#[test]
+fn normal_rows_alone_post_stabilise_to_the_full_solves_bits() {
+    use rigidref::blocks2d::joints::{Anchor, Pin2};
+    use rigidref::tools::experiments::factory::{Pieces, packed_pile};
+    let cases = [
+        (ContactOrder::RandomColoured, 1),
+        (ContactOrder::Random, 4),
+        (ContactOrder::Sequential, 1),
+        (ContactOrder::Coloured, 1),
+    ];
+    for (order, substeps) in cases {
+        let run = |normal_rows: bool, post_stabilization: bool| {
+            let mut world = packed_pile(200, Pieces::Bricks, 7);
+            world.params.order = order;
+            world.params.substeps = substeps;
+            world.params.post_stabilization = post_stabilization;
+            world.set_normal_rows_post_stabilization(normal_rows);
+            assert_eq!(
+                world.post_stabilization_rows(),
+                if normal_rows { 1 } else { 2 }
+            );
+            for _ in 0..60 {
+                world.step().unwrap();
+            }
+            world
+        };
+        let state = |w: &World2| -> Vec<[u64; 6]> {
+            (w.bodies.iter())
+                .map(|b| [b.x.x, b.x.y, b.theta, b.v.x, b.v.y, b.omega].map(f64::to_bits))
+                .collect()
+        };
+        let (fast, full) = (run(true, true), run(false, true));
+        assert!(state(&fast) == state(&full), "{order:?}: the runs differ");
+        assert_eq!(
+            fast.post_stabilization_residual.to_bits(),
+            full.post_stabilization_residual.to_bits(),
+            "{order:?}"
+        );
+        let without = run(true, false);
+        assert!(
+            state(&without) != state(&full),
+            "{order:?}: post-stabilisation changed nothing, so the comparison tests nothing"
+        );
+    }
+    let mut pinned = packed_pile(20, Pieces::Bricks, 7);
+    let at = pinned.bodies[1].x;
+    pinned.pins.push(Pin2 {
+        ends: [
+            Anchor::at(&pinned.bodies, Some(1), &at),
+            Anchor::at(&pinned.bodies, None, &at),
+        ],
+    });
+    assert_eq!(
+        pinned.post_stabilization_rows(),
+        2,
+        "a pin's free rows need both rows"
+    );
+}

@@ -384,3 +384,85 @@ fn shock_propagation_reads_the_groups_with_the_one_at_a_time_bits() {
     shock_same_bits::<6, 3>(0x5A0C);
     shock_same_bits::<3, 2>(0x5A0D);
 }
+
+/// A problem whose friction is zero on every contact gives, solved by its normal rows alone
+/// (`ContactProblem::normal_rows_into`), the full solve's normal impulses, every body's Δu, the
+/// sweeps and the residual to the bit: the friction bound μ λn is then 0, so a friction row
+/// only ever adds ±0 to Δu (post-stabilisation's shortcut, docs/blocks2d.md
+/// §"Post-stabilisation", "Normal rows only"). 20 random 2D problems per friction model (30
+/// bodies, 200 contacts, warm starts and −0 included), every order, the groups of four and
+/// threads, 1 and 30 sweeps and a tolerance that stops early.
+#[test]
+fn normal_rows_alone_give_the_frictionless_solves_bits() {
+    use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
+    let mut numbers = Numbers(0x49F);
+    let orders = [
+        ContactOrder::Sequential,
+        ContactOrder::Random,
+        ContactOrder::Coloured,
+        ContactOrder::RandomColoured,
+    ];
+    let mut compared = 0;
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        for case in 0..20 {
+            let mut problem = random_problem::<3, 2>(&mut numbers, 30, 200, friction);
+            for c in &mut problem.contacts {
+                c.mu = 0.0;
+            }
+            let mut normal = ContactProblem {
+                friction,
+                bodies: Vec::new(),
+                contacts: Vec::new(),
+            };
+            problem.normal_rows_into(&mut normal);
+            for order in orders {
+                for (sweeps, tolerance) in [(1, None), (30, None), (200, Some(1e-3))] {
+                    for threads in [1, 2] {
+                        let settings = PgsSettings {
+                            max_iterations: sweeps,
+                            tolerance,
+                            order,
+                            local: LocalSolve::Rows,
+                        };
+                        let what = format!(
+                            "{friction:?} case {case}, {order:?}, {sweeps} sweeps, {threads} threads"
+                        );
+                        let (mut full_ws, mut normal_ws) =
+                            (PgsWorkspace::new(case), PgsWorkspace::new(case));
+                        full_ws.set_threads(threads);
+                        normal_ws.set_threads(threads);
+                        // Two solves in a row: the second draws its random orders after the
+                        // first's, as post-stabilisation's solves do substep after substep.
+                        for solve in 0..2 {
+                            let (mut full_l, mut normal_l) = (Vec::new(), Vec::new());
+                            let a = solve_pgs(&problem, &settings, &mut full_ws, &mut full_l);
+                            let b = solve_pgs(&normal, &settings, &mut normal_ws, &mut normal_l);
+                            let what = format!("{what}, solve {solve}");
+                            let normal_bits = |l: &[nalgebra::SVector<f64, 2>]| {
+                                l.iter().map(|x| x[0].to_bits()).collect::<Vec<_>>()
+                            };
+                            assert!(
+                                normal_bits(&full_l) == bits(&normal_l).concat(),
+                                "{what}: λn"
+                            );
+                            let du = |w: &PgsWorkspace<3, 2>| {
+                                (0..30).map(|i| *w.delta_velocity(i)).collect::<Vec<_>>()
+                            };
+                            let du_normal = (0..30)
+                                .map(|i| *normal_ws.delta_velocity(i))
+                                .collect::<Vec<_>>();
+                            assert!(bits(&du(&full_ws)) == bits(&du_normal), "{what}: Δu");
+                            assert_eq!(a.iterations, b.iterations, "{what}");
+                            assert_eq!(a.residual.to_bits(), b.residual.to_bits(), "{what}");
+                            if order.is_coloured() && solve == 0 {
+                                assert!(full_ws.last_groups() > 0, "{what}: no groups ran");
+                            }
+                            compared += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(compared, 2 * 20 * 4 * 3 * 2 * 2);
+}
