@@ -8,7 +8,8 @@
 //! each unbounded.
 //!
 //! The solve in stages, one file each: what it is asked ([`super::pgs_settings`]), its
-//! buffers and set-up ([`super::pgs_workspace`]), one constraint's update
+//! buffers ([`super::pgs_workspace`]), a contact's entry built ([`super::pgs_setup`]) and the
+//! views a visit reads it through ([`super::pgs_rows`]), one constraint's update
 //! ([`super::pgs_visit`]), a sweep ([`super::pgs_sweep`]), the residual after a sweep
 //! ([`super::pgs_residual`]); here the driver, [`solve_pgs`].
 

@@ -3,7 +3,8 @@
 //! residual of the report. docs/contact.md §"Residual".
 
 use super::pgs_lanes::{LANES, LaneGroup};
-use super::pgs_workspace::{PgsWorkspace, lane_copies};
+use super::pgs_rows::lane_copies;
+use super::pgs_workspace::PgsWorkspace;
 use super::residual::{
     RowScales, constraint_residual, contact_coulomb_residual, coulomb_scale, free_residual,
 };

@@ -5,12 +5,11 @@
 use super::local::LocalSolve;
 use super::pgs_lanes::LANES;
 use super::pgs_residual::row_residual;
+use super::pgs_rows::{CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes, PgsSettings};
 use super::pgs_threads::share;
 use super::pgs_visit::{solve_contact, solve_free_rows, visit_exactly};
-use super::pgs_workspace::{
-    CachedRows, LaneRows, PgsWorkspace, Slot, colour_at, lane_copies, write_back,
-};
+use super::pgs_workspace::{PgsWorkspace, colour_at};
 use super::sweep_entry::{Entry, Shared};
 use crate::problem::{ContactProblem, RowBounds};
 use nalgebra::SVector;

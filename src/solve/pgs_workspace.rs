@@ -2,11 +2,13 @@
 //! sweep reads) and row scales, built once in visiting order, as a lane of a group of four where
 //! a coloured sweep takes four at a time and as a one-contact entry elsewhere; the coloured
 //! order's colours; the bodies' Δu; the seeded generator of the random orders.
-//! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
+//! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane". A contact's entry is
+//! built by `pgs_setup.rs`; the views a visit reads it through are in `pgs_rows.rs`.
 
 use super::pgs_lanes::{LANES, LaneGroup, grouped};
+use super::pgs_rows::{BodyRows, CachedRows, Slot, SlotRows, lane_copies};
 use super::pgs_settings::{ContactOrder, Lanes};
-use super::pgs_visit::ContactRows;
+use super::pgs_setup::{build_entry, inverse_mass_times, nonzero_columns};
 use super::residual::RowScales;
 use super::sweep_entry::{Entry, RowLaw};
 use crate::problem::ContactProblem;
@@ -64,147 +66,6 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
     pub(super) local_fallbacks: u32,
-}
-
-/// A contact of the body form with the bodies' Δu, borrowed apart.
-pub(super) struct BodyRows<'a, const D: usize, const R: usize> {
-    entry: &'a Entry<D, R>,
-    delta_velocity: &'a mut [SVector<f64, D>],
-}
-
-impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
-    #[inline(always)]
-    fn velocity(&self, r: usize) -> f64 {
-        self.entry.velocity(self.delta_velocity, r)
-    }
-    #[inline(always)]
-    fn apply(&mut self, r: usize, delta: f64) {
-        self.entry.apply(self.delta_velocity, r, delta);
-    }
-}
-
-/// Where a contact's entry is kept.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Slot {
-    /// `entries[i]`, visited one at a time.
-    One(usize),
-    /// Lane `i % LANES` of `groups[i / LANES]`.
-    Lane(usize),
-}
-
-/// A contact kept in a lane of a group, visited on its own (shock propagation, the warm start,
-/// the residuals), with copies of its two sides' Δu (zeros for the static world): the
-/// arithmetic of [`CachedRows`] on the same numbers, so the same bits.
-pub(super) struct LaneRows<'a, const D: usize, const R: usize> {
-    pub(super) group: &'a LaneGroup<D, R>,
-    pub(super) lane: usize,
-    pub(super) delta_velocity: [SVector<f64, D>; 2],
-}
-
-impl<const D: usize, const R: usize> ContactRows<R> for LaneRows<'_, D, R> {
-    #[inline(always)]
-    fn velocity(&self, r: usize) -> f64 {
-        self.group.lane_velocity(self.lane, &self.delta_velocity, r)
-    }
-    #[inline(always)]
-    fn apply(&mut self, r: usize, delta: f64) {
-        self.group
-            .lane_apply(self.lane, &mut self.delta_velocity, r, delta);
-    }
-}
-
-/// A contact's rows wherever its entry is, with the bodies' Δu (the exact local solve's and the
-/// warm start's visits): one-at-a-time entries as [`BodyRows`], lanes as [`LaneRows`] with their
-/// copies written back after each update.
-pub(super) struct SlotRows<'a, const D: usize, const R: usize> {
-    workspace: &'a mut PgsWorkspace<D, R>,
-    k: usize,
-}
-
-impl<const D: usize, const R: usize> ContactRows<R> for SlotRows<'_, D, R> {
-    fn velocity(&self, r: usize) -> f64 {
-        self.workspace.row_velocity(self.k, r)
-    }
-    fn apply(&mut self, r: usize, delta: f64) {
-        let ws = &mut *self.workspace;
-        match ws.slot[self.k] {
-            Slot::One(i) => ws.entries[i].apply(&mut ws.delta_velocity, r, delta),
-            Slot::Lane(i) => {
-                let (group, lane) = (&ws.groups[i / LANES], i % LANES);
-                let mut rows = LaneRows {
-                    group,
-                    lane,
-                    delta_velocity: lane_copies(group, lane, &ws.delta_velocity),
-                };
-                rows.apply(r, delta);
-                write_back(group, lane, &rows.delta_velocity, &mut ws.delta_velocity);
-            }
-        }
-    }
-}
-
-/// Copies of the Δu of lane `lane`'s two sides (zeros for the static world).
-#[inline(always)]
-pub(super) fn lane_copies<const D: usize, const R: usize>(
-    group: &LaneGroup<D, R>,
-    lane: usize,
-    delta_velocity: &[SVector<f64, D>],
-) -> [SVector<f64, D>; 2] {
-    let copy = |s: usize| {
-        group
-            .body(lane, s)
-            .map_or(SVector::zeros(), |b| delta_velocity[b])
-    };
-    [copy(0), copy(1)]
-}
-
-/// Writes lane `lane`'s copies of its sides' Δu back (every side that is a body, as the
-/// one-at-a-time visit with [`CachedRows`] does).
-#[inline(always)]
-pub(super) fn write_back<const D: usize, const R: usize>(
-    group: &LaneGroup<D, R>,
-    lane: usize,
-    copies: &[SVector<f64, D>; 2],
-    delta_velocity: &mut [SVector<f64, D>],
-) {
-    for s in 0..2 {
-        if let Some(b) = group.body(lane, s) {
-            delta_velocity[b] = copies[s];
-        }
-    }
-}
-
-/// A contact of the body form with copies of its two bodies' Δu: a visit reads them once, its
-/// rows update the copies, and [`PgsWorkspace::store`] writes them back once (the same
-/// arithmetic as [`BodyRows`], so the same bits; the copies stay in registers between the rows
-/// instead of going through memory). Only for a contact between two different bodies.
-pub(super) struct CachedRows<'a, const D: usize, const R: usize> {
-    pub(super) entry: &'a Entry<D, R>,
-    pub(super) delta_velocity: [SVector<f64, D>; 2],
-}
-
-impl<const D: usize, const R: usize> ContactRows<R> for CachedRows<'_, D, R> {
-    #[inline(always)]
-    fn velocity(&self, r: usize) -> f64 {
-        let e = self.entry;
-        let mut w = e.b[r];
-        for s in 0..2 {
-            if e.bodies[s].is_some() {
-                w += e.jacobian_t[s].column(r).dot(&self.delta_velocity[s]);
-            }
-        }
-        w
-    }
-    #[inline(always)]
-    fn apply(&mut self, r: usize, delta: f64) {
-        let e = self.entry;
-        for s in 0..2 {
-            if e.bodies[s].is_some() {
-                let column = e.inverse_mass_jacobian_t[s].column(r);
-                self.delta_velocity[s].axpy(delta, &column, 1.0);
-            }
-        }
-    }
 }
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
@@ -581,104 +442,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     }
 }
 
-/// Contact `k`'s entry (what a sweep reads of it), built from the problem, and its row scales
-/// into `scales`: M_s⁻¹ J_sᵀ per side (from the body's M⁻¹ and its rows' nonzero columns
-/// `mass_rows`), the Delassus block from them, J_sᵀ, b and the constants.
-fn build_entry<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    mass_rows: &[[(usize, usize); D]],
-    k: usize,
-    scales: &mut RowScales<R>,
-) -> Entry<D, R> {
-    let c = &problem.contacts[k];
-    let side = |s: usize| match c.bodies[s] {
-        Some(b) => inverse_mass_times(
-            &problem.bodies[b].inverse_mass,
-            &mass_rows[b],
-            &c.jacobian[s].transpose(),
-        ),
-        None => SMatrix::zeros(),
-    };
-    let sides = [side(0), side(1)];
-    // The contact's Delassus block from the same per-body M⁻¹Jᵀ the updates use, once:
-    // A_kk = Σ_s J_s (M_s⁻¹ J_sᵀ), symmetrised, plus compliance on its rows
-    // (docs/contact.md §"Delassus operator"; `ContactProblem::delassus_block` forms
-    // J M⁻¹ first, the same to round-off).
-    let mut a = SMatrix::<f64, R, R>::zeros();
-    for ((body, jacobian), side) in c.bodies.iter().zip(&c.jacobian).zip(&sides) {
-        if body.is_some() {
-            a += jacobian * side;
-        }
-    }
-    let mut block = (a + a.transpose()) * 0.5;
-    for r in 0..R {
-        block[(r, r)] += c.row_compliance(r);
-    }
-    *scales = RowScales::of_block(block);
-    Entry {
-        bodies: c.bodies,
-        jacobian_t: [c.jacobian[0].transpose(), c.jacobian[1].transpose()],
-        inverse_mass_jacobian_t: sides,
-        b: c.b,
-        law: RowLaw {
-            diagonal: scales.diagonal,
-            tangent_rho: scales.tangent_rho,
-            mu: c.mu,
-            compliance: c.compliance,
-        },
-        bounds: c.bounds,
-        lambda0: c.lambda0,
-    }
-}
-
-/// Per row i of `m`, the columns (first, end) outside of which m_ij is zero (first = end = D for
-/// a zero row): a 3D body's M⁻¹ = diag(m⁻¹ I₃, J⁻¹) has one column in each of its first three
-/// rows and three in the others, so its contacts' M⁻¹Jᵀ take 12 products per column, not 36.
-pub(super) fn nonzero_columns<const D: usize>(m: &SMatrix<f64, D, D>) -> [(usize, usize); D] {
-    std::array::from_fn(|i| {
-        let first = (0..D).find(|&j| m[(i, j)] != 0.0).unwrap_or(D);
-        let end = (0..D)
-            .rev()
-            .find(|&j| m[(i, j)] != 0.0)
-            .map_or(D, |j| j + 1);
-        (first, end)
-    })
-}
-
-/// M⁻¹ Jᵀ (D × R), each entry Σ_j m_ij (Jᵀ)_jr summed as nalgebra's product sums it (j
-/// ascending, from the first product), over row i's nonzero columns `rows[i]` only. Where that
-/// sum is not zero and Jᵀ is finite it is nalgebra's sum over every column to the bit: the
-/// terms left out are ±0, and adding ±0 to a sum that ends nonzero changes no bit of the end
-/// (a running sum differs at most in the sign of a zero, which the next nonzero term erases).
-/// Elsewhere (a zero sum, whose sign the left-out zeros decide; a zero row; a non-finite Jᵀ,
-/// where 0 · ∞ is NaN) the full sum is taken. docs/contact.md §"Four contacts per lane".
-#[inline(always)]
-pub(super) fn inverse_mass_times<const D: usize, const R: usize>(
-    m: &SMatrix<f64, D, D>,
-    rows: &[(usize, usize); D],
-    jacobian_t: &SMatrix<f64, D, R>,
-) -> SMatrix<f64, D, R> {
-    let finite = jacobian_t.iter().all(|x| x.is_finite());
-    let sum = |i: usize, r: usize, columns: std::ops::Range<usize>| {
-        let first = columns.start;
-        let mut sum = m[(i, first)] * jacobian_t[(first, r)];
-        for j in first + 1..columns.end {
-            sum = m[(i, j)] * jacobian_t[(j, r)] + sum;
-        }
-        sum
-    };
-    SMatrix::from_fn(|i, r| {
-        let (first, end) = rows[i];
-        if finite && first < end {
-            let short = sum(i, r, first..end);
-            if short != 0.0 {
-                return short;
-            }
-        }
-        sum(i, r, 0..D)
-    })
-}
-
 /// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
 /// it is empty (every order but the random coloured one).
 #[inline(always)]
@@ -687,70 +450,5 @@ pub(super) fn colour_at(sweep_colours: &[usize], colours: usize, sweep: usize, i
         i
     } else {
         sweep_colours[sweep * colours + i]
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The set-up's M⁻¹Jᵀ over each row's nonzero columns is nalgebra's full product to the bit,
-    /// signed zeros included: block-diagonal inverse masses (a 3D body's diag(m⁻¹ I₃, J⁻¹), a
-    /// pinned body's zeros, −0 outside the blocks) against Jacobians with zero and −0 entries,
-    /// whole zero rows, products that cancel to zero, and an infinite entry.
-    #[test]
-    fn inverse_mass_times_over_nonzero_columns_is_nalgebras_product_to_the_bit() {
-        let mut state = 0x49u64;
-        let mut next = move || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 33) as f64 / (1u64 << 31) as f64 * 2.0 - 1.0
-        };
-        let pick = |x: f64, y: f64| {
-            if x < -0.6 {
-                0.0
-            } else if x < -0.3 {
-                -0.0
-            } else {
-                y
-            }
-        };
-        for case in 0..2000 {
-            let mut m = SMatrix::<f64, 6, 6>::zeros();
-            if case % 7 != 0 {
-                for i in 0..3 {
-                    m[(i, i)] = pick(next(), 0.5);
-                }
-                for i in 3..6 {
-                    for j in 3..6 {
-                        m[(i, j)] = pick(next(), next());
-                    }
-                }
-                // −0 outside the blocks on some bodies.
-                if case % 3 == 0 {
-                    m[(0, 4)] = -0.0;
-                    m[(5, 1)] = -0.0;
-                }
-            }
-            let mut jt = SMatrix::<f64, 6, 3>::from_fn(|_, _| pick(next(), next()));
-            if case % 11 == 0 {
-                // Cancels: m₃₃ j₃ + m₃₄ j₄ = 0 where the entries allow.
-                jt[(3, 0)] = m[(3, 4)];
-                jt[(4, 0)] = -m[(3, 3)];
-            }
-            if case % 13 == 0 {
-                jt[(case % 6, case % 3)] = f64::INFINITY;
-            }
-            let full = m * jt;
-            let short = inverse_mass_times(&m, &nonzero_columns(&m), &jt);
-            for (a, b) in full.iter().zip(short.iter()) {
-                assert_eq!(
-                    a.to_bits(),
-                    b.to_bits(),
-                    "case {case}: {full} against {short}"
-                );
-            }
-        }
     }
 }
