@@ -30,7 +30,8 @@
 //!
 //! The linear systems are solved densely (nalgebra's LU with partial pivoting) up to
 //! [`DENSE_ROWS`] rows, and above that by faer's sparse LU on the block pattern of W (contacts
-//! that share a body), whose symbolic factorisation is computed once per solve.
+//! that share a body), whose symbolic factorisation is computed once per solve and whose numeric
+//! factors, values and scratch memory are written in place by every iteration.
 
 mod law;
 mod system;

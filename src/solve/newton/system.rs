@@ -32,21 +32,35 @@ pub(super) struct System<'a, const R: usize> {
     /// Rows up to which the Newton system is factorised densely.
     pub(super) dense_rows: usize,
     /// Above `dense_rows`: the Newton matrix's sparsity pattern and its symbolic LU, computed
-    /// once per solve (every iteration's matrix has W's block pattern; only the values change).
+    /// once per solve (every iteration's matrix has W's block pattern; only the values change),
+    /// with the buffers every numeric factorisation reuses.
     pub(super) sparse: Option<SparseLayout>,
 }
 
 /// The Newton matrix's pattern (every entry of every block W_kj, zeros included, so that it
-/// never changes) and its symbolic LU factorisation, reused by every numeric factorisation.
+/// never changes) and its symbolic LU factorisation, reused by every numeric factorisation,
+/// with the buffers each factorisation writes into (allocated once per solve).
 pub(super) struct SparseLayout {
-    pattern: faer::sparse::SymbolicSparseColMat<usize>,
-    order: faer::sparse::Argsort<usize>,
-    lu: faer::sparse::linalg::solvers::SymbolicLu<usize>,
+    lu: faer::sparse::linalg::lu::SymbolicLu<usize>,
+    /// Where entry e of the block order (block by block, row-major, as [`System::block_rows`]
+    /// gives them) sits among the compressed columns' values.
+    position: Vec<usize>,
+    numeric: std::cell::RefCell<SparseBuffers>,
+}
+
+/// What one numeric factorisation and solve write: the matrix's values, the LU factors, the
+/// right-hand side and faer's scratch memory.
+struct SparseBuffers {
+    matrix: faer::sparse::SparseColMat<usize, f64>,
+    lu: faer::sparse::linalg::lu::NumericLu<usize, f64>,
+    rhs: faer::Mat<f64>,
+    scratch: faer::dyn_stack::MemBuffer,
 }
 
 impl SparseLayout {
     fn of<const R: usize>(problem: &LocalProblem<R>) -> Option<Self> {
-        use faer::sparse::{Pair, SymbolicSparseColMat};
+        use faer::sparse::linalg::lu::{LuSymbolicParams, NumericLu, factorize_symbolic_lu};
+        use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
         let n = R * problem.contacts.len();
         let mut indices = Vec::new();
         for (k, c) in problem.contacts.iter().enumerate() {
@@ -59,8 +73,32 @@ impl SparseLayout {
             }
         }
         let (pattern, order) = SymbolicSparseColMat::try_new_from_indices(n, n, &indices).ok()?;
-        let lu = faer::sparse::linalg::solvers::SymbolicLu::try_new(pattern.as_ref()).ok()?;
-        Some(SparseLayout { pattern, order, lu })
+        // Each entry's own index as its value (exact in f64): the compressed matrix then says
+        // where each entry went.
+        let numbered: Vec<f64> = (0..indices.len()).map(|e| e as f64).collect();
+        let matrix = SparseColMat::new_from_argsort(pattern, &order, &numbered).ok()?;
+        let mut position = vec![0; indices.len()];
+        for (at, &e) in matrix.val().iter().enumerate() {
+            position[e as usize] = at;
+        }
+        let lu = factorize_symbolic_lu(matrix.symbolic(), LuSymbolicParams::default()).ok()?;
+        let par = faer::Par::Seq;
+        let scratch = faer::dyn_stack::MemBuffer::try_new(
+            lu.factorize_numeric_lu_scratch::<f64>(par, Default::default())
+                .or(lu.solve_in_place_scratch::<f64>(1, par)),
+        )
+        .ok()?;
+        let numeric = SparseBuffers {
+            matrix,
+            lu: NumericLu::new(),
+            rhs: faer::Mat::zeros(n, 1),
+            scratch,
+        };
+        Some(SparseLayout {
+            lu,
+            position,
+            numeric: std::cell::RefCell::new(numeric),
+        })
     }
 }
 
@@ -206,27 +244,38 @@ pub(super) fn solve_newton_system<const R: usize>(
         }
         m.lu().solve(rhs)?
     } else {
-        use faer::linalg::solvers::Solve;
-        use faer::sparse::SparseColMat;
-        use faer::sparse::linalg::solvers::Lu;
         let layout = system.sparse.as_ref()?;
-        // The values in the order the pattern was made in (block by block, row-major).
-        let mut values = Vec::new();
+        let mut buffers = layout.numeric.borrow_mut();
+        let SparseBuffers {
+            matrix,
+            lu,
+            rhs: x,
+            scratch,
+        } = &mut *buffers;
+        // The values, written where the pattern put them (entry e in block order).
+        let values = matrix.val_mut();
+        let mut e = 0;
         for (k, row) in system.block_rows().enumerate() {
             for (j, w) in row {
                 let m = block_of(k, *j, w);
                 for r in 0..R {
                     for s in 0..R {
-                        values.push(m[(r, s)]);
+                        values[layout.position[e]] = m[(r, s)];
+                        e += 1;
                     }
                 }
             }
         }
-        let matrix =
-            SparseColMat::new_from_argsort(layout.pattern.clone(), &layout.order, &values).ok()?;
-        let lu = Lu::try_new_with_symbolic(layout.lu.clone(), matrix.as_ref()).ok()?;
-        let mut x = faer::Mat::<f64>::from_fn(n, 1, |i, _| rhs[i]);
-        lu.solve_in_place(x.as_mut());
+        let par = faer::Par::Seq;
+        let stack = faer::dyn_stack::MemStack::new(scratch);
+        let factors = layout
+            .lu
+            .factorize_numeric_lu(lu, matrix.as_ref(), par, stack, Default::default())
+            .ok()?;
+        for i in 0..n {
+            x[(i, 0)] = rhs[i];
+        }
+        factors.solve_in_place_with_conj(faer::Conj::No, x.as_mut(), par, stack);
         DVector::from_fn(n, |i, _| x[(i, 0)])
     };
     x.iter().all(|v| v.is_finite()).then_some(x)
