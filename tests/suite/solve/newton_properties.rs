@@ -760,8 +760,7 @@ fn newton_answers_a_problem_no_impulse_can_move_with_zero_impulses() {
     for friction in [FrictionModel::Box, FrictionModel::Cone] {
         let dense = DMatrix::<f64>::zeros(6, 6);
         let q = DVector::from_vec(vec![1.0, 0.5, -0.3, 2.0, 0.0, 0.1]);
-        let mut problem =
-            LocalProblem::<3>::from_dense(friction, &dense, &q, &[0.5, 0.0]).unwrap();
+        let mut problem = LocalProblem::<3>::from_dense(friction, &dense, &q, &[0.5, 0.0]).unwrap();
         problem.contacts[0].lambda0 = Vector3::new(0.5, 0.2, -0.1);
         problem.contacts[1].lambda0 = Vector3::new(1.5, 0.0, 0.3);
         let (lambda, report) = newton(&problem, 1e-10);
