@@ -5,6 +5,7 @@ use super::{Solved, solve_on};
 use crate::common::problems::tiled;
 use nalgebra::{SMatrix, SVector};
 use rigidref::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
+use rigidref::solve::LocalSolve;
 use rigidref::solve::pgs::Lanes;
 
 /// splitmix64: a small seeded generator, so the problems are the same on every run.
@@ -329,25 +330,35 @@ fn groups_of_four_serve_a_problem_above_the_old_limit_with_the_same_bits() {
     }
 }
 
-/// A coloured solve of 4 sweeps then the shock pass, with the groups as `lanes` says: λ, Δu,
-/// the groups the solve visited and the visits the pass made.
+/// A coloured solve of 4 sweeps then the shock pass with `pass` visits (row by row or the
+/// exact local solve), with the groups as `lanes` says: λ, Δu, the groups the solve visited and
+/// the visits the pass made.
 fn shock_pass<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     lanes: Lanes,
+    pass: LocalSolve,
 ) -> (Vec<SVector<f64, R>>, Vec<SVector<f64, D>>, usize, u64) {
     let settings = rigidref::solve::PgsSettings {
         max_iterations: 4,
         tolerance: None,
         order: rigidref::solve::ContactOrder::Coloured,
-        local: rigidref::solve::LocalSolve::Rows,
+        local: LocalSolve::Rows,
     };
     let mut workspace = rigidref::solve::PgsWorkspace::new(0);
     workspace.set_lanes(lanes);
     let mut lambda = Vec::new();
     rigidref::solve::solve_pgs(problem, &settings, &mut workspace, &mut lambda);
     let groups = workspace.last_groups();
-    let report =
-        rigidref::solve::shock::propagate_shock(problem, &settings, &mut workspace, &mut lambda);
+    let pass_settings = rigidref::solve::PgsSettings {
+        local: pass,
+        ..settings
+    };
+    let report = rigidref::solve::shock::propagate_shock(
+        problem,
+        &pass_settings,
+        &mut workspace,
+        &mut lambda,
+    );
     let du = (0..problem.bodies.len())
         .map(|i| *workspace.delta_velocity(i))
         .collect();
@@ -355,13 +366,13 @@ fn shock_pass<const D: usize, const R: usize>(
 }
 
 /// [`shock_pass`] with and without the groups on random problems: the same bits.
-fn shock_same_bits<const D: usize, const R: usize>(seed: u64) {
+fn shock_same_bits<const D: usize, const R: usize>(seed: u64, pass: LocalSolve) {
     let mut numbers = Numbers(seed);
     for friction in [FrictionModel::Box, FrictionModel::Cone] {
         for case in 0..5 {
             let problem = random_problem::<D, R>(&mut numbers, 30, 200, friction);
-            let one = shock_pass(&problem, Lanes::Off);
-            let grouped = shock_pass(&problem, Lanes::Native);
+            let one = shock_pass(&problem, Lanes::Off, pass);
+            let grouped = shock_pass(&problem, Lanes::Native, pass);
             let what = format!("{D}×{R} {friction:?} case {case}");
             assert!(
                 grouped.2 > 0 && one.2 == 0,
@@ -381,8 +392,49 @@ fn shock_same_bits<const D: usize, const R: usize>(seed: u64) {
 /// after the solve and the pass, λ and every body's Δu are the same bits either way.
 #[test]
 fn shock_propagation_reads_the_groups_with_the_one_at_a_time_bits() {
-    shock_same_bits::<6, 3>(0x5A0C);
-    shock_same_bits::<3, 2>(0x5A0D);
+    shock_same_bits::<6, 3>(0x5A0C, LocalSolve::Rows);
+    shock_same_bits::<3, 2>(0x5A0D, LocalSolve::Rows);
+}
+
+/// The shock pass may visit with the exact local solve after a solve row by row
+/// (`propagate_shock` takes its own settings): a contact kept in a group's lane is then solved
+/// exactly through the lane's copies of its bodies' Δu, written back after every row's update
+/// (`SlotRows`), and the answer is the one without the groups, bit for bit (tolerance zero: the
+/// lane's arithmetic is the one-contact record's). Random problems as above, 3D and 2D, box and
+/// cone.
+#[test]
+fn an_exact_shock_pass_reads_the_groups_with_the_one_at_a_time_bits() {
+    shock_same_bits::<6, 3>(0x5A0E, LocalSolve::Exact);
+    shock_same_bits::<3, 2>(0x5A0F, LocalSolve::Exact);
+}
+
+/// Random problems of 30 bodies of `D` velocities and 200 contacts, box and cone, 1 and 30
+/// sweeps, with `Lanes::Native`: no groups, and every bit of the one-at-a-time sweep.
+fn one_at_a_time_without_groups<const D: usize, const R: usize>(seed: u64) {
+    let mut numbers = Numbers(seed);
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        for case in 0..5 {
+            let problem = random_problem::<D, R>(&mut numbers, 30, 200, friction);
+            for sweeps in [1, 30] {
+                let what = format!("{D}×{R}, {friction:?} case {case}, {sweeps} sweeps");
+                let one = solve(&problem, sweeps, Lanes::Off);
+                let native = solve(&problem, sweeps, Lanes::Native);
+                assert_eq!(native.3, 0, "{what}: groups used");
+                assert_same_bits(&native, &one, &what);
+            }
+        }
+    }
+}
+
+/// Bodies of 8 velocities or more: nalgebra sums a dot product of 8 terms or more in eight
+/// interleaved partial sums, which the lanes' sums one term at a time would not reproduce, so
+/// the groups stay off there and the sweep's bits are the one-at-a-time sweep's: 8, 9 and 12
+/// velocities with 3, 1 and 2 rows.
+#[test]
+fn bodies_of_eight_velocities_or_more_keep_the_one_at_a_time_sweep() {
+    one_at_a_time_without_groups::<8, 3>(8);
+    one_at_a_time_without_groups::<9, 1>(9);
+    one_at_a_time_without_groups::<12, 2>(12);
 }
 
 /// A problem whose friction is zero on every contact gives, solved by its normal rows alone

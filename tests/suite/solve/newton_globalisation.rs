@@ -62,6 +62,30 @@ fn proximal_loop_solves_boxes_stack_to_the_default_tolerance() {
     assert!(siconos_error(&problem, &lambda) <= 1e-8);
 }
 
+/// Where the adaptive proximal loop is cut short (10 subproblems instead of 60), the last
+/// fallback (docs/contact.md §"Newton solver": plain Newton from the start without the stall
+/// rule, then the tenfold loop from its end only where it fails) solves BoxesStack1: plain Newton
+/// wanders and then converges within 200 iterations, so the answer is its own, the report says
+/// Newton, and the tenfold loop is not run after it (run from a solution, its first subproblem is
+/// solved at once and the answer would be named the proximal loop's). Measured: converged, Newton,
+/// 411 iterations over every run; with 200 iterations per run and 30 subproblems, 318.
+#[test]
+fn plain_newton_without_the_stall_rule_solves_boxes_stack_where_the_adaptive_loop_is_cut_short() {
+    let problem = boxes_stack();
+    for proximal_iterations in [10, 30] {
+        let settings = NewtonSettings {
+            max_iterations: 200,
+            proximal_iterations,
+            ..NewtonSettings::default()
+        };
+        let mut lambda = Vec::new();
+        let report = solve_newton_local(&problem, &settings, &mut lambda);
+        assert!(report.converged, "{proximal_iterations}: {report:?}");
+        assert_eq!(report.method, SolveMethod::Newton, "{proximal_iterations}");
+        assert!(report.coulomb_residual.unwrap() <= 1e-10);
+    }
+}
+
 /// spheres-in-a-box-98-i10000-256-10 (FCLIB global, 256 contacts): plain Newton from λ = 0 climbs for
 /// 18 iterations and converges at the 25th; the stall rule of 10 iterations handed it to the
 /// proximal loop, which spent 429 iterations. With the extended rule for runs from the start

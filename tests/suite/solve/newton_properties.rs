@@ -10,7 +10,7 @@ use crate::common;
 use common::problems::{build, physical_spec, spec};
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, SMatrix, SVector, Vector3};
 use proptest::prelude::*;
-use rigidref::problem::{FrictionModel, LocalProblem, RowBounds};
+use rigidref::problem::{FrictionModel, LocalProblem, RowBounds, SolveMethod};
 use rigidref::solve::criteria::criteria;
 use rigidref::solve::newton::{newton_function_local, round_off_floor};
 use rigidref::solve::residual::{RowScales, coulomb_residual, residual, siconos_error};
@@ -748,6 +748,30 @@ fn a_round_off_diagonal_counts_as_zero() {
     assert!(residual(&problem, &pushed) >= 1.0);
 }
 
+/// A problem no impulse can move (W = 0: every contact between bodies that cannot move), its
+/// contacts separating (q_n > 0) and warm-started with impulses left from an earlier step: the
+/// only answer is λ = 0 (λn w_n = 0 with w = q, and the friction bound μλn = 0). A zero diagonal
+/// is no row scale (W's largest diagonal is 0, so the round-off floor is 0 too, and a diagonal
+/// at the floor must count as zero, not as a scale of 0 that makes F vanish everywhere): Newton
+/// scales such rows by 1 (F_n = min(λn, w_n)) and reaches λ = 0 exactly (one step of the
+/// identity), box and cone, to the default tolerance.
+#[test]
+fn newton_answers_a_problem_no_impulse_can_move_with_zero_impulses() {
+    for friction in [FrictionModel::Box, FrictionModel::Cone] {
+        let dense = DMatrix::<f64>::zeros(6, 6);
+        let q = DVector::from_vec(vec![1.0, 0.5, -0.3, 2.0, 0.0, 0.1]);
+        let mut problem = LocalProblem::<3>::from_dense(friction, &dense, &q, &[0.5, 0.0]).unwrap();
+        problem.contacts[0].lambda0 = Vector3::new(0.5, 0.2, -0.1);
+        problem.contacts[1].lambda0 = Vector3::new(1.5, 0.0, 0.3);
+        let (lambda, report) = newton(&problem, 1e-10);
+        assert!(report.converged, "{friction:?}: {report:?}");
+        assert!(
+            lambda.iter().all(|l| l.amax() == 0.0),
+            "{friction:?}: {lambda:?}"
+        );
+    }
+}
+
 #[test]
 fn large_impulses_converge_to_their_round_off_floor() {
     // q scaled by 1e9: impulses of order 1e9 N·s, where w = Wλ + q carries rounding errors of
@@ -774,6 +798,33 @@ fn large_impulses_converge_to_their_round_off_floor() {
             // floor, and W's smallest eigenvalue is at least the compliance 1e-2 kg⁻¹.
             prop_assert!((g - l * 1e9).amax() <= 1e-9 * 1e9 * largest, "{g} {}", l * 1e9);
         }
+    });
+}
+
+/// Where the tolerance is below the round-off floor of the answer (impulses of order 1e9 N·s,
+/// as in the test above), the first Newton run's end is accepted at the floor: no fallback runs
+/// after it (the proximal loops could not go below the floor either), so the report names
+/// Newton and counts the iterations of that one run, at most `max_iterations` (50).
+#[test]
+fn large_impulses_are_accepted_at_their_floor_after_the_first_run() {
+    proptest!(common::seeded(20), |(s in physical_spec(1..3, 1..5), mu in 0.0..0.8f64)| {
+        let problem = compliant_cone(&s, mu);
+        let (lambda, report) = newton(&problem, 1e-13);
+        prop_assume!(report.converged);
+        let largest = lambda.iter().map(|l| l.amax()).fold(0.0, f64::max);
+        prop_assume!(largest > 1e-3);
+        let mut large = problem.clone();
+        for c in &mut large.contacts {
+            c.q *= 1e9;
+        }
+        let (got, large_report) = newton(&large, 1e-10);
+        prop_assume!(round_off_floor(&large, &got) > 1e-10);
+        prop_assert!(large_report.converged, "{large_report:?}");
+        prop_assert_eq!(large_report.method, SolveMethod::Newton);
+        prop_assert!(
+            large_report.iterations <= NewtonSettings::default().max_iterations,
+            "{large_report:?}"
+        );
     });
 }
 
