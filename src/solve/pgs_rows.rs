@@ -1,12 +1,11 @@
 //! A contact's rows as a PGS visit reads and updates them, wherever its entry is kept: where that
 //! is ([`Slot`]), and the views over the bodies' Δu the visits go through — borrowed
-//! ([`BodyRows`]), copied into registers ([`CachedRows`]), a lane of a group of four
-//! ([`LaneRows`]) or either ([`SlotRows`]). Each view does the same arithmetic on the same
+//! ([`BodyRows`]), copied into registers ([`CachedRows`]) or a lane of a group of four
+//! ([`LaneRows`]); the workspace's `SlotRows` goes to either. Each view does the same arithmetic on the same
 //! numbers, so every path gives the same bits. docs/contact.md §"PGS", §"Four contacts per lane".
 
-use super::pgs_lanes::{LANES, LaneGroup};
+use super::pgs_lanes::LaneGroup;
 use super::pgs_visit::ContactRows;
-use super::pgs_workspace::PgsWorkspace;
 use super::sweep_entry::Entry;
 use nalgebra::SVector;
 
@@ -54,36 +53,6 @@ impl<const D: usize, const R: usize> ContactRows<R> for LaneRows<'_, D, R> {
     fn apply(&mut self, r: usize, delta: f64) {
         self.group
             .lane_apply(self.lane, &mut self.delta_velocity, r, delta);
-    }
-}
-
-/// A contact's rows wherever its entry is, with the bodies' Δu (the exact local solve's and the
-/// warm start's visits): one-at-a-time entries as [`BodyRows`], lanes as [`LaneRows`] with their
-/// copies written back after each update.
-pub(super) struct SlotRows<'a, const D: usize, const R: usize> {
-    pub(super) workspace: &'a mut PgsWorkspace<D, R>,
-    pub(super) k: usize,
-}
-
-impl<const D: usize, const R: usize> ContactRows<R> for SlotRows<'_, D, R> {
-    fn velocity(&self, r: usize) -> f64 {
-        self.workspace.row_velocity(self.k, r)
-    }
-    fn apply(&mut self, r: usize, delta: f64) {
-        let ws = &mut *self.workspace;
-        match ws.slot[self.k] {
-            Slot::One(i) => ws.entries[i].apply(&mut ws.delta_velocity, r, delta),
-            Slot::Lane(i) => {
-                let (group, lane) = (&ws.groups[i / LANES], i % LANES);
-                let mut rows = LaneRows {
-                    group,
-                    lane,
-                    delta_velocity: lane_copies(group, lane, &ws.delta_velocity),
-                };
-                rows.apply(r, delta);
-                write_back(group, lane, &rows.delta_velocity, &mut ws.delta_velocity);
-            }
-        }
     }
 }
 

@@ -6,9 +6,10 @@
 //! built by `pgs_setup.rs`; the views a visit reads it through are in `pgs_rows.rs`.
 
 use super::pgs_lanes::{LANES, LaneGroup, grouped};
-use super::pgs_rows::{BodyRows, CachedRows, Slot, SlotRows, lane_copies};
+use super::pgs_rows::{BodyRows, CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes};
 use super::pgs_setup::{build_entry, inverse_mass_times, nonzero_columns};
+use super::pgs_visit::ContactRows;
 use super::residual::RowScales;
 use super::sweep_entry::{Entry, RowLaw};
 use crate::problem::ContactProblem;
@@ -66,6 +67,36 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
     pub(super) local_fallbacks: u32,
+}
+
+/// A contact's rows wherever its entry is, with the bodies' Δu (the exact local solve's and the
+/// warm start's visits): one-at-a-time entries as [`BodyRows`], lanes as [`LaneRows`] with their
+/// copies written back after each update.
+pub(super) struct SlotRows<'a, const D: usize, const R: usize> {
+    workspace: &'a mut PgsWorkspace<D, R>,
+    k: usize,
+}
+
+impl<const D: usize, const R: usize> ContactRows<R> for SlotRows<'_, D, R> {
+    fn velocity(&self, r: usize) -> f64 {
+        self.workspace.row_velocity(self.k, r)
+    }
+    fn apply(&mut self, r: usize, delta: f64) {
+        let ws = &mut *self.workspace;
+        match ws.slot[self.k] {
+            Slot::One(i) => ws.entries[i].apply(&mut ws.delta_velocity, r, delta),
+            Slot::Lane(i) => {
+                let (group, lane) = (&ws.groups[i / LANES], i % LANES);
+                let mut rows = LaneRows {
+                    group,
+                    lane,
+                    delta_velocity: lane_copies(group, lane, &ws.delta_velocity),
+                };
+                rows.apply(r, delta);
+                write_back(group, lane, &rows.delta_velocity, &mut ws.delta_velocity);
+            }
+        }
+    }
 }
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
