@@ -32,19 +32,27 @@ import numpy as np
 
 def read_local(path):
     """W (dense), q, μ and the JSON document of a rigidref local problem file."""
-    doc = json.loads(Path(path).read_text())
-    if doc.get("form") != "local":
-        sys.exit(f"{path}: not a local-form problem (form = {doc.get('form')!r})")
+    try:
+        doc = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as e:
+        sys.exit(f"{path}: cannot read a problem: {getattr(e, 'strerror', None) or e}")
+    if not isinstance(doc, dict) or doc.get("form") != "local":
+        form = doc.get("form") if isinstance(doc, dict) else None
+        sys.exit(f"{path}: not a local-form problem (form = {form!r}); `rigidref convert-problem`"
+                 " writes one")
     r = doc["rows_per_contact"]
     if r != 3:
         sys.exit(f"{path}: {r} rows per contact; this study is written for 3D problems (3)")
-    n = len(doc["contacts"])
-    w = np.zeros((n * r, n * r))
-    for b in doc["W"]:
-        i, j = b["row"], b["col"]
-        w[i * r:(i + 1) * r, j * r:(j + 1) * r] = np.array(b["block"])
-    q = np.concatenate([c["q"] for c in doc["contacts"]])
-    mu = np.array([c["mu"] for c in doc["contacts"]])
+    try:
+        n = len(doc["contacts"])
+        w = np.zeros((n * r, n * r))
+        for b in doc["W"]:
+            i, j = b["row"], b["col"]
+            w[i * r:(i + 1) * r, j * r:(j + 1) * r] = np.array(b["block"], dtype=float)
+        q = np.concatenate([np.array(c["q"], dtype=float) for c in doc["contacts"]])
+        mu = np.array([c["mu"] for c in doc["contacts"]], dtype=float)
+    except (KeyError, TypeError, ValueError, IndexError) as e:
+        sys.exit(f"{path}: not a well-formed local problem ({type(e).__name__}: {e})")
     return w, q, mu, doc
 
 

@@ -66,3 +66,17 @@ def test_variants_symmetrise_w_and_replace_mu(tmp_path):
     assert not np.array_equal(w, w.T)
     _, _, mu, _ = problem_structure.read_local(tmp_path / "v" / "mu0.3.json")
     assert list(mu) == [0.3, 0.3]
+
+
+@pytest.mark.parametrize("text,says", [(None, "cannot read"), ("{", "cannot read"),
+                                       ('{"form": "body"}', "not a local-form problem"),
+                                       ('{"form": "local", "rows_per_contact": 3}', "not a well-formed")])
+def test_bad_input_is_a_one_line_error_naming_the_file(tmp_path, text, says):
+    path = tmp_path / "a problem with spaces.json"
+    if text is not None:
+        path.write_text(text)
+    r = subprocess.run([sys.executable, str(ROOT / "python/problem_structure.py"), str(path)],
+                       capture_output=True, text=True)
+    assert r.returncode == 1
+    lines = r.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith(str(path)) and says in lines[0], r.stderr
