@@ -743,6 +743,18 @@ fn dropped_bodies_never_pass_through_each_other_at_ordinary_speeds() {
     );
 }
 
+/// The convex pieces of the project's box, ball and tee meshes.
+fn project_pieces() -> Vec<rigidref::rigid3d::collide::pieces::Piece> {
+    ["box", "ball", "tee"]
+        .iter()
+        .flat_map(|name| {
+            rigidref::rigid3d::collide::pieces::ConvexPieces::of_mesh(&project_mesh(name))
+                .unwrap()
+                .pieces
+        })
+        .collect()
+}
+
 /// The separating-axis query reads its Gauss-map arc tests off tables made once per query
 /// (docs/contact.md §"Exact convex contact", "The arcs tabled"): on 300 random placements of
 /// the project's pieces (box, ball, the tee's pieces), the edge pairs the tables say cross are
@@ -753,14 +765,7 @@ fn dropped_bodies_never_pass_through_each_other_at_ordinary_speeds() {
 #[test]
 fn tabled_arc_tests_match_arcs_cross() {
     use rigidref::rigid3d::collide::separating_axes::{Placement, SatBuffers, arcs_cross};
-    let pieces: Vec<_> = ["box", "ball", "tee"]
-        .iter()
-        .flat_map(|name| {
-            rigidref::rigid3d::collide::pieces::ConvexPieces::of_mesh(&project_mesh(name))
-                .unwrap()
-                .pieces
-        })
-        .collect();
+    let pieces = project_pieces();
     let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
     let crossing = std::cell::Cell::new(0usize);
     let buffers = std::cell::RefCell::new((SatBuffers::default(), Vec::new()));
@@ -811,14 +816,7 @@ fn tabled_arc_tests_match_arcs_cross() {
 #[test]
 fn edge_pairs_skipped_by_their_bound_change_nothing() {
     use rigidref::rigid3d::collide::separating_axes::{Placement, SatBuffers};
-    let pieces: Vec<_> = ["box", "ball", "tee"]
-        .iter()
-        .flat_map(|name| {
-            rigidref::rigid3d::collide::pieces::ConvexPieces::of_mesh(&project_mesh(name))
-                .unwrap()
-                .pieces
-        })
-        .collect();
+    let pieces = project_pieces();
     let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
     let both = std::cell::RefCell::new((SatBuffers::default(), SatBuffers::every_edge_gap()));
     let edges_chosen = std::cell::Cell::new(0usize);

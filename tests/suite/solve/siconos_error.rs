@@ -28,21 +28,29 @@ fn check<const R: usize>(name: &str, problem: &LocalProblem<R>, lambda: &[f64], 
     );
 }
 
-#[test]
-fn siconos_error_equals_the_value_siconos_computed() {
+/// The cases of tests/data/siconos_error/errors.json: each problem file (under tests/data), the
+/// stacked λ Siconos judged and the error it computed (norm = ‖q‖).
+fn siconos_cases() -> Vec<(String, Vec<f64>, f64)> {
     let folder = common::project_root().join("tests/data");
     let text = std::fs::read_to_string(folder.join("siconos_error/errors.json")).unwrap();
     let data: serde_json::Value = serde_json::from_str(&text).unwrap();
+    (data["cases"].as_array().unwrap().iter())
+        .map(|case| {
+            let lambda = (case["lambda"].as_array().unwrap().iter())
+                .map(|v| v.as_f64().unwrap())
+                .collect();
+            let file = case["file"].as_str().unwrap().to_string();
+            (file, lambda, case["error_norm_q"].as_f64().unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn siconos_error_equals_the_value_siconos_computed() {
+    let folder = common::project_root().join("tests/data");
     let (mut three, mut two) = (0, 0);
-    for case in data["cases"].as_array().unwrap() {
-        let file = case["file"].as_str().unwrap();
-        let lambda: Vec<f64> = case["lambda"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
-        let want = case["error_norm_q"].as_f64().unwrap();
+    for (file, lambda, want) in siconos_cases() {
+        let file = file.as_str();
         // Non-solutions: errors of order 0.1–1, not round-off of zero.
         assert!(want > 0.1, "{file}: {want}");
         match read_dat(&folder.join(file)).unwrap() {
@@ -88,18 +96,9 @@ fn measures_q_and_w<const R: usize>(
 #[test]
 fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator() {
     let folder = common::project_root().join("tests/data");
-    let text = std::fs::read_to_string(folder.join("siconos_error/errors.json")).unwrap();
-    let data: serde_json::Value = serde_json::from_str(&text).unwrap();
     let mut larger_than_q = 0;
-    for case in data["cases"].as_array().unwrap() {
-        let file = case["file"].as_str().unwrap();
-        let lambda: Vec<f64> = case["lambda"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|v| v.as_f64().unwrap())
-            .collect();
-        let want = case["error_norm_q"].as_f64().unwrap();
+    for (file, lambda, want) in siconos_cases() {
+        let file = file.as_str();
         let (measures, q, w) = match read_dat(&folder.join(file)).unwrap() {
             AnyLocalProblem::Three(p) => measures_q_and_w(&p, &lambda),
             AnyLocalProblem::Two(p) => measures_q_and_w(&p, &lambda),
