@@ -1,6 +1,6 @@
 """The pymunk (Chipmunk2D) mirror of rigidref's 2D scenes (docs/validation.md §"2D: pymunk").
 
-Reads the 2D mirror description (`src/tools/validation/two_d.rs::MirrorScene2`) and builds one
+Reads the 2D mirror description (`src/tools/validation/two_d/mirror.rs::MirrorScene2`) and builds one
 pymunk Body per rigidref body: the scene's mass and moment of inertia set on the body (its shapes
 carry none), its centre of mass at the body's origin, and one Circle of radius sqrt(2)/2 per block
 at the block's offset. Circles, not boxes: rigidref's 2D contact geometry is exactly these discs
