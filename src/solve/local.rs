@@ -173,11 +173,28 @@ fn box_pattern<const R: usize>(
     Some(lambda)
 }
 
+/// cos θ_i and sin θ_i at the grid points θ_i = i 2π / [`SLIDE_GRID`], i = 0..=SLIDE_GRID,
+/// computed once per process: the same values `(i as f64 * step).cos()` gives at each call, so
+/// the bracketing below is unchanged bit for bit, without two `sin`/`cos` pairs per cell.
+/// docs/contact.md §"Exact local solve", **Cost**.
+fn slide_grid() -> &'static [(f64, f64); SLIDE_GRID + 1] {
+    static GRID: std::sync::OnceLock<[(f64, f64); SLIDE_GRID + 1]> = std::sync::OnceLock::new();
+    GRID.get_or_init(|| {
+        let step = std::f64::consts::TAU / SLIDE_GRID as f64;
+        std::array::from_fn(|i| {
+            let theta = i as f64 * step;
+            (theta.cos(), theta.sin())
+        })
+    })
+}
+
 /// The sliding candidates of disk friction (R = 3), in increasing θ ∈ [0, 2π).
 ///
 /// With d = (cos θ, sin θ) and g(θ) = (1, −μ cos θ, −μ sin θ), λ = λn g: w_n = 0 gives
 /// λn = −q_n / (A g)_n, and w_t = λn (A g)_t + q_t must be parallel to d. Multiplied by
 /// (A g)_n, the parallelism is F(θ) = ((A g)_n q_t − q_n (A g)_t) × d = 0, smooth in θ.
+/// F is evaluated once per grid point (cell i's upper end is cell i + 1's lower end) from the
+/// tabulated cos and sin ([`slide_grid`]); only the bisection calls `sin` and `cos`.
 fn disk_slides<const R: usize>(
     a: &SMatrix<f64, R, R>,
     q: &SVector<f64, R>,
@@ -185,25 +202,28 @@ fn disk_slides<const R: usize>(
 ) -> impl Iterator<Item = SVector<f64, R>> {
     let a = *a;
     let q = *q;
-    let g = move |theta: f64| {
+    let g = move |(cos, sin): (f64, f64)| {
         let mut g = SVector::<f64, R>::zeros();
         g[0] = 1.0;
-        g[1] = -mu * theta.cos();
-        g[2] = -mu * theta.sin();
+        g[1] = -mu * cos;
+        g[2] = -mu * sin;
         g
     };
-    let f = move |theta: f64| {
-        let ag = a * g(theta);
+    let f = move |(cos, sin): (f64, f64)| {
+        let ag = a * g((cos, sin));
         let u1 = ag[0] * q[1] - q[0] * ag[1];
         let u2 = ag[0] * q[2] - q[0] * ag[2];
-        u1 * theta.sin() - u2 * theta.cos()
+        u1 * sin - u2 * cos
     };
+    let at = |theta: f64| (theta.cos(), theta.sin());
+    let grid = slide_grid();
+    let values: [f64; SLIDE_GRID + 1] = std::array::from_fn(|i| f(grid[i]));
     let step = std::f64::consts::TAU / SLIDE_GRID as f64;
     (0..SLIDE_GRID).filter_map(move |i| {
         let (mut lo, mut hi) = (i as f64 * step, (i + 1) as f64 * step);
-        let (mut f_lo, f_hi) = (f(lo), f(hi));
+        let (mut f_lo, f_hi) = (values[i], values[i + 1]);
         let root = if f_lo == 0.0 {
-            lo
+            grid[i]
         } else if f_lo * f_hi >= 0.0 {
             return None; // no sign change in this cell (a root at hi is the next cell's lo)
         } else {
@@ -213,7 +233,7 @@ fn disk_slides<const R: usize>(
                 if mid <= lo || mid >= hi {
                     break;
                 }
-                let f_mid = f(mid);
+                let f_mid = f(at(mid));
                 if f_mid == 0.0 {
                     lo = mid;
                     break;
@@ -225,7 +245,7 @@ fn disk_slides<const R: usize>(
                     f_lo = f_mid;
                 }
             }
-            lo
+            at(lo)
         };
         let gr = g(root);
         let normal = (a * gr)[0];

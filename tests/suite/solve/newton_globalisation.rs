@@ -163,3 +163,46 @@ fn automatic_choice_stops_in_nsgs_where_nsgs_converges_fast() {
     assert_eq!(done.newton_iterations, 0);
     assert!(siconos_error(&problem, &lambda) <= 1e-8);
 }
+
+/// KaplasTower-i1061-4 (Siconos' test data, 570 contacts; 4 MB, read from `../siconos-data`
+/// beside the project, skipped with the reason where absent): plain Newton from λ = 0 has its best
+/// point at iteration 4 and then creeps (steps of 2⁻⁶–2⁻¹², θ from 6.2·10³ to 5.8·10³) until the
+/// extension of the stall rule ends the run at 28; the proximal loop then solves in 25 iterations.
+/// With the crawl rule (docs/contact.md §"Newton solver", **Stall rule**: a stalled run whose last
+/// 10 steps were all at most 1/32 long ends there) the run ends at its stall, and the same loop
+/// from the same point solves. Measured: 39 iterations (53 without the rule; `rigidref
+/// solve-problems KaplasTower-i1061-4.hdf5.dat --solver newton`); the bound is below 53, so the
+/// test fails without the rule. spheres-in-a-box-98 (above) is the run the rule must leave alone.
+#[test]
+fn a_creeping_stalled_run_hands_kaplas_tower_to_the_proximal_loop_at_its_stall() {
+    const ITERATIONS: u32 = 45;
+    let path = common::project_root().join(
+        "../siconos-data/numerics/src/FrictionContact/test/data/KaplasTower-i1061-4.hdf5.dat",
+    );
+    if !path.is_file() {
+        eprintln!(
+            "SKIPPED: {} is absent (Siconos' test data beside the project on developer machines)",
+            path.display()
+        );
+        return;
+    }
+    let problem = match read_dat(&path).unwrap() {
+        AnyLocalProblem::Three(p) => p,
+        AnyLocalProblem::Two(_) => panic!("KaplasTower is a 3D problem"),
+    };
+    let settings = NewtonSettings {
+        max_iterations: 200,
+        ..NewtonSettings::default()
+    };
+    let mut stop = |l: &[SVector<f64, 3>]| siconos_error(&problem, l) <= 1e-8;
+    let mut lambda = Vec::new();
+    let report = solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+    let error = siconos_error(&problem, &lambda);
+    assert!(error <= 1e-8, "Siconos' error {error:e}");
+    assert_eq!(report.method, SolveMethod::Proximal);
+    assert!(
+        report.iterations <= ITERATIONS,
+        "{} iterations, more than {ITERATIONS}",
+        report.iterations
+    );
+}
