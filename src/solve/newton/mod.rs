@@ -19,7 +19,7 @@
 //! a failed step), globalised by a non-monotone Armijo line search on θ = ½‖F‖² (against the
 //! largest θ of the last five iterations). Where that stalls (the best law norm not halved in
 //! [`STALL`] iterations, and, for a run from the start, not recovered to convergence by
-//! [`STALL_EXTENDED`] nor taking steps longer than [`CRAWL_STEP`]) or runs out of iterations, a run from λ = 0 follows (when the start was
+//! [`STALL_EXTENDED`]) or runs out of iterations, a run from λ = 0 follows (when the start was
 //! warm), then the proximal-point loop (docs/contact.md §"Proximal-point globalisation"): each
 //! subproblem has W + H and b − H λ_c, H = η diag(W), about a centre λ_c, is solved by the same
 //! Newton iteration to a tenth of the law norm at the centre, and η = σ ‖F(λ_c)‖ / max|b| follows
@@ -143,12 +143,6 @@ const STALL: u32 = 10;
 /// best point of the stall ([`STALL`]): docs/contact.md §"Newton solver", **Stall rule**.
 const STALL_EXTENDED: u32 = 25;
 
-/// A stalled run from the start ([`Stall::Extended`]) also ends, returning the stall's best point,
-/// once its last [`STALL`] steps were all at most this long (the line search halved each five
-/// times or more): creeping along a valley of θ, a factorisation per step, where a run the
-/// extension is for recovers with longer steps. docs/contact.md §"Newton solver", **Stall rule**.
-const CRAWL_STEP: f64 = 1.0 / 32.0;
-
 /// Which stall rule a run of iterations obeys.
 #[derive(Clone, Copy, PartialEq)]
 enum Stall {
@@ -232,8 +226,6 @@ fn iterate<const R: usize>(
     // The best point when the run first stalled (`window` iterations without halving), while
     // it goes on until `end` iterations without halving: what it returns unless it converges.
     let mut stalled: Option<(f64, DVector<f64>)> = None;
-    // Consecutive steps at most CRAWL_STEP long, up to the last one.
-    let mut short_steps = 0;
     loop {
         let norm = law_norm(system, &f);
         if norm < best.0 {
@@ -252,8 +244,7 @@ fn iterate<const R: usize>(
         if stalled.is_none() && iterations - mark.1 >= window && window < end {
             stalled = Some(best.clone());
         }
-        let creeping = stalled.is_some() && short_steps >= STALL;
-        if iterations >= max_iterations || iterations - mark.1 >= end || creeping {
+        if iterations >= max_iterations || iterations - mark.1 >= end {
             let (norm, point) = stalled.unwrap_or(best);
             *lambda = point;
             return Run {
@@ -296,7 +287,6 @@ fn iterate<const R: usize>(
                     std::mem::swap(&mut w, &mut trial_w);
                     std::mem::swap(&mut f, &mut trial_f);
                     std::mem::swap(&mut blocks, &mut trial_blocks);
-                    short_steps = if t <= CRAWL_STEP { short_steps + 1 } else { 0 };
                     stepped = true;
                     break;
                 }
