@@ -54,9 +54,12 @@ pub fn solve_pgs<const D: usize, const R: usize>(
             RowBounds::Contact => project_feasible(&c.lambda0, c.mu, problem.friction),
             RowBounds::Free => c.lambda0,
         };
-        lambda.push(SVector::zeros());
-        workspace.apply_rows(problem, k, &start);
-        lambda[k] = start;
+        lambda.push(start);
+        // A start that moves no Δu bit (zero, finite M⁻¹Jᵀ) is skipped: post-stabilisation's
+        // every contact, a new contact's in the velocity solve.
+        if !workspace.moves_nothing(k, &start) {
+            workspace.apply_rows(problem, k, &start);
+        }
     }
 
     let mut iterations = 0;

@@ -64,6 +64,16 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// `sweep_colours[s * colours..(s + 1) * colours]`); empty otherwise.
     pub(super) shuffled: Vec<usize>,
     pub(super) sweep_colours: Vec<usize>,
+    /// Per contact: whether both sides' M_s⁻¹ J_sᵀ, as the set-up built them, are finite (then
+    /// a zero warm start moves no Δu and is skipped: [`PgsWorkspace::moves_nothing`]).
+    pub(super) finite_columns: Vec<bool>,
+    /// Whether the warm start skips the contacts whose start moves nothing (on by default;
+    /// [`PgsWorkspace::set_zero_starts_skipped`]).
+    pub(super) skip_zero_starts: bool,
+    /// With the random coloured order: each contact's two bodies gathered in problem order
+    /// once per solve, so that the colouring, which takes the contacts in a random order, reads
+    /// them from a small array instead of from all over the problem.
+    pub(super) contact_bodies: Vec<[Option<usize>; 2]>,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
     pub(super) local_fallbacks: u32,
@@ -122,6 +132,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             rng: ChaCha8Rng::seed_from_u64(seed),
             shuffled: Vec::new(),
             sweep_colours: Vec::new(),
+            finite_columns: Vec::new(),
+            skip_zero_starts: true,
+            contact_bodies: Vec::new(),
             local_fallbacks: 0,
         }
     }
@@ -172,6 +185,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             .resize(count, RowScales::of_block(SMatrix::zeros()));
         self.slot.clear();
         self.slot.resize(count, Slot::One(0));
+        self.finite_columns.clear();
+        self.finite_columns.resize(count, false);
         self.mass_rows.clear();
         (self.mass_rows).extend(
             problem
@@ -190,13 +205,17 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             mass_rows,
             groups,
             group_starts,
+            finite_columns,
             ..
         } = self;
         let mass_rows = &*mass_rows;
         if !lanes {
-            for &k in order.iter() {
+            for (position, &k) in order.iter().enumerate() {
+                prefetch_ahead(problem, order, position);
                 slot[k] = Slot::One(entries.len());
-                entries.push(build_entry(problem, mass_rows, k, &mut scales[k]));
+                let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
+                finite_columns[k] = columns_finite(&entry);
+                entries.push(entry);
                 entry_contact.push(k);
             }
             return;
@@ -206,8 +225,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             let (a, b) = (colour[0], colour[1]);
             let in_groups = a + grouped(b - a);
             for position in a..b {
+                prefetch_ahead(problem, order, position);
                 let k = order[position];
                 let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
+                finite_columns[k] = columns_finite(&entry);
                 if position < in_groups {
                     let lane = (position - a) % LANES;
                     if lane == 0 {
@@ -280,6 +301,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             moving,
             shuffled,
             rng,
+            contact_bodies,
             ..
         } = self;
         moving.clear();
@@ -290,10 +312,13 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         if kind == ContactOrder::RandomColoured {
             shuffled.shuffle(rng);
         }
+        contact_bodies.clear();
+        contact_bodies.extend(problem.contacts.iter().map(|c| c.bodies));
+        let contact_bodies = &*contact_bodies;
         super::colour::colour_contacts_in(
             count,
             |i| shuffled[i],
-            |k| problem.contacts[k].bodies,
+            |k| contact_bodies[k],
             moving,
             colour_masks,
             colour_of,
@@ -357,6 +382,22 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// [`Lanes::Native`] by default, [`Lanes::Off`] to compare.
     pub fn set_lanes(&mut self, lanes: Lanes) {
         self.lanes = lanes;
+    }
+
+    /// Whether the warm start skips the contacts whose start λ is zero (±0 in every row) and
+    /// whose M_s⁻¹ J_sᵀ are finite: Δu_s += (M_s⁻¹ J_sᵀ)_r · (±0) adds ±0 to a Δu that is never
+    /// −0 (it starts at +0, and a sum is −0 only when both terms are), which changes no bit, so
+    /// skipping them gives the same bits (docs/contact.md §"Warm start", "Zero starts
+    /// skipped"). On by default; off to compare.
+    pub fn set_zero_starts_skipped(&mut self, skip: bool) {
+        self.skip_zero_starts = skip;
+    }
+
+    /// Whether contact `k`'s warm start `start` moves no Δu bit and is skipped
+    /// ([`PgsWorkspace::set_zero_starts_skipped`]).
+    #[inline(always)]
+    pub(super) fn moves_nothing(&self, k: usize, start: &SVector<f64, R>) -> bool {
+        self.skip_zero_starts && self.finite_columns[k] && start.iter().all(|&x| x == 0.0)
     }
 
     /// The groups of four the last solve's sweeps visited (0 when they went one at a time).
@@ -471,6 +512,53 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             }
         }
     }
+}
+
+/// Whether both sides' M_s⁻¹ J_sᵀ of `entry` are finite (the static world's side is zero).
+#[inline(always)]
+fn columns_finite<const D: usize, const R: usize>(entry: &Entry<D, R>) -> bool {
+    entry
+        .inverse_mass_jacobian_t
+        .iter()
+        .all(|m| m.iter().all(|x| x.is_finite()))
+}
+
+/// Asks the processor to start loading what the set-up reads a few positions ahead in
+/// `order` (a random order that its own prefetcher cannot guess): the contact eight ahead, and
+/// the inverse masses of the bodies of the contact four ahead (whose contact was asked for four
+/// positions before). Only a hint: it changes no value.
+#[inline(always)]
+fn prefetch_ahead<const D: usize, const R: usize>(
+    problem: &ContactProblem<D, R>,
+    order: &[usize],
+    position: usize,
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let hint = |p: *const i8, bytes: usize| {
+            for offset in (0..bytes).step_by(64) {
+                // SAFETY: a prefetch never faults and reads nothing into the program; the
+                // addresses are inside the object asked for.
+                unsafe {
+                    std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                        p.wrapping_add(offset),
+                    )
+                };
+            }
+        };
+        if let Some(&k) = order.get(position + 8) {
+            let c = &problem.contacts[k];
+            hint(c as *const _ as *const i8, std::mem::size_of_val(c));
+        }
+        if let Some(&k) = order.get(position + 4) {
+            for b in problem.contacts[k].bodies.iter().flatten() {
+                let body = &problem.bodies[*b];
+                hint(body as *const _ as *const i8, std::mem::size_of_val(body));
+            }
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (problem, order, position);
 }
 
 /// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
