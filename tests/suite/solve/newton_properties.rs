@@ -804,11 +804,16 @@ fn large_impulses_converge_to_their_round_off_floor() {
 /// Where the tolerance is below the round-off floor of the answer (impulses of order 1e9 N·s,
 /// as in the test above), the first Newton run's end is accepted at the floor: no fallback runs
 /// after it (the proximal loops could not go below the floor either), so the report names
-/// Newton and counts the iterations of that one run, at most `max_iterations` (50).
+/// Newton and counts the iterations of that one run, at most `max_iterations` (50). Both
+/// friction models: a box answer is judged by its own residual at the floor, not by the exact
+/// Coulomb residual, which a box answer sliding off an axis leaves far above it (counted: at
+/// least 3 such box cases, so that judging box answers by the cone's law would fail here).
 #[test]
 fn large_impulses_are_accepted_at_their_floor_after_the_first_run() {
-    proptest!(common::seeded(20), |(s in physical_spec(1..3, 1..5), mu in 0.0..0.8f64)| {
-        let problem = compliant_cone(&s, mu);
+    let box_off_cone = RefCell::new(0usize);
+    proptest!(common::seeded(40), |(s in physical_spec(1..3, 1..5), mu in 0.0..0.8f64, boxed in any::<bool>())| {
+        let friction = if boxed { FrictionModel::Box } else { FrictionModel::Cone };
+        let problem = build(&s, mu, 1e-2, friction).to_local();
         let (lambda, report) = newton(&problem, 1e-13);
         prop_assume!(report.converged);
         let largest = lambda.iter().map(|l| l.amax()).fold(0.0, f64::max);
@@ -818,14 +823,20 @@ fn large_impulses_are_accepted_at_their_floor_after_the_first_run() {
             c.q *= 1e9;
         }
         let (got, large_report) = newton(&large, 1e-10);
-        prop_assume!(round_off_floor(&large, &got) > 1e-10);
-        prop_assert!(large_report.converged, "{large_report:?}");
+        let floor = round_off_floor(&large, &got);
+        prop_assume!(floor > 1e-10);
+        if boxed && coulomb_residual(&large, &got) > floor {
+            *box_off_cone.borrow_mut() += 1;
+        }
+        prop_assert!(large_report.converged, "{friction:?} {large_report:?}");
         prop_assert_eq!(large_report.method, SolveMethod::Newton);
         prop_assert!(
             large_report.iterations <= NewtonSettings::default().max_iterations,
-            "{large_report:?}"
+            "{friction:?} {large_report:?}"
         );
     });
+    eprintln!("{} box answers off the cone", box_off_cone.borrow());
+    assert!(*box_off_cone.borrow() >= 3, "{}", box_off_cone.borrow());
 }
 
 #[test]
