@@ -414,20 +414,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// random order that its own prefetcher cannot guess). Only a hint: it changes no value.
     #[inline(always)]
     pub(super) fn prefetch(&self, k: usize) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let Slot::One(i) = self.slot[k] else { return };
-            let entry = &self.entries[i] as *const Entry<D, R> as *const i8;
-            let bytes = std::mem::size_of::<Entry<D, R>>();
-            for offset in (0..bytes).step_by(64) {
-                // SAFETY: a prefetch never faults and reads nothing into the program; the
-                // addresses are inside contact k's entry anyway.
-                unsafe {
-                    std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                        entry.add(offset),
-                    )
-                };
-            }
+        if let Slot::One(i) = self.slot[k] {
+            prefetch_object(&self.entries[i]);
         }
     }
 
@@ -533,32 +521,35 @@ fn prefetch_ahead<const D: usize, const R: usize>(
     order: &[usize],
     position: usize,
 ) {
+    if let Some(&k) = order.get(position + 8) {
+        prefetch_object(&problem.contacts[k]);
+    }
+    if let Some(&k) = order.get(position + 4) {
+        for &b in problem.contacts[k].bodies.iter().flatten() {
+            prefetch_object(&problem.bodies[b]);
+        }
+    }
+}
+
+/// Asks the processor to start loading `value`'s bytes, a cache line at a time (x86-64; elsewhere
+/// nothing). Only a hint: it reads nothing into the program and changes no value.
+#[inline(always)]
+fn prefetch_object<T>(value: &T) {
     #[cfg(target_arch = "x86_64")]
     {
-        let hint = |p: *const i8, bytes: usize| {
-            for offset in (0..bytes).step_by(64) {
-                // SAFETY: a prefetch never faults and reads nothing into the program; the
-                // addresses are inside the object asked for.
-                unsafe {
-                    std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                        p.wrapping_add(offset),
-                    )
-                };
-            }
-        };
-        if let Some(&k) = order.get(position + 8) {
-            let c = &problem.contacts[k];
-            hint(c as *const _ as *const i8, std::mem::size_of_val(c));
-        }
-        if let Some(&k) = order.get(position + 4) {
-            for b in problem.contacts[k].bodies.iter().flatten() {
-                let body = &problem.bodies[*b];
-                hint(body as *const _ as *const i8, std::mem::size_of_val(body));
-            }
+        let p = value as *const T as *const i8;
+        for offset in (0..std::mem::size_of::<T>()).step_by(64) {
+            // SAFETY: a prefetch never faults and reads nothing into the program; the
+            // addresses are inside `value`.
+            unsafe {
+                std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+                    p.wrapping_add(offset),
+                )
+            };
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (problem, order, position);
+    let _ = value;
 }
 
 /// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
