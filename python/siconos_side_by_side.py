@@ -17,8 +17,10 @@ seconds of each other on the same machine):
    its warm start λ0 (an FCLIB file's first guess; zero for a `.dat` file). A file rigidref
    cannot read as a local problem (a global `.dat`, another problem kind) is skipped with a note.
 2. `rigidref solve-problems FILE --solver newton --json` (rigidref's exact solver, the one the
-   docs name for the library): converged or not, iterations, the wall time of the solve as
-   rigidref reports it (reading the file excluded), Siconos' error of its answer.
+   docs name for the library; `--rigidref-solver newton,pgs-exact,auto` runs several, each timed
+   alone, and compares the fastest that converged, as Siconos' fastest is taken on its side):
+   converged or not, iterations, the wall time of the solve as rigidref reports it (reading the
+   file excluded), Siconos' error of its answer.
 3. Siconos' NSGS, NSN_AC and PROX (3D), or 2D NSGS (Siconos' Python module has no 2D Newton or
    proximal solver), each in its own child process with a wall-time cap (--timeout), started from
    the same λ0, tolerance --tolerance, at most --sweeps NSGS sweeps and --newton-iterations
@@ -150,23 +152,34 @@ def siconos_input(rigidref, path, dim, scratch):
     return str(out), True
 
 
-def rigidref_solve(rigidref, path, tolerance, timeout, solver="newton"):
+def rigidref_solve(rigidref, path, tolerance, timeout, solvers=("newton",)):
+    """rigidref's answers on one file, one dict per solver of `solvers` (one process: `--solver
+    a,b,c`, each solver timed by rigidref alone)."""
     try:
-        r = run([rigidref, "solve-problems", str(path), "--solver", solver, "--json", "--quiet",
-                 "--tolerance", repr(tolerance)], timeout)
+        r = run([rigidref, "solve-problems", str(path), "--solver", ",".join(solvers), "--json",
+                 "--quiet", "--tolerance", repr(tolerance)], timeout * len(solvers))
     except subprocess.TimeoutExpired:
-        return {"solver": solver, "timeout": timeout}
+        return {s: {"solver": s, "timeout": timeout * len(solvers)} for s in solvers}
     if r.returncode != 0:
-        return {"solver": solver, "failed": r.stderr.strip()}
-    attempt = json.loads(r.stdout)["problems"][0]["attempts"][0]
-    iterations = str(attempt["iterations"])
-    if solver == "auto":
-        # The automatic choice's path: NSGS sweeps + Newton iterations.
-        sweeps = attempt.get("sweeps", 0)
-        iterations = f"{attempt.get('method')} {sweeps}+{attempt['iterations'] - sweeps}"
-    return {"solver": solver, "iterations": iterations,
-            "seconds": attempt["seconds"], "error": attempt["error"],
-            "converged": attempt["converged"], "method": attempt.get("method")}
+        return {s: {"solver": s, "failed": r.stderr.strip()} for s in solvers}
+    out = {}
+    for attempt in json.loads(r.stdout)["problems"][0]["attempts"]:
+        solver = attempt["solver"]
+        iterations = str(attempt["iterations"])
+        if solver == "auto":
+            # The automatic choice's path: NSGS sweeps + Newton iterations.
+            sweeps = attempt.get("sweeps", 0)
+            iterations = f"{attempt.get('method')} {sweeps}+{attempt['iterations'] - sweeps}"
+        out[solver] = {"solver": solver, "iterations": iterations,
+                       "seconds": attempt["seconds"], "error": attempt["error"],
+                       "converged": attempt["converged"], "method": attempt.get("method")}
+    return out
+
+
+def fastest_of(attempts):
+    """The converged attempt of least time, None where none converged."""
+    converged = [a for a in attempts if a.get("converged")]
+    return min(converged, key=lambda a: a["seconds"]) if converged else None
 
 
 def siconos_attempt(script_args, timeout):
@@ -208,8 +221,11 @@ def ratio_cell(ours, fastest):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("inputs", nargs="+", help="problem files or folders of them")
-    parser.add_argument("--rigidref-solver", default="newton", choices=["newton", "auto"],
-                        help="rigidref's solver: newton (default) or auto (NSGS, then Newton)")
+    parser.add_argument("--rigidref-solver", default="newton",
+                        help="rigidref's solvers, comma-separated, of newton (default), pgs-exact "
+                             "(NSGS) and auto (NSGS, then Newton); with several, the table has a "
+                             "column each and the ratio is rigidref's fastest converged one ÷ "
+                             "Siconos' fastest")
     parser.add_argument("--rigidref", default=os.environ.get(
         "RIGIDREF_BIN", str(ROOT / "target" / "release" / "rigidref")))
     parser.add_argument("--tolerance", type=float, default=1e-8)
@@ -220,6 +236,12 @@ def main():
                         help="wall-time cap of each solve, s (rigidref's too)")
     parser.add_argument("--json", help="also write every result to this JSON file")
     args = parser.parse_args()
+    ours_solvers = [x.strip() for x in args.rigidref_solver.split(",") if x.strip()]
+    for x in ours_solvers:
+        if x not in ("newton", "pgs-exact", "auto"):
+            parser.error(f"--rigidref-solver: unknown solver {x!r} (newton, pgs-exact, auto)")
+    if not ours_solvers or len(set(ours_solvers)) != len(ours_solvers):
+        parser.error("--rigidref-solver: name each solver once")
 
     try:
         import siconos.numerics  # noqa: F401
@@ -236,8 +258,10 @@ def main():
                 continue
             dim, contacts, lambda0 = local
             print(f"{path.name} ({dim}D, {contacts} contacts)", file=sys.stderr, flush=True)
-            ours = rigidref_solve(args.rigidref, path, args.tolerance, args.timeout,
-                                  args.rigidref_solver)
+            ours_all = rigidref_solve(args.rigidref, path, args.tolerance, args.timeout,
+                                      ours_solvers)
+            ours = fastest_of(ours_all.values()) or ours_all.get(ours_solvers[0]) or {
+                "solver": ours_solvers[0], "failed": "no answer"}
             try:
                 source, converted = siconos_input(args.rigidref, path, dim, scratch)
             except RuntimeError as e:
@@ -252,28 +276,34 @@ def main():
                 theirs[solver] = siconos_attempt(
                     [source, str(dim), solver, lambda0_path, repr(args.tolerance),
                      str(args.sweeps), str(args.newton_iterations)], args.timeout)
-        converged = [a for a in theirs.values() if a.get("converged")]
-        fastest = min(converged, key=lambda a: a["seconds"]) if converged else None
+        fastest = fastest_of(theirs.values())
         rows.append({"problem": path.name, "dimension": dim, "contacts": contacts,
                      "warm_start": bool(lambda0_path), "siconos_reads_conversion": converted,
-                     "rigidref": ours, "siconos": theirs,
+                     "rigidref": ours, "rigidref_solvers": ours_all, "siconos": theirs,
                      "fastest": fastest["solver"] if fastest else None,
                      "ratio": ratio_cell(ours, fastest)})
 
-    print(f"| problem | contacts | rigidref {args.rigidref_solver} | Siconos NSGS | Siconos NSN_AC | Siconos PROX "
+    several = len(ours_solvers) > 1
+    ours_head = "".join(f" rigidref {x} |" for x in ours_solvers)
+    if several:
+        ours_head += " rigidref fastest |"
+    print(f"| problem | contacts |{ours_head} Siconos NSGS | Siconos NSN_AC | Siconos PROX "
           f"| Siconos fastest | rigidref ÷ fastest |")
-    print("|---|---:|---|---|---|---|---|---:|")
+    print("|---|---:|" + "---|" * (len(ours_solvers) + several) + "---|---|---|---|---:|")
     for row in rows:
         s = row["siconos"]
         name = row["problem"] + (" (2D)" if row["dimension"] == 2 else "")
         na = "no 2D solver" if row["dimension"] == 2 else "–"
-        print(f"| {name} | {row['contacts']} | {cell(row['rigidref'])} | {cell(s.get('NSGS'))} "
+        ours_cells = "".join(f" {cell(row['rigidref_solvers'].get(x))} |" for x in ours_solvers)
+        if several:
+            ours_cells += f" {row['rigidref']['solver'] if row['rigidref'].get('converged') else '–'} |"
+        print(f"| {name} | {row['contacts']} |{ours_cells} {cell(s.get('NSGS'))} "
               f"| {cell(s['NSN_AC']) if 'NSN_AC' in s else na} "
               f"| {cell(s['PROX']) if 'PROX' in s else na} "
               f"| {row['fastest'] or '–'} | {row['ratio']} |")
     solved = sum(1 for r in rows if r["rigidref"].get("converged"))
     any_siconos = sum(1 for r in rows if r["fastest"])
-    print(f"\n{len(rows)} problems; rigidref {args.rigidref_solver} solved {solved}, Siconos (any solver) "
+    print(f"\n{len(rows)} problems; rigidref ({args.rigidref_solver}) solved {solved}, Siconos (any solver) "
           f"{any_siconos}; tolerance {args.tolerance:g} in Siconos' error measure.")
     for n in notes:
         print(f"- {n}")

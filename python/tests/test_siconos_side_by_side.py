@@ -87,3 +87,41 @@ def test_the_side_by_side_table_has_every_solver_and_every_converged_answer_meet
         assert p["fastest"] in ("NSGS", "NSN_AC", "PROX")
         fastest = p["siconos"][p["fastest"]]["seconds"]
         assert all(fastest <= p["siconos"][s]["seconds"] for s in ("NSGS", "NSN_AC", "PROX"))
+
+
+def test_several_rigidref_solvers_get_a_column_each_and_the_ratio_is_their_fastest_converged(
+        tmp_path):
+    python = siconos_python()
+    out = tmp_path / "results.json"
+    ours = ["newton", "pgs-exact", "auto"]
+    r = subprocess.run([python, str(SCRIPT), *map(str, FILES), "--rigidref", str(rigidref_bin()),
+                        "--rigidref-solver", ",".join(ours), "--tolerance", repr(TOLERANCE),
+                        "--timeout", "60", "--json", str(out)],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    print(r.stdout)
+    header = [c.strip() for c in r.stdout.splitlines()[0].strip("|").split("|")]
+    assert header == ["problem", "contacts", "rigidref newton", "rigidref pgs-exact",
+                      "rigidref auto", "rigidref fastest", "Siconos NSGS", "Siconos NSN_AC",
+                      "Siconos PROX", "Siconos fastest", "rigidref ÷ fastest"], header
+    results = json.load(open(out))
+    for p in results["problems"]:
+        mine = p["rigidref_solvers"]
+        assert sorted(mine) == sorted(ours), p
+        for a in mine.values():
+            assert a["converged"] == (a["error"] <= TOLERANCE), (p["problem"], a)
+        # The answer compared is rigidref's fastest converged one, named in the row.
+        assert p["rigidref"]["converged"]
+        assert p["rigidref"]["seconds"] == min(a["seconds"] for a in mine.values()
+                                               if a["converged"]), p
+        row = next(line for line in r.stdout.splitlines() if line.startswith(f"| {p['problem']} "))
+        assert row.split("|")[6].strip() == p["rigidref"]["solver"], row
+
+
+def test_an_unknown_rigidref_solver_is_a_one_line_error():
+    python = siconos_python()
+    r = subprocess.run([python, str(SCRIPT), str(FILES[0]), "--rigidref", str(rigidref_bin()),
+                        "--rigidref-solver", "newton,prox"], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode != 0
+    assert "unknown solver 'prox'" in r.stderr, r.stderr

@@ -4,19 +4,17 @@
 //! ([`solve_newton_local_until`], with all its fallbacks) warm-started from NSGS's λ.
 //! docs/contact.md §"Automatic choice: NSGS, then Newton".
 //!
-//! Both phases stop on the caller's criterion (for `rigidref solve-problems`, Siconos' error at
-//! or below the tolerance), so an answer the choice returns is accepted by the same measure as
-//! Newton's alone: the choice changes the path, never the criterion. NSGS's progress is read
-//! off the change of λ over a sweep, d_k = ‖λ^k − λ^{k−1}‖ (Siconos' "light" error): for a
-//! linearly convergent iteration d_k ≈ C r^k, so r is estimated over a window of sweeps as
-//! (d_k / d_{k−m})^{1/m}, and the sweeps still needed to bring d_k down to tol ‖λ‖ (1 − r) as
-//! ln(tol ‖λ‖ (1 − r) / d_k) / ln r. Where that exceeds the horizon (or r ≥ 1), NSGS hands over
-//! to Newton. The caller's criterion (a full error: one product with W) is evaluated only where
-//! the light error d_k / ‖λ‖ is at or below the tolerance, as Siconos' NSGS does by default.
+//! Both phases stop where the caller's error measure e(λ) (for `rigidref solve-problems`,
+//! Siconos' error) is at or below the tolerance, so an answer the choice returns is accepted by
+//! the same measure as Newton's alone: the choice changes the path, never the criterion. NSGS's
+//! progress is read off that same error after every sweep, e_k: for a linearly convergent
+//! iteration e_k ≈ C r^k, so r is estimated over a window of m sweeps as (e_k / e_{k−m})^{1/m},
+//! and the sweeps still needed to bring e_k down to the tolerance as ln(tol / e_k) / ln r. Where
+//! that exceeds the horizon (or r ≥ 1), NSGS hands over to Newton.
 
 use super::newton::{NewtonSettings, solve_newton_local_until};
 use super::pgs_delassus::solve_pgs_local_until;
-use super::{ContactOrder, LocalSolve, PgsSettings, Stop};
+use super::{ContactOrder, LocalSolve, PgsSettings};
 use crate::problem::{LocalProblem, SolveMethod, SolveReport};
 use nalgebra::SVector;
 
@@ -30,11 +28,11 @@ pub struct AutoSettings {
     /// Sweeps over which NSGS's rate is estimated (default 10).
     pub window: u32,
     /// NSGS goes on while the sweeps it still needs, by its rate, are at most this (default
-    /// 300): about what a Newton solve of a hard problem costs in sweeps.
+    /// 1000): about what a Newton solve of a hard problem costs in sweeps (docs/contact.md
+    /// §"Automatic choice: NSGS, then Newton", **Horizon**).
     pub horizon: f64,
-    /// The light error d_k / ‖λ‖ at or below which `stop` is evaluated during the NSGS phase
-    /// (default 1e-8, the caller's relative tolerance).
-    pub light_tolerance: f64,
+    /// Both phases stop where the caller's error is at or below this (default 1e-8).
+    pub tolerance: f64,
 }
 
 impl Default for AutoSettings {
@@ -43,8 +41,8 @@ impl Default for AutoSettings {
             newton: NewtonSettings::default(),
             max_sweeps: 2000,
             window: 10,
-            horizon: 300.0,
-            light_tolerance: 1e-8,
+            horizon: 1000.0,
+            tolerance: 1e-8,
         }
     }
 }
@@ -85,12 +83,13 @@ pub struct AutoReport {
 }
 
 /// The automatic choice (module documentation) on a local problem from its `lambda0`, each phase
-/// stopped where `stop(λ)` holds. On return `lambda` holds one impulse per contact (N·s);
-/// `report.converged` is the last phase's (for NSGS: whether `stop` held).
+/// stopped where `error(λ)` is at most `settings.tolerance`. On return `lambda` holds one impulse
+/// per contact (N·s); `report.converged` is the last phase's (for NSGS: whether the error met the
+/// tolerance).
 pub fn solve_auto_local_until<const R: usize>(
     problem: &LocalProblem<R>,
     settings: &AutoSettings,
-    stop: &mut Stop<R>,
+    error: &mut dyn FnMut(&[SVector<f64, R>]) -> f64,
     lambda: &mut Vec<SVector<f64, R>>,
 ) -> AutoReport {
     let pgs = PgsSettings {
@@ -100,47 +99,29 @@ pub fn solve_auto_local_until<const R: usize>(
         local: LocalSolve::Exact,
     };
     let window = settings.window.max(1) as usize;
-    // λ of the previous sweep, and d of the last `window` + 1 sweeps (allocated once).
-    let mut previous: Vec<SVector<f64, R>> = Vec::with_capacity(problem.contacts.len());
-    let mut changes = vec![0.0f64; window + 1];
+    let tolerance = settings.tolerance;
+    // e of the last `window` + 1 sweeps (allocated once).
+    let mut errors = vec![0.0f64; window + 1];
     let mut sweep = 0usize;
     let mut solved = false;
-    let light = settings.light_tolerance;
     let mut phase = |l: &[SVector<f64, R>]| -> bool {
         sweep += 1;
-        if previous.is_empty() {
-            previous.extend_from_slice(l);
-            // The first sweep's change is measured from its own result: no rate yet.
-            return check(stop, l, &mut solved);
-        }
-        let mut d2 = 0.0;
-        let mut n2 = 0.0;
-        for (a, b) in l.iter().zip(previous.iter_mut()) {
-            d2 += (a - *b).norm_squared();
-            n2 += a.norm_squared();
-            *b = *a;
-        }
-        let (d, norm) = (d2.sqrt(), n2.sqrt());
-        changes[sweep % (window + 1)] = d;
-        if d <= light * norm && check(stop, l, &mut solved) {
+        let e = error(l);
+        errors[sweep % (window + 1)] = e;
+        if e <= tolerance {
+            solved = true;
             return true;
         }
-        if sweep > window + 1 {
-            let old = changes[(sweep - window) % (window + 1)];
-            let rate = if old > 0.0 {
-                (d / old).powf(1.0 / window as f64)
-            } else {
-                0.0
-            };
-            if d > 0.0 && rate >= 1.0 {
+        if sweep > window {
+            let old = errors[(sweep - window) % (window + 1)];
+            let rate = (e / old).powf(1.0 / window as f64);
+            // r ≥ 1 (or NaN, from an error that is not a number): no progress.
+            if rate.is_nan() || rate >= 1.0 {
                 return true;
             }
-            if d > 0.0 && rate > 0.0 {
-                let target = light * norm * (1.0 - rate);
-                let needed = (target / d).ln() / rate.ln();
-                if needed > settings.horizon {
-                    return true;
-                }
+            let needed = (tolerance / e).ln() / rate.ln();
+            if needed > settings.horizon {
+                return true;
             }
         }
         false
@@ -155,23 +136,12 @@ pub fn solve_auto_local_until<const R: usize>(
             report: first,
         };
     }
-    // The final check of the NSGS phase (its last sweep may have been gated out).
-    if stop(lambda) {
-        return AutoReport {
-            path: AutoPath::Nsgs,
-            sweeps,
-            newton_iterations: 0,
-            report: SolveReport {
-                converged: true,
-                ..first
-            },
-        };
-    }
     let mut warm = problem.clone();
     for (c, l) in warm.contacts.iter_mut().zip(lambda.iter()) {
         c.lambda0 = *l;
     }
-    let report = solve_newton_local_until(&warm, &settings.newton, stop, lambda);
+    let mut stop = |l: &[SVector<f64, R>]| error(l) <= tolerance;
+    let report = solve_newton_local_until(&warm, &settings.newton, &mut stop, lambda);
     AutoReport {
         path: if report.method == SolveMethod::Proximal {
             AutoPath::NsgsProximal
@@ -182,10 +152,4 @@ pub fn solve_auto_local_until<const R: usize>(
         newton_iterations: report.iterations,
         report,
     }
-}
-
-/// `stop(λ)`, recording in `solved` whether it held.
-fn check<const R: usize>(stop: &mut Stop<R>, l: &[SVector<f64, R>], solved: &mut bool) -> bool {
-    *solved = stop(l);
-    *solved
 }

@@ -320,6 +320,16 @@ pub fn siconos_error_measures<const R: usize, P: ProblemView<R> + ?Sized>(
     problem: &P,
     lambda: &[SVector<f64, R>],
 ) -> SiconosErrorMeasures {
+    siconos_error_measures_given(problem, lambda, problem.dense_b().norm())
+}
+
+/// [`siconos_error_measures`] with ‖q‖ given (`q_norm`, m/s, as `problem.dense_b().norm()`
+/// computes it), for a caller that evaluates the error at every iterate of one problem.
+pub fn siconos_error_measures_given<const R: usize, P: ProblemView<R> + ?Sized>(
+    problem: &P,
+    lambda: &[SVector<f64, R>],
+    q_norm: f64,
+) -> SiconosErrorMeasures {
     let w = problem.constraint_velocity(lambda);
     let mut sum = 0.0;
     for k in 0..problem.count() {
@@ -335,7 +345,6 @@ pub fn siconos_error_measures<const R: usize, P: ProblemView<R> + ?Sized>(
         };
     }
     let norm = |v: &[SVector<f64, R>]| v.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt();
-    let q_norm = problem.dense_b().norm();
     SiconosErrorMeasures {
         absolute: sum.sqrt(),
         q_norm,

@@ -15,7 +15,9 @@ use crate::problem::siconos::{AnyLocalProblem, read_dat};
 use crate::problem::{ContactCriteria, FrictionModel, LocalProblem, RowBounds};
 use crate::solve::auto::{AutoSettings, solve_auto_local_until};
 use crate::solve::criteria::criteria;
-use crate::solve::residual::{coulomb_residual, residual, siconos_error, siconos_error_measures};
+use crate::solve::residual::{
+    coulomb_residual, residual, siconos_error_measures, siconos_error_measures_given,
+};
 use crate::solve::{
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
     solve_pgs_local_until,
@@ -281,16 +283,26 @@ fn entry<const R: usize>(
 }
 
 /// The error every solver stops on: Siconos' measure for the Coulomb cone
-/// ([`siconos_error`]); for a box-friction problem, whose law that measure does not describe,
+/// ([`crate::solve::residual::siconos_error`]); for a box-friction problem, whose law that measure does not describe,
 /// rigidref's residual of the box law (m/s, docs/contact.md §"Residual") made relative in the
 /// same way, divided by max(‖q‖, ‖w‖) (not where that is below machine epsilon).
 pub fn library_error<const R: usize>(problem: &LocalProblem<R>, lambda: &[SVector<f64, R>]) -> f64 {
+    library_error_given(problem, lambda, problem.dense_q().norm())
+}
+
+/// [`library_error`] with ‖q‖ given (`q_norm`, m/s, as `problem.dense_q().norm()` computes
+/// it): the same bits, without gathering q again at every iterate.
+pub fn library_error_given<const R: usize>(
+    problem: &LocalProblem<R>,
+    lambda: &[SVector<f64, R>],
+    q_norm: f64,
+) -> f64 {
     if problem.friction == FrictionModel::Cone || R < 3 {
-        return siconos_error(problem, lambda);
+        return siconos_error_measures_given(problem, lambda, q_norm).relative();
     }
     let w = problem.velocity(lambda);
     let norm = |v: &[SVector<f64, R>]| v.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt();
-    let q = problem.dense_q().norm();
+    let q = q_norm;
     let scale = q.max(norm(&w));
     let r = residual(problem, lambda);
     if scale > f64::EPSILON { r / scale } else { r }
@@ -319,7 +331,10 @@ pub fn attempt<const R: usize>(
     settings: &LibrarySettings,
 ) -> Attempt {
     let tolerance = settings.tolerance;
-    let mut stop = |lambda: &[SVector<f64, R>]| library_error(problem, lambda) <= tolerance;
+    // ‖q‖ once: the error is evaluated at every sweep or iterate.
+    let q_norm = problem.dense_q().norm();
+    let mut stop =
+        |lambda: &[SVector<f64, R>]| library_error_given(problem, lambda, q_norm) <= tolerance;
     let mut lambda = Vec::new();
     let started = Instant::now();
     let mut sweeps = 0;
@@ -351,10 +366,11 @@ pub fn attempt<const R: usize>(
                     max_iterations: settings.newton_iterations,
                     ..NewtonSettings::default()
                 },
-                light_tolerance: tolerance,
+                tolerance,
                 ..AutoSettings::default()
             };
-            let done = solve_auto_local_until(problem, &auto, &mut stop, &mut lambda);
+            let mut error = |l: &[SVector<f64, R>]| library_error_given(problem, l, q_norm);
+            let done = solve_auto_local_until(problem, &auto, &mut error, &mut lambda);
             sweeps = done.sweeps;
             path = Some(done.path.name());
             SolveReport {
