@@ -534,7 +534,102 @@ fn a_useless_warm_start_still_gives_the_exact_slide_by_the_scan() {
         prop_assert!(exact);
         prop_assert!((lambda - scan).amax() <= 1e-12 * scan.amax(), "{:?} vs {:?}", lambda, scan);
     });
+    // When written: 462 cases, every one answered by the scan (Newton from the opposite
+    // direction finds a root with w_t along −d, or none).
     println!("{} lone sliding roots warm started the wrong way, {} answered by the scan", cases.get(), rescued.get());
     // The fallback must be exercised, not only Newton finding its way round.
     assert!(rescued.get() >= 20, "only {} answered by the scan", rescued.get());
 }
+
+/// NSGS written out on a 3D local problem: `sweeps` sweeps in problem order from λ = 0, contact
+/// k's local q = w_k − W_kk λ_k solved by `solve_local`, warm started from λ_k or not (the scan
+/// alone, the solve as it was before the warm start). Returns the visits that took the best
+/// candidate (fallbacks) and the visits whose answer slides (λn > 0, ‖λt‖ = μλn to 1e-12).
+fn nsgs_by_hand(problem: &rigidref::problem::LocalProblem<3>, sweeps: u32, warm: bool) -> (u32, u32) {
+    use rigidref::solve::local::solve_local;
+    use rigidref::solve::residual::RowScales;
+    let count = problem.contacts.len();
+    let mut lambda = vec![SVector::<f64, 3>::zeros(); count];
+    let (mut fallbacks, mut slides) = (0, 0);
+    for _ in 0..sweeps {
+        for k in 0..count {
+            let contact = &problem.contacts[k];
+            let block = *problem.diagonal_block(k);
+            let mut w = contact.q;
+            for (j, w_kj) in &contact.row {
+                w += w_kj * lambda[*j];
+            }
+            let q = w - block * lambda[k];
+            let scales = RowScales::of_block(block);
+            let start = lambda[k];
+            let (solution, exact) =
+                solve_local(&block, &q, contact.mu, problem.friction, &scales, warm.then_some(&start));
+            fallbacks += u32::from(!exact);
+            let tangent = solution[1].hypot(solution[2]);
+            if solution[0] > 0.0 && contact.mu > 0.0 && tangent >= contact.mu * solution[0] * (1.0 - 1e-12) {
+                slides += 1;
+            }
+            lambda[k] = solution;
+        }
+    }
+    (fallbacks, slides)
+}
+
+#[test]
+fn the_warm_start_leaves_the_count_of_fallbacks_unchanged() {
+    // Siconos' 3D test problems kept in tests/data (and, with FCLIB, spheres-in-a-box-98, where
+    // most visits slide), 200 NSGS sweeps each with and without the warm start: the visits that
+    // found no exact case are the same number. The warm start only adds a candidate before the
+    // scan; a visit falls back with it only where Newton's root is rejected and the scan finds
+    // nothing either, which is where it fell back without it.
+    use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
+    let root = common::project_root().join("tests/data");
+    let mut problems = Vec::new();
+    for name in [
+        "siconos/Confeti-ex13-4contact-Fc3D-SBM.dat",
+        "siconos/FC3D_Example1.dat",
+        "siconos/NESpheres_10_1.dat",
+        "siconos/Rover4144.dat",
+        "siconos/Rover9770.dat",
+        "siconos_hard/BoxesStack1-i100000-32.hdf5.dat",
+    ] {
+        if let AnyLocalProblem::Three(p) = read_dat(&root.join(name)).unwrap() {
+            problems.push((name, p));
+        }
+    }
+    #[cfg(feature = "fclib")]
+    {
+        let name = "siconos_hard/spheres-in-a-box-98-i10000-256-10.hdf5";
+        let path = root.join(name);
+        if let AnyLocalProblem::Three(p) = rigidref::tools::experiments::problem_library::load(&path).unwrap() {
+            problems.push((name, p));
+        }
+    }
+    // No visit of these problems falls back (nor of any 3D problem of Siconos' test folder up to
+    // 600 contacts in 100 sweeps, checked when this was written), so each gets one more contact
+    // that falls back at every visit: a pinned body approaching (W_kk = 0, coupled to nothing)
+    // and sliding, q = (−1, 0.5, 0.2) m/s, whose Newton start (along q_t) finds F ≡ 0.
+    let mut all_slides = 0;
+    for (name, problem) in &mut problems {
+        let k = problem.contacts.len();
+        problem.contacts.push(rigidref::problem::LocalContact {
+            row: vec![(k, SMatrix::zeros())],
+            q: SVector::<f64, 3>::new(-1.0, 0.5, 0.2),
+            mu: 0.5,
+            lambda0: SVector::zeros(),
+            bounds: RowBounds::Contact,
+        });
+        let (scan_fallbacks, scan_slides) = nsgs_by_hand(problem, 200, false);
+        let (warm_fallbacks, warm_slides) = nsgs_by_hand(problem, 200, true);
+        println!(
+            "{name}: {} contacts, fallbacks {scan_fallbacks} (scan) {warm_fallbacks} (warm), sliding visits {scan_slides} {warm_slides}",
+            problem.contacts.len()
+        );
+        assert_eq!(warm_fallbacks, scan_fallbacks, "{name}");
+        assert_eq!(warm_fallbacks, 200, "{name}: the pinned contact's visits, and only those");
+        all_slides += warm_slides;
+    }
+    // The fast path must have run: visits that slide are where it answers.
+    assert!(all_slides >= 1000, "only {all_slides} sliding visits");
+}
+
