@@ -17,7 +17,9 @@
 //! 3. slide. Box friction: each friction row either free (w_r = 0) or at a bound ±μλn, the 3^(R−1)
 //!    − 1 remaining patterns in a fixed order. Disk (R = 3): λt = −μλn d with d = (cos θ, sin θ)
 //!    the unit sliding direction, w_n = 0 and w_t parallel to d; one equation in θ, whose roots
-//!    are bracketed on a grid and bisected to round-off.
+//!    are bracketed on a grid and bisected to round-off. Where the caller passes the contact's
+//!    current impulse, a few Newton steps from its direction are tried first
+//!    ([`disk_slide_from`]), and the scan runs only if their root is not a solution.
 //!
 //! In 2D (R = 2) the disk is the interval [−μλn, μλn], so both friction models take the box path.
 
