@@ -341,7 +341,8 @@ pub fn disk_slide_from<const R: usize>(
     let mut converged = false;
     for _ in 0..SLIDE_NEWTON_STEPS {
         let f = alpha1 * s - alpha2 * c + cross * c * s + gamma1 * s * s - beta2 * c * c;
-        let slope = alpha1 * c + alpha2 * s + cross * (c * c - s * s) + 2.0 * (gamma1 + beta2) * c * s;
+        let slope =
+            alpha1 * c + alpha2 * s + cross * (c * c - s * s) + 2.0 * (gamma1 + beta2) * c * s;
         let step = -f / slope;
         if !step.is_finite() {
             return None;

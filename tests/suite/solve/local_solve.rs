@@ -403,19 +403,29 @@ fn cone_local_solve_is_unchanged_to_the_bit_by_the_tabulated_grid() {
 /// The accepted sliding roots of the disk's scan for (A, q, μ): the candidates of
 /// `disk_slides` whose contact residual is at most 1e-13 max|q| (the exact local solve's
 /// acceptance).
-fn accepted_scan_roots(a: &SMatrix<f64, 3, 3>, q: &SVector<f64, 3>, mu: f64) -> Vec<SVector<f64, 3>> {
+fn accepted_scan_roots(
+    a: &SMatrix<f64, 3, 3>,
+    q: &SVector<f64, 3>,
+    mu: f64,
+) -> Vec<SVector<f64, 3>> {
     use rigidref::solve::residual::{RowScales, contact_residual};
     let scales = RowScales::of_block(*a);
     let tolerance = 1e-13 * q.amax().max(f64::MIN_POSITIVE);
     rigidref::solve::local::disk_slides(a, q, mu)
-        .filter(|l| contact_residual(FrictionModel::Cone, mu, l, &(a * l + q), &scales) <= tolerance)
+        .filter(|l| {
+            contact_residual(FrictionModel::Cone, mu, l, &(a * l + q), &scales) <= tolerance
+        })
         .collect()
 }
 
 /// The impulse λn g(θ) of a contact sliding along θ with normal impulse `lambda_n` and friction
 /// coefficient μ: λt = −μλn (cos θ, sin θ).
 fn sliding_impulse(lambda_n: f64, mu: f64, theta: f64) -> SVector<f64, 3> {
-    SVector::<f64, 3>::new(lambda_n, -mu * lambda_n * theta.cos(), -mu * lambda_n * theta.sin())
+    SVector::<f64, 3>::new(
+        lambda_n,
+        -mu * lambda_n * theta.cos(),
+        -mu * lambda_n * theta.sin(),
+    )
 }
 
 #[test]
@@ -485,7 +495,12 @@ fn the_warm_started_slide_is_exact_and_agrees_with_a_lone_scan_root() {
     // within 0.3 rad Newton reaches the root in all but a few cases (4 of 884 when written:
     // starts beyond a nearby extremum of F, where Newton heads away), which the scan answers.
     assert!(lone.get() >= 400, "only {} lone sliding roots", lone.get());
-    assert!(missed.get() * 100 <= lone.get(), "{} of {} answered by the scan", missed.get(), lone.get());
+    assert!(
+        missed.get() * 100 <= lone.get(),
+        "{} of {} answered by the scan",
+        missed.get(),
+        lone.get()
+    );
 }
 
 #[test]
@@ -536,16 +551,28 @@ fn a_useless_warm_start_still_gives_the_exact_slide_by_the_scan() {
     });
     // When written: 462 cases, every one answered by the scan (Newton from the opposite
     // direction finds a root with w_t along −d, or none).
-    println!("{} lone sliding roots warm started the wrong way, {} answered by the scan", cases.get(), rescued.get());
+    println!(
+        "{} lone sliding roots warm started the wrong way, {} answered by the scan",
+        cases.get(),
+        rescued.get()
+    );
     // The fallback must be exercised, not only Newton finding its way round.
-    assert!(rescued.get() >= 20, "only {} answered by the scan", rescued.get());
+    assert!(
+        rescued.get() >= 20,
+        "only {} answered by the scan",
+        rescued.get()
+    );
 }
 
 /// NSGS written out on a 3D local problem: `sweeps` sweeps in problem order from λ = 0, contact
 /// k's local q = w_k − W_kk λ_k solved by `solve_local`, warm started from λ_k or not (the scan
 /// alone, the solve as it was before the warm start). Returns the visits that took the best
 /// candidate (fallbacks) and the visits whose answer slides (λn > 0, ‖λt‖ = μλn to 1e-12).
-fn nsgs_by_hand(problem: &rigidref::problem::LocalProblem<3>, sweeps: u32, warm: bool) -> (u32, u32) {
+fn nsgs_by_hand(
+    problem: &rigidref::problem::LocalProblem<3>,
+    sweeps: u32,
+    warm: bool,
+) -> (u32, u32) {
     use rigidref::solve::local::solve_local;
     use rigidref::solve::residual::RowScales;
     let count = problem.contacts.len();
@@ -562,11 +589,20 @@ fn nsgs_by_hand(problem: &rigidref::problem::LocalProblem<3>, sweeps: u32, warm:
             let q = w - block * lambda[k];
             let scales = RowScales::of_block(block);
             let start = lambda[k];
-            let (solution, exact) =
-                solve_local(&block, &q, contact.mu, problem.friction, &scales, warm.then_some(&start));
+            let (solution, exact) = solve_local(
+                &block,
+                &q,
+                contact.mu,
+                problem.friction,
+                &scales,
+                warm.then_some(&start),
+            );
             fallbacks += u32::from(!exact);
             let tangent = solution[1].hypot(solution[2]);
-            if solution[0] > 0.0 && contact.mu > 0.0 && tangent >= contact.mu * solution[0] * (1.0 - 1e-12) {
+            if solution[0] > 0.0
+                && contact.mu > 0.0
+                && tangent >= contact.mu * solution[0] * (1.0 - 1e-12)
+            {
                 slides += 1;
             }
             lambda[k] = solution;
@@ -601,7 +637,9 @@ fn the_warm_start_leaves_the_count_of_fallbacks_unchanged() {
     {
         let name = "siconos_hard/spheres-in-a-box-98-i10000-256-10.hdf5";
         let path = root.join(name);
-        if let AnyLocalProblem::Three(p) = rigidref::tools::experiments::problem_library::load(&path).unwrap() {
+        if let AnyLocalProblem::Three(p) =
+            rigidref::tools::experiments::problem_library::load(&path).unwrap()
+        {
             problems.push((name, p));
         }
     }
@@ -626,10 +664,12 @@ fn the_warm_start_leaves_the_count_of_fallbacks_unchanged() {
             problem.contacts.len()
         );
         assert_eq!(warm_fallbacks, scan_fallbacks, "{name}");
-        assert_eq!(warm_fallbacks, 200, "{name}: the pinned contact's visits, and only those");
+        assert_eq!(
+            warm_fallbacks, 200,
+            "{name}: the pinned contact's visits, and only those"
+        );
         all_slides += warm_slides;
     }
     // The fast path must have run: visits that slide are where it answers.
     assert!(all_slides >= 1000, "only {all_slides} sliding visits");
 }
-
