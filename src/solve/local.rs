@@ -17,7 +17,9 @@
 //! 3. slide. Box friction: each friction row either free (w_r = 0) or at a bound ±μλn, the 3^(R−1)
 //!    − 1 remaining patterns in a fixed order. Disk (R = 3): λt = −μλn d with d = (cos θ, sin θ)
 //!    the unit sliding direction, w_n = 0 and w_t parallel to d; one equation in θ, whose roots
-//!    are bracketed on a grid and bisected to round-off.
+//!    are bracketed on a grid and bisected to round-off. Where the caller passes the contact's
+//!    current impulse, a few Newton steps from its direction are tried first
+//!    ([`disk_slide_from`]), and the scan runs only if their root is not a solution.
 //!
 //! In 2D (R = 2) the disk is the interval [−μλn, μλn], so both friction models take the box path.
 
@@ -74,12 +76,18 @@ const ACCEPT: f64 = 1e-13;
 /// which PGS counts and reports: `SolveReport::local_fallbacks`). Separation is always a candidate,
 /// so there is always an answer: for a contact its own impulse cannot move (A = 0, every system
 /// singular) it is λ = 0, and the residual keeps the violation.
+///
+/// `warm` is the contact's current impulse λ_now (N·s), or `None`. For the disk's sliding case
+/// it gives the starting direction of a few Newton steps ([`disk_slide_from`]) tried before the
+/// full scan; with `None` the scan alone runs, as it did before the warm start existed.
+/// docs/contact.md §"Exact local solve", **Warm start**.
 pub fn solve_local<const R: usize>(
     a: &SMatrix<f64, R, R>,
     q: &SVector<f64, R>,
     mu: f64,
     friction: FrictionModel,
     scales: &RowScales<R>,
+    warm: Option<&SVector<f64, R>>,
 ) -> (SVector<f64, R>, bool) {
     let tolerance = ACCEPT * q.amax().max(f64::MIN_POSITIVE);
     let mut best: Option<(f64, SVector<f64, R>)> = None;
@@ -104,6 +112,14 @@ pub fn solve_local<const R: usize>(
     }
     // 3. Slide.
     if friction == FrictionModel::Cone && R == 3 {
+        // The warm-started root first (a few Newton steps), then, if it is not a solution,
+        // the full scan.
+        if let Some(warm) = warm
+            && let Some(lambda) = disk_slide_from(a, q, mu, warm)
+            && consider(lambda)
+        {
+            return (lambda, true);
+        }
         for lambda in disk_slides(a, q, mu) {
             if consider(lambda) {
                 return (lambda, true);
@@ -195,7 +211,7 @@ fn slide_grid() -> &'static [(f64, f64); SLIDE_GRID + 1] {
 /// (A g)_n, the parallelism is F(θ) = ((A g)_n q_t − q_n (A g)_t) × d = 0, smooth in θ.
 /// F is evaluated once per grid point (cell i's upper end is cell i + 1's lower end) from the
 /// tabulated cos and sin ([`slide_grid`]); only the bisection calls `sin` and `cos`.
-fn disk_slides<const R: usize>(
+pub fn disk_slides<const R: usize>(
     a: &SMatrix<f64, R, R>,
     q: &SVector<f64, R>,
     mu: f64,
@@ -255,6 +271,103 @@ fn disk_slides<const R: usize>(
         let lambda_n = -q[0] / normal;
         (lambda_n > 0.0).then(|| gr * lambda_n)
     })
+}
+
+/// Newton steps on F at most, from the warm start ([`disk_slide_from`]). F's root is simple
+/// where the scan can bracket it, and Newton's error squares each step: from an error of 0.1 rad,
+/// five steps reach round-off; the rest are a margin for poorer starts. A start that has not
+/// converged within them is left to the scan.
+const SLIDE_NEWTON_STEPS: usize = 12;
+
+/// A Newton step of at most this much (radians) is the last: the next would be below round-off
+/// (the error after a step is about the square of the step times F''/(2F'), and F''/F' is of
+/// order one for a trigonometric polynomial of degree 2 unless F' nearly vanishes, when the
+/// residual check rejects an inaccurate root and the scan takes over).
+const SLIDE_NEWTON_DONE: f64 = 1e-9;
+
+/// The largest Newton step (radians): a safeguard, so that a step taken where F' is nearly zero
+/// does not jump across several roots; a full turn is 2π, the grid cell 2π/256.
+const SLIDE_NEWTON_MAX_STEP: f64 = 0.5;
+
+/// The disk's sliding candidate nearest the warm start, by Newton's method on F (R = 3; the
+/// equation of [`disk_slides`]). docs/contact.md §"Exact local solve", **Warm start**.
+///
+/// The starting direction d₀: opposite the current tangential impulse where λ_now slides or
+/// sticks with λn > 0 and λt ≠ 0 (λt = −μλn d), else along the current tangential velocity
+/// w_t = (A λ_now + q)_t; `None` when both are zero. With d = (c, s) = (cos θ, sin θ) and
+/// A g = a₀ − μ c a₁ − μ s a₂ (a_j A's columns), the two components
+/// u_r = (A g)_n q_r − q_n (A g)_r (r = t1, t2) are affine in (c, s),
+///
+///   u₁ = α₁ + β₁ c + γ₁ s,   u₂ = α₂ + β₂ c + γ₂ s,
+///
+/// so F = u₁ s − u₂ c = α₁ s − α₂ c + (β₁ − γ₂) c s + γ₁ s² − β₂ c² and
+/// F' = dF/dθ = α₁ c + α₂ s + (β₁ − γ₂)(c² − s²) + 2 (γ₁ + β₂) c s: six numbers formed once,
+/// then each step costs a few multiplications. A step δ = −F/F' (at most
+/// [`SLIDE_NEWTON_MAX_STEP`]) turns d by atan δ: d ← (d + δ d⊥)/√(1 + δ²), no `sin` or `cos`
+/// (atan δ = δ − δ³/3 + …, so the step is Newton's to third order and keeps its quadratic
+/// convergence). After a step of at most [`SLIDE_NEWTON_DONE`] the root is returned as the scan
+/// returns its roots: λ = λn g with λn = −q_n/(A g)_n, `None` unless (A g)_n > 0 and λn > 0, or
+/// when F' vanishes or the steps run out. The caller checks it with the contact's residual like
+/// every other candidate.
+pub fn disk_slide_from<const R: usize>(
+    a: &SMatrix<f64, R, R>,
+    q: &SVector<f64, R>,
+    mu: f64,
+    warm: &SVector<f64, R>,
+) -> Option<SVector<f64, R>> {
+    if R != 3 {
+        return None;
+    }
+    // The starting direction.
+    let (mut c, mut s) = if warm[0] > 0.0 && (warm[1] != 0.0 || warm[2] != 0.0) {
+        (-warm[1], -warm[2])
+    } else {
+        let w = a * warm + q;
+        (w[1], w[2])
+    };
+    let length = c.hypot(s);
+    if !(length > 0.0 && length.is_finite()) {
+        return None;
+    }
+    (c, s) = (c / length, s / length);
+    // The coefficients of F (doc comment).
+    let alpha1 = a[(0, 0)] * q[1] - q[0] * a[(1, 0)];
+    let beta1 = -mu * (a[(0, 1)] * q[1] - q[0] * a[(1, 1)]);
+    let gamma1 = -mu * (a[(0, 2)] * q[1] - q[0] * a[(1, 2)]);
+    let alpha2 = a[(0, 0)] * q[2] - q[0] * a[(2, 0)];
+    let beta2 = -mu * (a[(0, 1)] * q[2] - q[0] * a[(2, 1)]);
+    let gamma2 = -mu * (a[(0, 2)] * q[2] - q[0] * a[(2, 2)]);
+    let cross = beta1 - gamma2;
+    let mut converged = false;
+    for _ in 0..SLIDE_NEWTON_STEPS {
+        let f = alpha1 * s - alpha2 * c + cross * c * s + gamma1 * s * s - beta2 * c * c;
+        let slope =
+            alpha1 * c + alpha2 * s + cross * (c * c - s * s) + 2.0 * (gamma1 + beta2) * c * s;
+        let step = -f / slope;
+        if !step.is_finite() {
+            return None;
+        }
+        let step = step.clamp(-SLIDE_NEWTON_MAX_STEP, SLIDE_NEWTON_MAX_STEP);
+        let length = (1.0 + step * step).sqrt();
+        (c, s) = ((c - step * s) / length, (s + step * c) / length);
+        if step.abs() <= SLIDE_NEWTON_DONE {
+            converged = true;
+            break;
+        }
+    }
+    if !converged {
+        return None;
+    }
+    let mut g = SVector::<f64, R>::zeros();
+    g[0] = 1.0;
+    g[1] = -mu * c;
+    g[2] = -mu * s;
+    let normal = (a * g)[0];
+    if normal <= 0.0 {
+        return None;
+    }
+    let lambda_n = -q[0] / normal;
+    (lambda_n > 0.0).then(|| g * lambda_n)
 }
 
 /// Solves m x = rhs by Gaussian elimination with partial pivoting (R ≤ 3 here: no library

@@ -39,7 +39,9 @@ pub(super) fn visit_exactly<const R: usize>(
     lambda: &mut SVector<f64, R>,
 ) -> bool {
     let (solution, exact) = match bounds {
-        RowBounds::Contact => solve_local(&scales.block, q, law.mu, friction, scales),
+        RowBounds::Contact => {
+            solve_local(&scales.block, q, law.mu, friction, scales, Some(&*lambda))
+        }
         RowBounds::Free => match solve_linear(&scales.block, &(-q)) {
             Some(solution) => (solution, true),
             None => return true,
