@@ -218,6 +218,84 @@ def ratio_cell(ours, fastest):
     return f"{ours['seconds'] / fastest['seconds']:.2g}"
 
 
+PROFILE_COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2"]
+
+
+def profile_curves(rows):
+    """Dolan–Moré performance profile of every solver in `rows` (rigidref's each, Siconos' each):
+    for each solver the sorted ratios t / t_best over the problems some solver solved (t_best the
+    fastest converged time on that problem, any solver), infinity where it did not converge."""
+    names, per_problem = [], []
+    for row in rows:
+        times = {}
+        for solver, a in row.get("rigidref_solvers", {}).items():
+            times[f"rigidref {solver}"] = a
+        for solver, a in row["siconos"].items():
+            times[f"Siconos {solver}"] = a
+        for n in times:
+            if n not in names:
+                names.append(n)
+        per_problem.append(times)
+    curves = {n: [] for n in names}
+    for times in per_problem:
+        ok = [a["seconds"] for a in times.values() if a.get("converged")]
+        if not ok:
+            continue
+        best = max(min(ok), 1e-12)
+        for n in names:
+            a = times.get(n)
+            curves[n].append(a["seconds"] / best if a and a.get("converged") else math.inf)
+    return {n: sorted(r) for n, r in curves.items()}, sum(
+        1 for t in per_problem if any(a.get("converged") for a in t.values()))
+
+
+def write_profile(rows, path):
+    """The performance profile as an SVG file: ρ(τ), the fraction of the problems some solver
+    solved that each solver solved within τ times the fastest time, τ on a log₂ axis."""
+    curves, count = profile_curves(rows)
+    finite = [r for rs in curves.values() for r in rs if math.isfinite(r)]
+    top = max(1.0, math.ceil(math.log2(max(finite)))) if finite else 1.0
+    w, h, left, bottom, right, top_margin = 720, 420, 60, 50, 190, 30
+    pw, ph = w - left - right, h - bottom - top_margin
+    x = lambda tau: left + pw * math.log2(tau) / top
+    y = lambda rho: top_margin + ph * (1.0 - rho)
+    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" '
+           f'font-family="sans-serif" font-size="12">',
+           f'<rect width="{w}" height="{h}" fill="white"/>',
+           f'<text x="{left}" y="18">Performance profile, {count} problems (side by side with '
+           f'Siconos)</text>',
+           f'<line x1="{left}" y1="{y(0)}" x2="{left + pw}" y2="{y(0)}" stroke="black"/>',
+           f'<line x1="{left}" y1="{y(0)}" x2="{left}" y2="{y(1)}" stroke="black"/>']
+    for k in range(int(top) + 1):
+        out.append(f'<text x="{x(2.0 ** k)}" y="{y(0) + 16}" text-anchor="middle">{2 ** k}</text>')
+    for k in range(0, 11, 2):
+        out.append(f'<text x="{left - 6}" y="{y(k / 10) + 4}" text-anchor="end">{k / 10:g}</text>')
+    out.append(f'<text x="{left + pw / 2}" y="{h - 10}" text-anchor="middle">τ (time ÷ the '
+               f'fastest solver\'s, log₂ axis)</text>')
+    out.append(f'<text x="14" y="{top_margin + ph / 2}" transform="rotate(-90 14 '
+               f'{top_margin + ph / 2})" text-anchor="middle">ρ(τ)</text>')
+    for i, (name, ratios) in enumerate(curves.items()):
+        colour = PROFILE_COLOURS[i % len(PROFILE_COLOURS)]
+        dash = ' stroke-dasharray="5,3"' if name.startswith("Siconos") else ""
+        points, solved = [(x(1.0), y(0.0))], 0
+        for r in ratios:
+            if not math.isfinite(r):
+                break
+            solved += 1
+            px = x(max(r, 1.0))
+            points += [(px, points[-1][1]), (px, y(solved / count))]
+        points.append((x(2.0 ** top), points[-1][1]))
+        d = " ".join(f"{px:.1f},{py:.1f}" for px, py in points)
+        out.append(f'<polyline fill="none" stroke="{colour}" stroke-width="2"{dash} '
+                   f'points="{d}"><title>{name}</title></polyline>')
+        ly = top_margin + 18 * i + 10
+        out.append(f'<line x1="{left + pw + 15}" y1="{ly}" x2="{left + pw + 40}" y2="{ly}" '
+                   f'stroke="{colour}" stroke-width="2"{dash}/>')
+        out.append(f'<text x="{left + pw + 45}" y="{ly + 4}">{name}</text>')
+    out.append("</svg>")
+    pathlib.Path(path).write_text("\n".join(out) + "\n")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("inputs", nargs="+", help="problem files or folders of them")
@@ -235,6 +313,8 @@ def main():
     parser.add_argument("--timeout", type=float, default=120.0,
                         help="wall-time cap of each solve, s (rigidref's too)")
     parser.add_argument("--json", help="also write every result to this JSON file")
+    parser.add_argument("--profile", help="also write the performance profile of every solver, "
+                                          "rigidref's and Siconos', to this SVG file")
     args = parser.parse_args()
     ours_solvers = [x.strip() for x in args.rigidref_solver.split(",") if x.strip()]
     for x in ours_solvers:
@@ -311,6 +391,8 @@ def main():
         with open(args.json, "w") as f:
             json.dump({"tolerance": args.tolerance, "problems": rows, "skipped": notes}, f,
                       indent=1)
+    if args.profile and rows:
+        write_profile(rows, args.profile)
     if not rows:
         sys.exit("siconos_side_by_side: no problem could be read (see the notes above)")
 

@@ -8,6 +8,7 @@ test_rigidref_trace.py ($RIGIDREF_BIN, else target/release/rigidref)."""
 
 import json
 import os
+import re
 import pathlib
 import subprocess
 import sys
@@ -93,10 +94,11 @@ def test_several_rigidref_solvers_get_a_column_each_and_the_ratio_is_their_faste
         tmp_path):
     python = siconos_python()
     out = tmp_path / "results.json"
+    svg = tmp_path / "profile.svg"
     ours = ["newton", "pgs-exact", "auto"]
     r = subprocess.run([python, str(SCRIPT), *map(str, FILES), "--rigidref", str(rigidref_bin()),
                         "--rigidref-solver", ",".join(ours), "--tolerance", repr(TOLERANCE),
-                        "--timeout", "60", "--json", str(out)],
+                        "--timeout", "60", "--json", str(out), "--profile", str(svg)],
                        capture_output=True, text=True, timeout=600)
     assert r.returncode == 0, r.stderr
     print(r.stdout)
@@ -116,6 +118,15 @@ def test_several_rigidref_solvers_get_a_column_each_and_the_ratio_is_their_faste
                                                if a["converged"]), p
         row = next(line for line in r.stdout.splitlines() if line.startswith(f"| {p['problem']} "))
         assert row.split("|")[6].strip() == p["rigidref"]["solver"], row
+    # The performance profile names a curve for each of the six solvers, and each curve reaches
+    # ρ = 1 (every solver solves both problems): its last point is at the plot's top.
+    text = svg.read_text()
+    assert text.startswith("<svg") and text.rstrip().endswith("</svg>")
+    for name in [f"rigidref {x}" for x in ours] + ["Siconos NSGS", "Siconos NSN_AC",
+                                                   "Siconos PROX"]:
+        assert f"<title>{name}</title>" in text, name
+    tops = re.findall(r'points="[^"]*?([0-9.]+)"><title>', text)
+    assert len(tops) == 6 and all(float(t) == 30.0 for t in tops), tops
 
 
 def test_an_unknown_rigidref_solver_is_a_one_line_error():
@@ -125,3 +136,24 @@ def test_an_unknown_rigidref_solver_is_a_one_line_error():
                        timeout=60)
     assert r.returncode != 0
     assert "unknown solver 'prox'" in r.stderr, r.stderr
+
+
+def test_the_profile_ratios_are_times_over_the_fastest_and_infinite_where_not_converged():
+    # Pure Python: no Siconos or rigidref needed.
+    sys.path.insert(0, str(ROOT / "python"))
+    import siconos_side_by_side as script
+    ok = lambda s: {"converged": True, "seconds": s}
+    rows = [
+        {"rigidref_solvers": {"newton": ok(2.0), "auto": ok(1.0)},
+         "siconos": {"NSGS": ok(4.0), "PROX": {"converged": False, "seconds": 0.5}}},
+        {"rigidref_solvers": {"newton": {"converged": False, "seconds": 9.0}, "auto": ok(3.0)},
+         "siconos": {"NSGS": ok(1.5), "PROX": ok(6.0)}},
+        # Nobody solved it: left out of the profile.
+        {"rigidref_solvers": {"newton": {"converged": False, "seconds": 1.0}},
+         "siconos": {"NSGS": {"converged": False, "seconds": 1.0}}},
+    ]
+    curves, count = script.profile_curves(rows)
+    assert count == 2
+    inf = float("inf")
+    assert curves == {"rigidref newton": [2.0, inf], "rigidref auto": [1.0, 2.0],
+                      "Siconos NSGS": [1.0, 4.0], "Siconos PROX": [4.0, inf]}, curves
