@@ -35,7 +35,8 @@ seconds of each other on the same machine):
 
 It prints a Markdown table: per problem its contacts, each solver's result (✓/✗, iterations,
 time; PROX's iterations are outer / cumulative inner), Siconos' fastest converged solver, and
-the ratio rigidref time ÷ that solver's time, "tie" where both are under 1 ms. Files that cannot
+the ratio rigidref time ÷ that solver's time, "tie" where both are under 1 ms. With --profile it
+also writes the performance profile of every solver, rigidref's and Siconos', as an SVG file. Files that cannot
 be read are skipped with a note under the table; the exit status is 1 only when none could be.
 """
 import argparse
