@@ -16,89 +16,14 @@
 use super::sweep_entry::{Entry, RowLaw, Shared};
 pub(super) use super::wide::LANES;
 use super::wide::{Mask, Wide};
-use crate::problem::{FrictionModel, ProblemBody};
+use crate::problem::FrictionModel;
 use nalgebra::{SMatrix, SVector};
-use std::fmt::Debug;
-
-/// How a group keeps each side's M_s⁻¹ J_sᵀ, lane by lane: stored ([`StoredColumns`]), or formed
-/// in the visit from the diagonal of M_s⁻¹ and J_sᵀ ([`DiagonalMass`], where every body's M⁻¹
-/// is diagonal). docs/contact.md §"Four contacts per lane", "A smaller 2D group".
-pub(super) trait InverseMassColumns<const D: usize, const R: usize>: Clone + Debug {
-    /// All zero (every lane empty).
-    fn zero() -> Self;
-    /// Lane `l`, side `s`, from the side's M_s⁻¹ J_sᵀ as the set-up built it and its body's M⁻¹.
-    fn set_lane(
-        &mut self,
-        l: usize,
-        s: usize,
-        inverse_mass_jacobian_t: &SMatrix<f64, D, R>,
-        inverse_mass: &SMatrix<f64, D, D>,
-    );
-    /// Lane `l`'s side `s` held fixed (shock propagation): its M_s⁻¹ J_sᵀ zero.
-    fn hold_fixed(&mut self, l: usize, s: usize);
-    /// (M_s⁻¹ J_sᵀ)_dr per lane, `jacobian_t` being the group's J_sᵀ.
-    fn column(&self, jacobian_t: &[[[Wide; D]; R]; 2], s: usize, r: usize, d: usize) -> Wide;
-}
-
-/// M_s⁻¹ J_sᵀ stored: [side][row][component], lane by lane (any M⁻¹; the 3D layout).
-#[derive(Clone, Debug)]
-pub(super) struct StoredColumns<const D: usize, const R: usize>([[[Wide; D]; R]; 2]);
-
-impl<const D: usize, const R: usize> InverseMassColumns<D, R> for StoredColumns<D, R> {
-    fn zero() -> Self {
-        StoredColumns([[[Wide::splat(0.0); D]; R]; 2])
-    }
-    fn set_lane(&mut self, l: usize, s: usize, m: &SMatrix<f64, D, R>, _: &SMatrix<f64, D, D>) {
-        for r in 0..R {
-            for d in 0..D {
-                self.0[s][r][d].0[l] = m[(d, r)];
-            }
-        }
-    }
-    fn hold_fixed(&mut self, l: usize, s: usize) {
-        for r in 0..R {
-            for d in 0..D {
-                self.0[s][r][d].0[l] = 0.0;
-            }
-        }
-    }
-    #[inline(always)]
-    fn column(&self, _: &[[[Wide; D]; R]; 2], s: usize, r: usize, d: usize) -> Wide {
-        self.0[s][r][d]
-    }
-}
-
-/// The diagonal of M_s⁻¹: [side][component], lane by lane (a diagonal M⁻¹, as every 2D body's
-/// diag(1/m, 1/m, 1/I)); (M_s⁻¹ J_sᵀ)_dr is formed as (M_s⁻¹)_dd · (J_s)_rd, the same bits as
-/// the stored one wherever it is not zero, and a zero where it is ±0 (which moves no Δu bit).
-#[derive(Clone, Debug)]
-pub(super) struct DiagonalMass<const D: usize>([[Wide; D]; 2]);
-
-impl<const D: usize, const R: usize> InverseMassColumns<D, R> for DiagonalMass<D> {
-    fn zero() -> Self {
-        DiagonalMass([[Wide::splat(0.0); D]; 2])
-    }
-    fn set_lane(&mut self, l: usize, s: usize, _: &SMatrix<f64, D, R>, m: &SMatrix<f64, D, D>) {
-        for d in 0..D {
-            self.0[s][d].0[l] = m[(d, d)];
-        }
-    }
-    fn hold_fixed(&mut self, l: usize, s: usize) {
-        for d in 0..D {
-            self.0[s][d].0[l] = 0.0;
-        }
-    }
-    #[inline(always)]
-    fn column(&self, jacobian_t: &[[[Wide; D]; R]; 2], s: usize, r: usize, d: usize) -> Wide {
-        self.0[s][d] * jacobian_t[s][r][d]
-    }
-}
 
 /// A group of four contacts of one colour as a visit reads them, each quantity lane by lane
 /// (lane l is the group's l-th contact): where these contacts' entries are kept, each written
 /// into its lane once by the solve's set-up ([`super::pgs_workspace::PgsWorkspace::prepare`]).
 #[derive(Clone, Debug)]
-pub(super) struct LaneGroup<const D: usize, const R: usize, C> {
+pub(super) struct LaneGroup<const D: usize, const R: usize> {
     /// The contacts' indices in the problem (for λ).
     contact: [usize; LANES],
     /// Per side, the body of each lane (0 where the side is the static world).
@@ -111,8 +36,8 @@ pub(super) struct LaneGroup<const D: usize, const R: usize, C> {
     moving: [[bool; LANES]; 2],
     /// J_sᵀ: [side][row][component], lane by lane.
     jacobian_t: [[[Wide; D]; R]; 2],
-    /// M_s⁻¹ J_sᵀ, stored or formed from the diagonal of M_s⁻¹ ([`InverseMassColumns`]).
-    inverse_mass_columns: C,
+    /// M_s⁻¹ J_sᵀ: [side][row][component], lane by lane.
+    inverse_mass_jacobian_t: [[[Wide; D]; R]; 2],
     /// b per row, m/s.
     b: [Wide; R],
     /// a_r per row.
@@ -132,7 +57,7 @@ pub(super) const fn dimensions_fit<const D: usize, const R: usize>() -> bool {
     D < 8 && R >= 1
 }
 
-impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R, C> {
+impl<const D: usize, const R: usize> LaneGroup<D, R> {
     /// A group with every lane empty (all zero; no side a body), to be filled lane by lane with
     /// [`LaneGroup::set_lane`] where it is stored.
     pub(super) fn empty() -> Self {
@@ -143,7 +68,7 @@ impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R
             present: [Mask::NONE; 2],
             moving: [[false; LANES]; 2],
             jacobian_t: [[[zero; D]; R]; 2],
-            inverse_mass_columns: C::zero(),
+            inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
             b: [zero; R],
             diagonal: [zero; R],
             tangent_rho: zero,
@@ -153,16 +78,8 @@ impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R
     }
 
     /// Puts contact `k`'s entry `e` in lane `l` (an empty lane): each quantity of the entry
-    /// into its lane, nothing computed. `moving[b]`: whether body b's inverse mass is not zero;
-    /// `bodies`: the problem's (for the diagonal of M⁻¹ where the group keeps that).
-    pub(super) fn set_lane(
-        &mut self,
-        l: usize,
-        k: usize,
-        e: &Entry<D, R>,
-        moving: &[bool],
-        bodies: &[ProblemBody<D>],
-    ) {
+    /// into its lane, nothing computed. `moving[b]`: whether body b's inverse mass is not zero.
+    pub(super) fn set_lane(&mut self, l: usize, k: usize, e: &Entry<D, R>, moving: &[bool]) {
         self.contact[l] = k;
         for s in 0..2 {
             // The static world's side stays zero (its Δu is zero and never written).
@@ -173,10 +90,10 @@ impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R
             for r in 0..R {
                 for d in 0..D {
                     self.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
+                    self.inverse_mass_jacobian_t[s][r][d].0[l] =
+                        e.inverse_mass_jacobian_t[s][(d, r)];
                 }
             }
-            let m = &bodies[body].inverse_mass;
-            (self.inverse_mass_columns).set_lane(l, s, &e.inverse_mass_jacobian_t[s], m);
         }
         for r in 0..R {
             self.b[r].0[l] = e.b[r];
@@ -224,9 +141,23 @@ impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R
         SVector::from_fn(|d, _| self.jacobian_t[s][r][d].0[l])
     }
 
-    /// Holds lane `l`'s side `s` fixed (shock propagation): its M_s⁻¹ J_sᵀ zero.
-    pub(super) fn hold_side_fixed(&mut self, l: usize, s: usize) {
-        self.inverse_mass_columns.hold_fixed(l, s);
+    /// M_s⁻¹ J_sᵀ of lane `l` (D × R).
+    pub(super) fn inverse_mass_jacobian_t(&self, l: usize, s: usize) -> SMatrix<f64, D, R> {
+        SMatrix::from_fn(|d, r| self.inverse_mass_jacobian_t[s][r][d].0[l])
+    }
+
+    /// Sets M_s⁻¹ J_sᵀ of lane `l` (shock propagation holds a side fixed with zero).
+    pub(super) fn set_inverse_mass_jacobian_t(
+        &mut self,
+        l: usize,
+        s: usize,
+        m: &SMatrix<f64, D, R>,
+    ) {
+        for r in 0..R {
+            for d in 0..D {
+                self.inverse_mass_jacobian_t[s][r][d].0[l] = m[(d, r)];
+            }
+        }
     }
 
     /// Lane `l`'s w_r = b_r + J₁,r u₁ + J₂,r u₂ (without compliance), u_s being side s's Δu
@@ -249,155 +180,9 @@ impl<const D: usize, const R: usize, C: InverseMassColumns<D, R>> LaneGroup<D, R
     pub(super) fn lane_apply(&self, l: usize, u: &mut [SVector<f64, D>; 2], r: usize, delta: f64) {
         for s in 0..2 {
             if self.present[s].lane(l) {
-                let column = SVector::<f64, D>::from_fn(|d, _| {
-                    (self.inverse_mass_columns)
-                        .column(&self.jacobian_t, s, r, d)
-                        .0[l]
-                });
+                let column =
+                    SVector::<f64, D>::from_fn(|d, _| self.inverse_mass_jacobian_t[s][r][d].0[l]);
                 u[s].axpy(delta, &column, 1.0);
-            }
-        }
-    }
-}
-
-/// A solve's groups of four, colour by colour, in one of the two layouts of M⁻¹Jᵀ: stored, or
-/// formed from a diagonal M⁻¹ where every body's is diagonal and that makes the group smaller
-/// (R ≥ 2) ([`Groups::clear`] chooses). Lane `i` is lane `i % LANES` of group `i / LANES`.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Groups<const D: usize, const R: usize> {
-    /// The groups when M⁻¹Jᵀ is stored (empty otherwise).
-    stored: Vec<LaneGroup<D, R, StoredColumns<D, R>>>,
-    /// The groups when M⁻¹Jᵀ is formed from the diagonal of M⁻¹ (empty otherwise).
-    diagonal: Vec<LaneGroup<D, R, DiagonalMass<D>>>,
-    /// Which of the two the solve uses.
-    use_diagonal: bool,
-}
-
-/// `$call` on the group of lane `$i` in whichever layout `$groups` uses, as `$g`.
-macro_rules! on_group {
-    ($groups:expr, $i:expr, |$g:ident| $call:expr) => {
-        if $groups.use_diagonal {
-            let $g = &$groups.diagonal[$i / LANES];
-            $call
-        } else {
-            let $g = &$groups.stored[$i / LANES];
-            $call
-        }
-    };
-}
-
-impl<const D: usize, const R: usize> Groups<D, R> {
-    /// Empties the groups for a new solve, whose groups form M⁻¹Jᵀ from the diagonal of M⁻¹
-    /// where `diagonal_mass` (every body's M⁻¹ diagonal) and R ≥ 2 (then a group is smaller:
-    /// 2 × D numbers per lane for M⁻¹ instead of 2 × R × D), else store it.
-    pub(super) fn clear(&mut self, diagonal_mass: bool) {
-        self.stored.clear();
-        self.diagonal.clear();
-        self.use_diagonal = diagonal_mass && R >= 2;
-    }
-
-    /// The number of groups.
-    pub(super) fn len(&self) -> usize {
-        self.stored.len() + self.diagonal.len()
-    }
-
-    /// Bytes per group in the layout in use (`std::mem::size_of`).
-    pub(super) fn group_bytes(&self) -> usize {
-        if self.use_diagonal {
-            std::mem::size_of::<LaneGroup<D, R, DiagonalMass<D>>>()
-        } else {
-            std::mem::size_of::<LaneGroup<D, R, StoredColumns<D, R>>>()
-        }
-    }
-
-    /// Puts contact `k`'s entry `e` in lane `i` (the next lane: a new group at every fourth).
-    pub(super) fn push_lane(
-        &mut self,
-        i: usize,
-        k: usize,
-        e: &Entry<D, R>,
-        moving: &[bool],
-        bodies: &[ProblemBody<D>],
-    ) {
-        let l = i % LANES;
-        if self.use_diagonal {
-            if l == 0 {
-                self.diagonal.push(LaneGroup::empty());
-            }
-            self.diagonal[i / LANES].set_lane(l, k, e, moving, bodies);
-        } else {
-            if l == 0 {
-                self.stored.push(LaneGroup::empty());
-            }
-            self.stored[i / LANES].set_lane(l, k, e, moving, bodies);
-        }
-    }
-
-    /// The contact in lane `i`.
-    #[inline(always)]
-    pub(super) fn contact(&self, i: usize) -> usize {
-        on_group!(self, i, |g| g.contact(i % LANES))
-    }
-
-    /// Lane `i`'s body on side `s` (`None`: the static world).
-    #[inline(always)]
-    pub(super) fn body(&self, i: usize, s: usize) -> Option<usize> {
-        on_group!(self, i, |g| g.body(i % LANES, s))
-    }
-
-    /// Lane `i`'s constants as a one-at-a-time visit reads them.
-    #[inline(always)]
-    pub(super) fn law(&self, i: usize) -> RowLaw<R> {
-        on_group!(self, i, |g| g.law(i % LANES))
-    }
-
-    /// Lane `i`'s w_r ([`LaneGroup::lane_velocity`]).
-    #[inline(always)]
-    pub(super) fn lane_velocity(&self, i: usize, u: &[SVector<f64, D>; 2], r: usize) -> f64 {
-        on_group!(self, i, |g| g.lane_velocity(i % LANES, u, r))
-    }
-
-    /// Lane `i`'s λ_r changes by `delta` ([`LaneGroup::lane_apply`]).
-    #[inline(always)]
-    pub(super) fn lane_apply(&self, i: usize, u: &mut [SVector<f64, D>; 2], r: usize, delta: f64) {
-        on_group!(self, i, |g| g.lane_apply(i % LANES, u, r, delta))
-    }
-
-    /// Lane `i`'s row scales as shock propagation changes them.
-    pub(super) fn set_scales(&mut self, i: usize, diagonal: &SVector<f64, R>, tangent_rho: f64) {
-        if self.use_diagonal {
-            self.diagonal[i / LANES].set_scales(i % LANES, diagonal, tangent_rho);
-        } else {
-            self.stored[i / LANES].set_scales(i % LANES, diagonal, tangent_rho);
-        }
-    }
-
-    /// Holds lane `i`'s side `s` fixed (shock propagation).
-    pub(super) fn hold_side_fixed(&mut self, i: usize, s: usize) {
-        if self.use_diagonal {
-            self.diagonal[i / LANES].hold_side_fixed(i % LANES, s);
-        } else {
-            self.stored[i / LANES].hold_side_fixed(i % LANES, s);
-        }
-    }
-
-    /// Visits groups `range` ([`visit_groups`]).
-    ///
-    /// # Safety
-    /// As [`visit_groups`].
-    pub(super) unsafe fn visit(
-        &self,
-        friction: FrictionModel,
-        range: std::ops::Range<usize>,
-        shared: &Shared<D, R>,
-        native: bool,
-    ) {
-        // SAFETY: the caller's contract.
-        unsafe {
-            if self.use_diagonal {
-                visit_groups(friction, &self.diagonal[range], shared, native);
-            } else {
-                visit_groups(friction, &self.stored[range], shared, native);
             }
         }
     }
@@ -430,8 +215,8 @@ fn sum_in_nalgebras_order<const D: usize>(p: &[Wide; D]) -> Wide {
 /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ per lane (without compliance), a side adding its term only
 /// where it is a body.
 #[inline(always)]
-fn velocity<const D: usize, const R: usize, C>(
-    g: &LaneGroup<D, R, C>,
+fn velocity<const D: usize, const R: usize>(
+    g: &LaneGroup<D, R>,
     u: &[[Wide; D]; 2],
     r: usize,
 ) -> Wide {
@@ -447,21 +232,20 @@ fn velocity<const D: usize, const R: usize, C>(
     w
 }
 
-/// λ_r changes by `delta` per lane: Δu_s += (M_s⁻¹ J_sᵀ)_r δ per side, (M_s⁻¹ J_sᵀ)_dr stored or
-/// formed as (M_s⁻¹)_dd (J_s)_rd ([`InverseMassColumns::column`]). A lane whose row does not
+/// λ_r changes by `delta` per lane: Δu_s += (M_s⁻¹ J_sᵀ)_r δ per side. A lane whose row does not
 /// move passes δ = +0, which changes nothing: 0 · x is ±0 and Δu is never −0 (it starts at +0
 /// and a sum is −0 only when both terms are), so Δu + (±0) is Δu to the bit; and the static
 /// world's side is zero and never written back.
 #[inline(always)]
-fn apply<const D: usize, const R: usize, C: InverseMassColumns<D, R>>(
-    g: &LaneGroup<D, R, C>,
+fn apply<const D: usize, const R: usize>(
+    g: &LaneGroup<D, R>,
     u: &mut [[Wide; D]; 2],
     r: usize,
     delta: Wide,
 ) {
     for s in 0..2 {
         for d in 0..D {
-            u[s][d] += delta * g.inverse_mass_columns.column(&g.jacobian_t, s, r, d);
+            u[s][d] += delta * g.inverse_mass_jacobian_t[s][r][d];
         }
     }
 }
@@ -473,9 +257,9 @@ fn apply<const D: usize, const R: usize, C: InverseMassColumns<D, R>>(
 /// # Safety
 /// As [`visit_groups`].
 #[inline(always)]
-unsafe fn visit_group<const D: usize, const R: usize, C: InverseMassColumns<D, R>>(
+unsafe fn visit_group<const D: usize, const R: usize>(
     friction: FrictionModel,
-    g: &LaneGroup<D, R, C>,
+    g: &LaneGroup<D, R>,
     shared: &Shared<D, R>,
 ) {
     let zero = Wide::splat(0.0);
@@ -585,9 +369,9 @@ unsafe fn visit_group<const D: usize, const R: usize, C: InverseMassColumns<D, R
 /// `shared` points at every body's Δu and every contact's λ of the problem the groups were laid
 /// out from, and while this runs nothing else reads or writes the groups' contacts' λ or their
 /// moving bodies' Δu, and nothing writes a pinned body's Δu.
-unsafe fn visit_groups<const D: usize, const R: usize, C: InverseMassColumns<D, R>>(
+pub(super) unsafe fn visit_groups<const D: usize, const R: usize>(
     friction: FrictionModel,
-    groups: &[LaneGroup<D, R, C>],
+    groups: &[LaneGroup<D, R>],
     shared: &Shared<D, R>,
     native: bool,
 ) {
@@ -610,9 +394,9 @@ unsafe fn visit_groups<const D: usize, const R: usize, C: InverseMassColumns<D, 
 /// As [`visit_groups`], on a processor with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn visit_groups_avx2<const D: usize, const R: usize, C: InverseMassColumns<D, R>>(
+unsafe fn visit_groups_avx2<const D: usize, const R: usize>(
     friction: FrictionModel,
-    groups: &[LaneGroup<D, R, C>],
+    groups: &[LaneGroup<D, R>],
     shared: &Shared<D, R>,
 ) {
     for g in groups {

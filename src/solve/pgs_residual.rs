@@ -2,7 +2,7 @@
 //! after each sweep (the tolerance's test) and at the end (the report), and the Coulomb
 //! residual of the report. docs/contact.md §"Residual".
 
-use super::pgs_lanes::{Groups, LANES};
+use super::pgs_lanes::{LANES, LaneGroup};
 use super::pgs_rows::lane_copies;
 use super::pgs_workspace::PgsWorkspace;
 use super::residual::{
@@ -72,21 +72,23 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 /// that the pass reads them front to back, wherever the problem order jumps).
 fn for_each_velocity<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
-    groups: &Groups<D, R>,
+    groups: &[LaneGroup<D, R>],
     entries: &[Entry<D, R>],
     entry_contact: &[usize],
     delta_velocity: &[SVector<f64, D>],
     lambda: &[SVector<f64, R>],
     mut f: impl FnMut(usize, &SVector<f64, R>),
 ) {
-    for lane in 0..groups.len() * LANES {
-        let k = groups.contact(lane);
-        let u = lane_copies(groups, lane, delta_velocity);
-        let c = &problem.contacts[k];
-        let w = SVector::<f64, R>::from_fn(|r, _| {
-            groups.lane_velocity(lane, &u, r) + c.row_compliance(r) * lambda[k][r]
-        });
-        f(k, &w);
+    for group in groups {
+        for lane in 0..LANES {
+            let k = group.contact(lane);
+            let u = lane_copies(group, lane, delta_velocity);
+            let c = &problem.contacts[k];
+            let w = SVector::<f64, R>::from_fn(|r, _| {
+                group.lane_velocity(lane, &u, r) + c.row_compliance(r) * lambda[k][r]
+            });
+            f(k, &w);
+        }
     }
     for (entry, &k) in entries.iter().zip(entry_contact) {
         let c = &problem.contacts[k];
@@ -102,7 +104,7 @@ fn for_each_velocity<const D: usize, const R: usize>(
 /// terms in any order).
 pub(super) fn row_residual<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
-    groups: &Groups<D, R>,
+    groups: &[LaneGroup<D, R>],
     entries: &[Entry<D, R>],
     entry_contact: &[usize],
     scales: &[RowScales<R>],

@@ -4,7 +4,7 @@
 //! ([`LaneRows`]); the workspace's `SlotRows` goes to either. Each view does the same arithmetic on the same
 //! numbers, so every path gives the same bits. docs/contact.md §"PGS", §"Four contacts per lane".
 
-use super::pgs_lanes::Groups;
+use super::pgs_lanes::LaneGroup;
 use super::pgs_visit::ContactRows;
 use super::sweep_entry::Entry;
 use nalgebra::SVector;
@@ -31,7 +31,7 @@ impl<const D: usize, const R: usize> ContactRows<R> for BodyRows<'_, D, R> {
 pub(super) enum Slot {
     /// `entries[i]`, visited one at a time.
     One(usize),
-    /// Lane `i % LANES` of group `i / LANES` ([`Groups`]).
+    /// Lane `i % LANES` of `groups[i / LANES]`.
     Lane(usize),
 }
 
@@ -39,8 +39,7 @@ pub(super) enum Slot {
 /// the residuals), with copies of its two sides' Δu (zeros for the static world): the
 /// arithmetic of [`CachedRows`] on the same numbers, so the same bits.
 pub(super) struct LaneRows<'a, const D: usize, const R: usize> {
-    pub(super) groups: &'a Groups<D, R>,
-    /// The lane: lane `lane % LANES` of group `lane / LANES`.
+    pub(super) group: &'a LaneGroup<D, R>,
     pub(super) lane: usize,
     pub(super) delta_velocity: [SVector<f64, D>; 2],
 }
@@ -48,11 +47,11 @@ pub(super) struct LaneRows<'a, const D: usize, const R: usize> {
 impl<const D: usize, const R: usize> ContactRows<R> for LaneRows<'_, D, R> {
     #[inline(always)]
     fn velocity(&self, r: usize) -> f64 {
-        self.groups.lane_velocity(self.lane, &self.delta_velocity, r)
+        self.group.lane_velocity(self.lane, &self.delta_velocity, r)
     }
     #[inline(always)]
     fn apply(&mut self, r: usize, delta: f64) {
-        self.groups
+        self.group
             .lane_apply(self.lane, &mut self.delta_velocity, r, delta);
     }
 }
@@ -60,12 +59,12 @@ impl<const D: usize, const R: usize> ContactRows<R> for LaneRows<'_, D, R> {
 /// Copies of the Δu of lane `lane`'s two sides (zeros for the static world).
 #[inline(always)]
 pub(super) fn lane_copies<const D: usize, const R: usize>(
-    groups: &Groups<D, R>,
+    group: &LaneGroup<D, R>,
     lane: usize,
     delta_velocity: &[SVector<f64, D>],
 ) -> [SVector<f64, D>; 2] {
     let copy = |s: usize| {
-        groups
+        group
             .body(lane, s)
             .map_or(SVector::zeros(), |b| delta_velocity[b])
     };
@@ -76,13 +75,13 @@ pub(super) fn lane_copies<const D: usize, const R: usize>(
 /// one-at-a-time visit with [`CachedRows`] does).
 #[inline(always)]
 pub(super) fn write_back<const D: usize, const R: usize>(
-    groups: &Groups<D, R>,
+    group: &LaneGroup<D, R>,
     lane: usize,
     copies: &[SVector<f64, D>; 2],
     delta_velocity: &mut [SVector<f64, D>],
 ) {
     for s in 0..2 {
-        if let Some(b) = groups.body(lane, s) {
+        if let Some(b) = group.body(lane, s) {
             delta_velocity[b] = copies[s];
         }
     }

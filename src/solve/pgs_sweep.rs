@@ -3,6 +3,7 @@
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane".
 
 use super::local::LocalSolve;
+use super::pgs_lanes::LANES;
 use super::pgs_residual::row_residual;
 use super::pgs_rows::{CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes, PgsSettings};
@@ -28,7 +29,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             let colour = self.colour_at(sweep, i);
             let (a, b) = (self.colour_starts[colour], self.colour_starts[colour + 1]);
             let grouped = super::pgs_lanes::grouped(b - a);
-            let groups = self.group_starts[colour]..self.group_starts[colour + 1];
+            let groups = &self.groups[self.group_starts[colour]..self.group_starts[colour + 1]];
             let shared = Shared {
                 delta_velocity: self.delta_velocity.as_mut_ptr(),
                 lambda: lambda.as_mut_ptr(),
@@ -36,7 +37,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             // SAFETY: the groups were laid out from this problem, whose bodies' Δu and
             // contacts' λ `shared` points at; nothing else runs meanwhile.
             unsafe {
-                (self.groups).visit(
+                super::pgs_lanes::visit_groups(
                     problem.friction,
                     groups,
                     &shared,
@@ -111,7 +112,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             if lanes {
                 let mine = share(group_starts[colour]..group_starts[colour + 1], t, threads);
                 // SAFETY: as for `visit`; the groups were laid out from this problem.
-                unsafe { groups.visit(problem.friction, mine, shared, native) };
+                unsafe {
+                    super::pgs_lanes::visit_groups(problem.friction, &groups[mine], shared, native)
+                };
                 rest = a + super::pgs_lanes::grouped(b - a)..b;
             }
             share(rest, t, threads).for_each(visit);
@@ -218,15 +221,15 @@ pub(super) fn visit<const D: usize, const R: usize>(
         Slot::Lane(i) => {
             // A contact of a group visited on its own (shock propagation): a contact, not a
             // joint, between two different bodies, as every grouped contact is.
-            let groups = &workspace.groups;
+            let (group, lane) = (&workspace.groups[i / LANES], i % LANES);
             let mut rows = LaneRows {
-                groups,
-                lane: i,
-                delta_velocity: lane_copies(groups, i, &workspace.delta_velocity),
+                group,
+                lane,
+                delta_velocity: lane_copies(group, lane, &workspace.delta_velocity),
             };
             solve_contact(problem.friction, &law, &contact.lambda0, &mut rows, lambda);
             let copies = rows.delta_velocity;
-            write_back(groups, i, &copies, &mut workspace.delta_velocity);
+            write_back(group, lane, &copies, &mut workspace.delta_velocity);
             return;
         }
     };

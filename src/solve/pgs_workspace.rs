@@ -5,7 +5,7 @@
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane". A contact's entry is
 //! built by `pgs_setup.rs`; the views a visit reads it through are in `pgs_rows.rs`.
 
-use super::pgs_lanes::{Groups, LANES, grouped};
+use super::pgs_lanes::{LANES, LaneGroup, grouped};
 use super::pgs_rows::{BodyRows, CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes};
 use super::pgs_setup::{build_entry, inverse_mass_times, nonzero_columns};
@@ -52,14 +52,11 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Whether a coloured sweep, row by row, takes its colours' contacts four at a time
     /// ([`PgsWorkspace::set_lanes`]; natively by default).
     pub(super) lanes: Lanes,
-    /// With four contacts at a time: the groups, colour by colour, colour c's being groups
-    /// `group_starts[c]..group_starts[c + 1]`, each holding the entries of its four contacts
-    /// (built there, not copied from `entries`); empty when the last solve went one contact at
-    /// a time.
-    pub(super) groups: Groups<D, R>,
-    /// Whether the groups may form M⁻¹Jᵀ from the diagonal of M⁻¹ where every body's is
-    /// diagonal ([`PgsWorkspace::set_diagonal_mass_groups`]; on by default).
-    pub(super) diagonal_mass_groups: bool,
+    /// With four contacts at a time: the groups, colour by colour, colour c's being
+    /// `groups[group_starts[c]..group_starts[c + 1]]`, each holding the entries of its four
+    /// contacts (built there, not copied from `entries`); empty when the last solve went one
+    /// contact at a time.
+    pub(super) groups: Vec<LaneGroup<D, R>>,
     pub(super) group_starts: Vec<usize>,
     pub(super) rng: ChaCha8Rng,
     /// With the random coloured order: the random permutation of the contacts the solve's
@@ -99,14 +96,14 @@ impl<const D: usize, const R: usize> ContactRows<R> for SlotRows<'_, D, R> {
         match ws.slot[self.k] {
             Slot::One(i) => ws.entries[i].apply(&mut ws.delta_velocity, r, delta),
             Slot::Lane(i) => {
-                let groups = &ws.groups;
+                let (group, lane) = (&ws.groups[i / LANES], i % LANES);
                 let mut rows = LaneRows {
-                    groups,
-                    lane: i,
-                    delta_velocity: lane_copies(groups, i, &ws.delta_velocity),
+                    group,
+                    lane,
+                    delta_velocity: lane_copies(group, lane, &ws.delta_velocity),
                 };
                 rows.apply(r, delta);
-                write_back(groups, i, &rows.delta_velocity, &mut ws.delta_velocity);
+                write_back(group, lane, &rows.delta_velocity, &mut ws.delta_velocity);
             }
         }
     }
@@ -130,8 +127,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             threads: 1,
             last_threads: 1,
             lanes: Lanes::Native,
-            groups: Groups::default(),
-            diagonal_mass_groups: true,
+            groups: Vec::new(),
             group_starts: Vec::new(),
             rng: ChaCha8Rng::seed_from_u64(seed),
             shuffled: Vec::new(),
@@ -176,6 +172,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.order.clear();
         self.colour_starts.clear();
         self.sweep_colours.clear();
+        self.groups.clear();
         self.group_starts.clear();
         self.local_fallbacks = 0;
         let count = problem.contacts.len();
@@ -197,10 +194,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 .iter()
                 .map(|b| nonzero_columns(&b.inverse_mass)),
         );
-        // Every body's M⁻¹ diagonal: each row's only nonzero column, if any, its own.
-        let diagonal = (self.mass_rows.iter())
-            .all(|rows| (0..D).all(|i| rows[i] == (i, i + 1) || rows[i] == (D, D)));
-        (self.groups).clear(self.diagonal_mass_groups && diagonal);
         let PgsWorkspace {
             entries,
             entry_contact,
@@ -237,9 +230,13 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
                 finite_columns[k] = columns_finite(&entry);
                 if position < in_groups {
-                    let lane = group_starts[group_starts.len() - 1] * LANES + (position - a);
-                    groups.push_lane(lane, k, &entry, moving, &problem.bodies);
-                    slot[k] = Slot::Lane(lane);
+                    let lane = (position - a) % LANES;
+                    if lane == 0 {
+                        groups.push(LaneGroup::empty());
+                    }
+                    let g = groups.len() - 1;
+                    groups[g].set_lane(lane, k, &entry, moving);
+                    slot[k] = Slot::Lane(g * LANES + lane);
                 } else {
                     slot[k] = Slot::One(entries.len());
                     entries.push(entry);
@@ -255,32 +252,15 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn law(&self, k: usize) -> RowLaw<R> {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].law,
-            Slot::Lane(i) => self.groups.law(i),
+            Slot::Lane(i) => self.groups[i / LANES].law(i % LANES),
         }
     }
 
-    /// M_s⁻¹ J_sᵀ of contact `k` as the set-up built it (side `s` not held fixed since): a
-    /// one-contact record's, or for a lane formed again from `problem` ([`inverse_mass_times`],
-    /// the set-up's function of the same numbers, so the same bits), the groups keeping it in
-    /// either layout.
-    pub(super) fn inverse_mass_jacobian_t(
-        &self,
-        problem: &ContactProblem<D, R>,
-        k: usize,
-        s: usize,
-    ) -> SMatrix<f64, D, R> {
+    /// M_s⁻¹ J_sᵀ of contact `k`.
+    pub(super) fn inverse_mass_jacobian_t(&self, k: usize, s: usize) -> SMatrix<f64, D, R> {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s],
-            Slot::Lane(_) => {
-                let c = &problem.contacts[k];
-                c.bodies[s].map_or(SMatrix::zeros(), |b| {
-                    inverse_mass_times(
-                        &problem.bodies[b].inverse_mass,
-                        &self.mass_rows[b],
-                        &c.jacobian[s].transpose(),
-                    )
-                })
-            }
+            Slot::Lane(i) => self.groups[i / LANES].inverse_mass_jacobian_t(i % LANES, s),
         }
     }
 
@@ -289,7 +269,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn hold_side_fixed(&mut self, k: usize, s: usize) {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s] = SMatrix::zeros(),
-            Slot::Lane(i) => self.groups.hold_side_fixed(i, s),
+            Slot::Lane(i) => {
+                self.groups[i / LANES].set_inverse_mass_jacobian_t(i % LANES, s, &SMatrix::zeros())
+            }
         }
     }
 
@@ -300,7 +282,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 self.entries[i].law.diagonal = scales.diagonal;
                 self.entries[i].law.tangent_rho = scales.tangent_rho;
             }
-            Slot::Lane(i) => self.groups.set_scales(i, &scales.diagonal, scales.tangent_rho),
+            Slot::Lane(i) => {
+                self.groups[i / LANES].set_scales(i % LANES, &scales.diagonal, scales.tangent_rho)
+            }
         }
         self.scales[k] = scales;
     }
@@ -421,24 +405,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.groups.len()
     }
 
-    /// Whether the groups of four may form each side's M⁻¹Jᵀ in the visit from the diagonal of
-    /// its body's M⁻¹ instead of storing it, where every body's M⁻¹ is diagonal (every 2D
-    /// body's) and a contact has two rows or more (docs/contact.md §"Four contacts per lane",
-    /// "A smaller 2D group"): the same bits either way. On by default; off to compare.
-    pub fn set_diagonal_mass_groups(&mut self, allowed: bool) {
-        self.diagonal_mass_groups = allowed;
-    }
-
-    /// Bytes per group of four in the layout the last solve used (`std::mem::size_of`; 0 when it
-    /// went one contact at a time).
-    pub fn last_group_bytes(&self) -> usize {
-        if self.groups.len() == 0 {
-            0
-        } else {
-            self.groups.group_bytes()
-        }
-    }
-
     /// The number of colours of the last coloured solve.
     pub fn colours(&self) -> usize {
         self.colour_starts.len().saturating_sub(1)
@@ -488,8 +454,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].velocity(&self.delta_velocity, r),
             Slot::Lane(i) => {
-                let groups = &self.groups;
-                groups.lane_velocity(i, &lane_copies(groups, i, &self.delta_velocity), r)
+                let (group, lane) = (&self.groups[i / LANES], i % LANES);
+                group.lane_velocity(lane, &lane_copies(group, lane, &self.delta_velocity), r)
             }
         }
     }

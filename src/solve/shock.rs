@@ -142,7 +142,7 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
         if layer[b].is_some_and(|l| l < current) {
             workspace.hold_side_fixed(k, s);
         } else {
-            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t(problem, k, s);
+            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t(k, s);
         }
     }
     let mut block = (block + block.transpose()) * 0.5;
