@@ -17,7 +17,7 @@ seconds of each other on the same machine):
    its warm start λ0 (an FCLIB file's first guess; zero for a `.dat` file). A file rigidref
    cannot read as a local problem (a global `.dat`, another problem kind) is skipped with a note.
 2. `rigidref solve-problems FILE --solver newton --json` (rigidref's exact solver, the one the
-   docs name for the library; `--rigidref-solver newton,pgs-exact,auto` runs several, each timed
+   docs name for the library; `--rigidref-solver newton,newton-regularised,pgs-exact,auto` runs several, each timed
    alone, and compares the fastest that converged, as Siconos' fastest is taken on its side):
    converged or not, iterations, the wall time of the solve as rigidref reports it (reading the
    file excluded), Siconos' error of its answer.
@@ -55,6 +55,10 @@ SOLVERS_3D = ["NSGS", "NSN_AC", "PROX"]
 SOLVERS_2D = ["NSGS"]
 SUFFIXES = (".dat", ".hdf5", ".json")
 TIE_SECONDS = 1e-3
+
+
+# rigidref's exact solvers this script may time (`rigidref solve-problems --solver`).
+RIGIDREF_SOLVERS = ("newton", "newton-regularised", "pgs-exact", "auto")
 
 
 def siconos_solve(path, dim, solver, lambda0_path, tolerance, sweeps, newton_iterations):
@@ -301,8 +305,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("inputs", nargs="+", help="problem files or folders of them")
     parser.add_argument("--rigidref-solver", default="newton",
-                        help="rigidref's solvers, comma-separated, of newton (default), pgs-exact "
-                             "(NSGS) and auto (NSGS, then Newton); with several, the table has a "
+                        help="rigidref's solvers, comma-separated, of newton (default), "
+                             "newton-regularised (ε following ‖F‖), pgs-exact (NSGS) and auto "
+                             "(NSGS, then Newton); with several, the table has a "
                              "column each and the ratio is rigidref's fastest converged one ÷ "
                              "Siconos' fastest")
     parser.add_argument("--rigidref", default=os.environ.get(
@@ -319,8 +324,8 @@ def main():
     args = parser.parse_args()
     ours_solvers = [x.strip() for x in args.rigidref_solver.split(",") if x.strip()]
     for x in ours_solvers:
-        if x not in ("newton", "pgs-exact", "auto"):
-            parser.error(f"--rigidref-solver: unknown solver {x!r} (newton, pgs-exact, auto)")
+        if x not in RIGIDREF_SOLVERS:
+            parser.error(f"--rigidref-solver: unknown solver {x!r} ({', '.join(RIGIDREF_SOLVERS)})")
     if not ours_solvers or len(set(ours_solvers)) != len(ours_solvers):
         parser.error("--rigidref-solver: name each solver once")
 

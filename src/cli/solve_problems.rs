@@ -36,8 +36,11 @@ with a note), rigidref's .json problem files (local form, or body form converted
 .hdf5 files when rigidref is built with --features fclib (local problems, and global ones of
 rigid bodies through the body form). A folder is read for its .dat, .json and .hdf5 files. Files that cannot be read are skipped with a one-line note;
 the exit status is 1 only when none could be read. Solvers: pgs (row visits, the assignment's),
-pgs-exact (exact local solves: Siconos' NSGS), newton (the exact solver), auto (NSGS while its
-rate promises the tolerance within 300 sweeps, then Newton warm-started from its λ; the iter
+pgs-exact (exact local solves: Siconos' NSGS), newton (the exact solver), newton-regularised
+(the same with its plain runs' Newton matrix regularised by ε = (‖F‖∞ / max|b|)^1.5: fewer
+iterations on problems with redundant contacts, more on some others; docs/contact.md §\"Newton
+solver\", **Regularisation following ‖F‖**), auto (NSGS while its
+rate promises the tolerance within 1 000 sweeps, then Newton warm-started from its λ; the iter
 column says which path answered: nsgs, nsgs+newton or nsgs+proximal, with sweeps + Newton
 iterations; docs/contact.md §\"Automatic choice: NSGS, then Newton\").")]
 pub struct SolveProblemsArgs {

@@ -45,7 +45,8 @@ mod wide;
 pub use crate::problem::{SolveMethod, SolveReport};
 pub use local::LocalSolve;
 pub use newton::{
-    NewtonSettings, NewtonWorkspace, solve_newton, solve_newton_local, solve_newton_local_until,
+    NewtonSettings, NewtonWorkspace, Regularisation, solve_newton, solve_newton_local,
+    solve_newton_local_until,
 };
 pub use pgs::{ContactOrder, PgsSettings, PgsWorkspace, solve_pgs};
 pub use pgs_delassus::{solve_pgs_local, solve_pgs_local_until};

@@ -35,6 +35,8 @@ pub(super) struct System<'a, const R: usize> {
     /// once per solve (every iteration's matrix has W's block pattern; only the values change),
     /// with the buffers every numeric factorisation reuses.
     pub(super) sparse: Option<SparseLayout>,
+    /// The plain runs' regularisation ([`super::NewtonSettings::regularisation`]).
+    pub(super) regularisation: Option<super::Regularisation>,
 }
 
 /// The Newton matrix's pattern (every entry of every block W_kj, zeros included, so that it
@@ -134,6 +136,7 @@ impl<'a, const R: usize> System<'a, R> {
             } else {
                 None
             },
+            regularisation: None,
         }
     }
 

@@ -19,6 +19,7 @@ use crate::solve::residual::{
     coulomb_residual, residual, siconos_error_measures, siconos_error_measures_given,
 };
 use crate::solve::{
+    Regularisation,
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
     solve_pgs_local_until,
 };
@@ -36,6 +37,9 @@ pub enum LibrarySolver {
     PgsExact,
     /// The Newton solver (semismooth Newton on the Alart–Curnier function with its fallbacks).
     Newton,
+    /// The Newton solver with its plain runs' matrix regularised by ε = (‖F‖∞ / max|b|)^1.5
+    /// (docs/contact.md §"Newton solver", **Regularisation following ‖F‖**).
+    NewtonRegularised,
     /// The automatic choice: NSGS while its rate promises the tolerance soon, then Newton
     /// warm-started from its λ (docs/contact.md §"Automatic choice: NSGS, then Newton").
     Auto,
@@ -48,6 +52,7 @@ impl LibrarySolver {
             LibrarySolver::Pgs => "pgs",
             LibrarySolver::PgsExact => "pgs-exact",
             LibrarySolver::Newton => "newton",
+            LibrarySolver::NewtonRegularised => "newton-regularised",
             LibrarySolver::Auto => "auto",
         }
     }
@@ -353,9 +358,11 @@ pub fn attempt<const R: usize>(
             };
             solve_pgs_local_until(problem, &pgs, 0, &mut stop, &mut lambda)
         }
-        LibrarySolver::Newton => {
+        LibrarySolver::Newton | LibrarySolver::NewtonRegularised => {
             let newton = NewtonSettings {
                 max_iterations: settings.newton_iterations,
+                regularisation: (solver == LibrarySolver::NewtonRegularised)
+                    .then_some(Regularisation::MEASURED),
                 ..NewtonSettings::default()
             };
             solve_newton_local_until(problem, &newton, &mut stop, &mut lambda)
