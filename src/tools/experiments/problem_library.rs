@@ -19,9 +19,8 @@ use crate::solve::residual::{
     coulomb_residual, residual, siconos_error_measures, siconos_error_measures_given,
 };
 use crate::solve::{
-    Regularisation,
-    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, solve_newton_local_until,
-    solve_pgs_local_until,
+    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, Regularisation,
+    solve_newton_local_until, solve_pgs_local_until,
 };
 use nalgebra::SVector;
 use std::path::Path;
