@@ -29,6 +29,11 @@ SCRIPT = ROOT / "python" / "cadoux_fixed_point.py"
 SICONOS_TOLERANCE = 1e-8
 
 
+def run_script(*args, timeout=300):
+    return subprocess.run([sys.executable, str(SCRIPT), *map(str, args)], capture_output=True,
+                          text=True, timeout=timeout)
+
+
 def load(name):
     problem, w, q, mu = cfp.local_form(DATA / name)
     n = len(mu)
@@ -63,9 +68,7 @@ def test_an_exact_coulomb_answer_is_a_fixed_point_of_the_map(name):
 
 def test_without_the_fixed_point_the_polish_starts_from_zero(tmp_path):
     out = tmp_path / "zero.json"
-    r = subprocess.run([sys.executable, str(SCRIPT), str(DATA / "Rover1039.dat"),
-                        "--iterations", "0", "--polish", "1", "--out", str(out)],
-                       capture_output=True, text=True, timeout=300)
+    r = run_script(DATA / "Rover1039.dat", "--iterations", "0", "--polish", "1", "--out", out)
     assert r.returncode == 0, r.stderr
     doc = json.loads(out.read_text())
     assert doc["fixed_point_errors"] == [] and doc["error"] <= SICONOS_TOLERANCE
@@ -74,9 +77,7 @@ def test_without_the_fixed_point_the_polish_starts_from_zero(tmp_path):
 
 def test_the_script_polishes_and_writes_its_answer(tmp_path):
     out = tmp_path / "answer with space.json"
-    r = subprocess.run([sys.executable, str(SCRIPT), str(DATA / "Rover1039.dat"),
-                        "--iterations", "5", "--polish", "1", "--out", str(out)],
-                       capture_output=True, text=True, timeout=300)
+    r = run_script(DATA / "Rover1039.dat", "--iterations", "5", "--polish", "1", "--out", out)
     assert r.returncode == 0, r.stderr
     doc = json.loads(out.read_text())
     assert len(doc["fixed_point_errors"]) == 5 and len(doc["lambda"]) == 4
@@ -91,15 +92,13 @@ def test_the_script_polishes_and_writes_its_answer(tmp_path):
     (["--polish", "-1"], "--polish -1: must be at least 0"),
 ])
 def test_bad_settings_are_one_line_errors(args, message):
-    r = subprocess.run([sys.executable, str(SCRIPT), str(DATA / "Rover1039.dat"), *args],
-                       capture_output=True, text=True, timeout=120)
+    r = run_script(DATA / "Rover1039.dat", *args, timeout=120)
     assert r.returncode != 0 and r.stderr.strip().splitlines() == [message]
 
 
 def test_an_unreadable_problem_is_a_one_line_error_naming_the_file(tmp_path):
     bad = tmp_path / "not a problem.dat"
     bad.write_text("3\n1\nnonsense\n")
-    r = subprocess.run([sys.executable, str(SCRIPT), str(bad)], capture_output=True, text=True,
-                       timeout=120)
+    r = run_script(bad, timeout=120)
     lines = r.stderr.strip().splitlines()
     assert r.returncode != 0 and len(lines) == 1 and str(bad) in lines[0], r.stderr
