@@ -46,10 +46,21 @@ pub fn seeded(cases: u32) -> proptest::test_runner::Config {
             .unwrap_or_else(|_| panic!("RIGIDREF_PROPTEST_SEED={s:?} is not an unsigned integer")),
         Err(_) => PROPTEST_SEED,
     };
-    proptest::test_runner::Config {
+    let config = proptest::test_runner::Config {
         rng_seed: proptest::test_runner::RngSeed::Fixed(seed),
         ..proptest::test_runner::Config::with_cases(cases)
+    };
+    // Mutation testing (docs/verification.md §"Mutation testing") sets this: a mutant's failing
+    // case must not be saved to tests/proptest-regressions and replayed under every later
+    // mutant, where it changes the case counts some tests assert and so "catches" mutants that
+    // no test catches.
+    if std::env::var_os("RIGIDREF_PROPTEST_NO_PERSISTENCE").is_some() {
+        return proptest::test_runner::Config {
+            failure_persistence: None,
+            ..config
+        };
     }
+    config
 }
 
 /// Path of the built `rigidref` binary.

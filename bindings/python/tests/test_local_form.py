@@ -81,3 +81,19 @@ def test_siconos_problems_read_and_solve_to_siconos_tolerance(root, tmp_path):
     assert back.form == "local"
     np.testing.assert_array_equal(back.W, p.W)
     np.testing.assert_array_equal(back.b, p.b)
+
+
+def test_regularised_newton_solves_boxes_stack_by_plain_newton_in_fewer_iterations(root):
+    # docs/contact.md §"Newton solver", **Regularisation following ‖F‖**: on BoxesStack1 (Siconos'
+    # test data, redundant contacts) the unregularised solver needs its proximal loop; the
+    # regularised one converges by plain Newton (the Rust test
+    # regularised_newton_solves_boxes_stack_without_the_proximal_loop: 12 iterations to
+    # Siconos' 1e-8). Both answers are exact to the default 1e-10 m/s.
+    p = rigidref.ContactProblem.read(root / "tests" / "data" / "siconos_hard"
+                                     / "BoxesStack1-i100000-32.hdf5.dat")
+    plain = rigidref.solve_newton(p, max_iterations=200)
+    regularised = rigidref.solve_newton(p, max_iterations=200, regularised=True)
+    assert plain.converged and regularised.converged
+    assert regularised.method == "newton" and plain.method != "newton"
+    assert regularised.iterations < plain.iterations
+    assert regularised.residual <= 1e-10 and rigidref.siconos_error(p, regularised.lam) <= 1e-8

@@ -213,6 +213,7 @@ def solve_newton(
     tolerance: float = 1e-10,
     proximal_iterations: int = 60,
     warm_start: Optional[npt.ArrayLike] = None,
+    regularised: bool = False,
 ) -> Solution: ...
 def solve_clarabel(
     problem: ContactProblem,

@@ -20,7 +20,7 @@ use rigidref::problem::{
 };
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
 use rigidref::solve::{
-    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, PgsWorkspace, Solvable,
+    ContactOrder, LocalSolve, NewtonSettings, PgsSettings, PgsWorkspace, Regularisation, Solvable,
     solve_pgs as pgs, solve_pgs_local,
 };
 use std::collections::BTreeMap;

@@ -197,8 +197,11 @@ fn run_pgs<const R: usize, P: PgsForm<R>>(
 
 /// The exact solver (src/solve/newton/, docs/contact.md §"Newton solver"): semismooth Newton
 /// on the Alart–Curnier function with a proximal-point fallback, to `tolerance` (m/s).
+/// `regularised`: the plain runs' Newton matrix regularised by ε = (‖F‖∞ / max|b|)^1.5
+/// (`solve-problems --solver newton-regularised`; §"Newton solver", **Regularisation
+/// following ‖F‖**).
 #[pyfunction]
-#[pyo3(signature = (problem, max_iterations = 50, tolerance = 1e-10, proximal_iterations = 60, warm_start = None))]
+#[pyo3(signature = (problem, max_iterations = 50, tolerance = 1e-10, proximal_iterations = 60, warm_start = None, regularised = false))]
 pub fn solve_newton(
     py: Python<'_>,
     problem: &ContactProblem,
@@ -206,6 +209,7 @@ pub fn solve_newton(
     tolerance: f64,
     proximal_iterations: u32,
     warm_start: Option<&Bound<'_, PyAny>>,
+    regularised: bool,
 ) -> PyResult<Solution> {
     if tolerance.is_nan() || tolerance <= 0.0 {
         return Err(errors::problem(format!(
@@ -216,6 +220,7 @@ pub fn solve_newton(
         max_iterations,
         tolerance,
         proximal_iterations,
+        regularisation: regularised.then_some(Regularisation::MEASURED),
         ..Default::default()
     };
     with_problem!(&problem.inner, p => {
