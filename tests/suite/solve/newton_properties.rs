@@ -790,36 +790,6 @@ fn newton_answers_a_problem_no_impulse_can_move_with_zero_impulses() {
 }
 
 #[test]
-fn regularised_newton_with_a_zero_q_measures_its_law_norm_in_absolute_terms() {
-    // q = 0 (max|b| = 0: no velocity scale to make ‖F‖ relative; the regularisation then takes
-    // 1 m/s, docs/contact.md §"Newton solver", **Regularisation following ‖F‖**), W positive
-    // definite, a warm start away from the answer λ = 0. The regularised first run converges in
-    // a few iterations (measured 3); dividing by max|b| = 0 instead would put ε at its 10⁸ cap,
-    // the run would creep until its stall rule ends it (25 iterations) and the cold restart
-    // would answer.
-    let a = Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.5, 0.2, 0.1, 0.2, 1.8);
-    let mut dense = DMatrix::zeros(6, 6);
-    dense.view_mut((0, 0), (3, 3)).copy_from(&a);
-    dense.view_mut((3, 3), (3, 3)).copy_from(&(a * 2.0));
-    dense.view_mut((0, 3), (3, 3)).copy_from(&(a * 0.5));
-    dense.view_mut((3, 0), (3, 3)).copy_from(&(a * 0.5));
-    let q = DVector::zeros(6);
-    let mut problem =
-        LocalProblem::<3>::from_dense(FrictionModel::Cone, &dense, &q, &[0.5, 0.8]).unwrap();
-    problem.contacts[0].lambda0 = Vector3::new(0.5, 0.1, -0.1);
-    problem.contacts[1].lambda0 = Vector3::new(1.5, 0.0, 0.3);
-    let settings = NewtonSettings {
-        regularisation: Some(Regularisation::MEASURED),
-        ..NewtonSettings::default()
-    };
-    let mut lambda = Vec::new();
-    let report = solve_newton_local(&problem, &settings, &mut lambda);
-    assert!(report.converged, "{report:?}");
-    assert!(report.iterations <= 10, "{report:?}");
-    assert!(lambda.iter().all(|l| l.amax() <= 1e-9), "{lambda:?}");
-}
-
-#[test]
 fn large_impulses_converge_to_their_round_off_floor() {
     // q scaled by 1e9: impulses of order 1e9 N·s, where w = Wλ + q carries rounding errors of
     // order ε ‖W‖ ‖λ‖ ≈ 1e-7 m/s, far above the default 1e-10. Newton stops at that floor and
