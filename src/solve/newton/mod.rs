@@ -258,11 +258,7 @@ fn iterate<const R: usize>(
     // The best point when the run first stalled (`window` iterations without halving), while
     // it goes on until `end` iterations without halving: what it returns unless it converges.
     let mut stalled: Option<(f64, DVector<f64>)> = None;
-    // max|b| (m/s), which makes the law norm relative for the regularisation option.
-    let velocity_scale = match system.b.amax() {
-        s if s > 0.0 => s,
-        _ => 1.0,
-    };
+    let velocity_scale = system.velocity_scale();
     loop {
         let norm = law_norm(system, &f);
         if norm < best.0 {
@@ -567,10 +563,7 @@ fn proximal_point<const R: usize>(
         law_norm(system, &f)
     };
     // The velocity scale that makes ‖F‖ relative (Siconos' PROX sets α = σ × its relative error).
-    let scale = match system.b.amax() {
-        s if s > 0.0 => s,
-        _ => 1.0,
-    };
+    let scale = system.velocity_scale();
     let adapted = |norm: f64| (PROXIMAL_SIGMA * norm / scale).clamp(ETA_MIN, ETA_MAX);
     let mut iterations = 0;
     let mut centre = x.clone();

@@ -105,6 +105,16 @@ impl SparseLayout {
 }
 
 impl<'a, const R: usize> System<'a, R> {
+    /// max_r |b_r| (m/s), 1 where b is zero: the velocity scale that makes the law norm relative
+    /// (the proximal parameter's and the regularisation's; docs/contact.md §"Proximal-point
+    /// globalisation" and §"Newton solver", **Regularisation following ‖F‖**).
+    pub(super) fn velocity_scale(&self) -> f64 {
+        match self.b.amax() {
+            s if s > 0.0 => s,
+            _ => 1.0,
+        }
+    }
+
     pub(super) fn of(problem: &'a LocalProblem<R>, dense_rows: usize) -> Self {
         let n = R * problem.contacts.len();
         let floor = crate::solve::residual::diagonal_floor(problem);
