@@ -191,9 +191,12 @@ pub fn scene_png(points: &[(f64, f64)], fit: &LinearFit, path: &Path) -> Result<
         let py = f64::from(bottom - 1) - y / y_max * f64::from(bottom - top - 2);
         (px.round() as i64, py.round() as i64)
     };
+    // Drawn pixels keep one white pixel from each axis: a pixel next to an axis would join it
+    // into one body that is no longer all blue, so nothing would be pinned (a fitted line with
+    // a negative intercept reaches the bottom row; the 10 000-body factory's did).
     let inside = |x: i64, y: i64| {
-        (i64::from(left)..=i64::from(right)).contains(&x)
-            && (i64::from(top)..=i64::from(bottom)).contains(&y)
+        (i64::from(left + 1)..=i64::from(right)).contains(&x)
+            && (i64::from(top)..=i64::from(bottom - 1)).contains(&y)
     };
     for &(x, y) in points {
         let (px, py) = to_pixel(x, y);
