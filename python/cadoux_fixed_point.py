@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Cadoux's fixed point on de Saxcé's cone problem, with interior-point subproblems, and an
 optional polish by rigidref's Newton solver (issue 48 item 2; docs/problem-library.md
-§"RockPile_tob1: why it is not solved", **A convex-programming route**).
+§"RockPile_tob1", **A convex-programming route**).
 
     python3 python/cadoux_fixed_point.py PROBLEM [--iterations 150] [--damping 0.5]
                                          [--polish 3] [--out answer.json]

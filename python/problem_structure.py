@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """What makes a contact problem hard: its strict feasibility, and variants to solve beside it
-(issue 48 item 2, RockPile_tob1; docs/problem-library.md §"RockPile_tob1: why it is not solved").
+(issue 48 item 2, RockPile_tob1; docs/problem-library.md §"RockPile_tob1").
 
     rigidref convert-problem PROBLEM x.json
     python3 python/problem_structure.py x.json [--variants DIR] [--mu 0.3,0.5,0.7,0.9]

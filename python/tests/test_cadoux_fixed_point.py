@@ -1,5 +1,5 @@
 """python/cadoux_fixed_point.py: Cadoux's fixed point on de Saxcé's cone problem
-(docs/problem-library.md §"RockPile_tob1: why it is not solved", **A convex-programming route**).
+(docs/problem-library.md §"RockPile_tob1", **A convex-programming route**).
 
 The study of RockPile_tob1 reports what this map reaches there; these tests check that the map
 is the right one: it solves small Siconos problems to Siconos' tolerance on its own, and an exact

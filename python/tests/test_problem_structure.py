@@ -1,5 +1,5 @@
 """python/problem_structure.py: Cadoux's strict-feasibility margin of a contact problem and the
-variants written beside it (docs/problem-library.md §"RockPile_tob1: why it is not solved").
+variants written beside it (docs/problem-library.md §"RockPile_tob1").
 
 The margins are checked on two-contact problems whose answer is known in closed form, so that
 the study's reading of RockPile_tob1 rests on a calculation that can fail. Skipped, with the

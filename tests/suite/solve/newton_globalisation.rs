@@ -249,3 +249,58 @@ fn automatic_choice_stops_at_the_sweep_nsgs_alone_stops() {
         );
     }
 }
+
+/// RockPile_tob1 (463 contacts, μ = 1; Siconos' test data, kept in tests/data/siconos_hard) has
+/// an exact answer, stored beside it (`RockPile_tob1.answer.json`, λ to the bit): its Siconos
+/// error is below 1e-14 in the 4.4 measure (measured 3.5e-16; Siconos 4.4's own
+/// `fc3d_compute_error` gives 4.3e-16 for the same λ), and also in the ‖q‖-normalised and
+/// absolute measures. It leaves contacts 11, 283 and 351 without impulse, each one of a pair of
+/// near-duplicate contacts (normal rows of W with cosine above 1 − 1e-8) whose other contact is
+/// loaded; their normal velocities are ≥ 0 to round-off (−1e-12 m/s: the sums of ~1 400 terms of
+/// order 10), which is why a zero impulse satisfies the law there. How it was found, and why no
+/// solver finds it on the whole problem: docs/problem-library.md §"RockPile_tob1".
+#[test]
+fn rockpile_has_an_exact_answer_that_leaves_one_of_three_near_duplicate_contacts_unloaded() {
+    use rigidref::problem::ProblemView;
+    use rigidref::solve::residual::siconos_error_measures;
+    let dir = common::project_root().join("tests/data/siconos_hard");
+    let problem = match read_dat(&dir.join("RockPile_tob1.dat")).unwrap() {
+        AnyLocalProblem::Three(p) => p,
+        AnyLocalProblem::Two(_) => panic!("RockPile is a 3D problem"),
+    };
+    let text = std::fs::read_to_string(dir.join("RockPile_tob1.answer.json")).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let lambda: Vec<SVector<f64, 3>> = json["lambda"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| SVector::from_fn(|r, _| row[r].as_f64().unwrap()))
+        .collect();
+    assert_eq!(lambda.len(), problem.contacts.len());
+    let measures = siconos_error_measures(&problem, &lambda);
+    println!(
+        "RockPile: Siconos 4.4 error {:.2e}, ‖q‖-normalised {:.2e}, absolute {:.2e} m/s",
+        measures.relative(),
+        measures.q_normalised(),
+        measures.absolute
+    );
+    assert!(measures.relative() <= 1e-14);
+    assert!(measures.q_normalised() <= 1e-14);
+    assert!(measures.absolute <= 1e-12);
+    assert_eq!(siconos_error(&problem, &lambda), measures.relative());
+    let w = problem.constraint_velocity(&lambda);
+    let big_w = problem.dense_w();
+    for (out, twin) in [(11, 10), (283, 284), (351, 352)] {
+        assert_eq!(
+            lambda[out],
+            SVector::<f64, 3>::zeros(),
+            "contact {out} carries nothing"
+        );
+        assert!(lambda[twin][0] > 0.1, "its twin {twin} is loaded");
+        assert!(w[out][0] >= -1e-12, "contact {out}: w_n = {}", w[out][0]);
+        // The two contacts' normal rows of W (each contact's first row).
+        let (a, b) = (big_w.row(3 * out), big_w.row(3 * twin));
+        let cosine = a.dot(&b) / (a.norm() * b.norm());
+        assert!(cosine > 1.0 - 1e-8, "{out}/{twin}: cosine {cosine}");
+    }
+}
