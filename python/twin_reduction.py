@@ -77,12 +77,19 @@ def twins(w, e, cosine):
 def main():
     import rigidref
 
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("problem")
+    parser = argparse.ArgumentParser(
+        description="Newton on a 3D cone problem, then the same problem with contacts left out "
+                    "(one of each near-duplicate pair), each answer judged on the whole problem "
+                    "by Siconos' error (docs/problem-library.md §\"RockPile_tob1\"). Exits 0 "
+                    "where an answer is at or below the tolerance, 1 otherwise.")
+    parser.add_argument("problem", help="a 3D local problem file (.dat, .json, .hdf5)")
     parser.add_argument("--start", help="λ to start from (.npy, contacts × 3)")
-    parser.add_argument("--polish", type=int, default=1, help="Newton runs from its own answer")
-    parser.add_argument("--cosine", type=float, default=1e-8)
-    parser.add_argument("--tolerance", type=float, default=1e-8)
+    parser.add_argument("--polish", type=int, default=1,
+                        help="further Newton runs, each from the best answer so far (default 1)")
+    parser.add_argument("--cosine", type=float, default=1e-8,
+                        help="twins: normal rows of W with cosine above 1 − this (default 1e-8)")
+    parser.add_argument("--tolerance", type=float, default=1e-8,
+                        help="Siconos' error to accept (default 1e-8)")
     parser.add_argument("--leave-out", action="append", default=[], metavar="K,K,...",
                         help="contacts to leave out, in place of the search over twin pairs; "
                              "repeat for several reductions in turn")
