@@ -69,7 +69,7 @@ def twins(w, e, cosine):
         c[k] = -2.0
         j = int(np.argmax(c))
         pair = tuple(sorted((int(k), j)))
-        if c[j] > 1.0 - cosine and pair not in pairs and not any(set(pair) & set(p) for p in pairs):
+        if c[j] > 1.0 - cosine and not any(set(pair) & set(p) for p in pairs):
             pairs.append(pair)
     return pairs
 
