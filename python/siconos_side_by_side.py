@@ -58,7 +58,7 @@ TIE_SECONDS = 1e-3
 
 
 # rigidref's exact solvers this script may time (`rigidref solve-problems --solver`).
-RIGIDREF_SOLVERS = ("newton", "newton-regularised", "pgs-exact", "auto")
+RIGIDREF_SOLVERS = ("newton", "newton-regularised", "pgs-exact", "auto", "newton-twins")
 
 
 def siconos_solve(path, dim, solver, lambda0_path, tolerance, sweeps, newton_iterations):
@@ -175,6 +175,9 @@ def rigidref_solve(rigidref, path, tolerance, timeout, solvers=("newton",)):
             # The automatic choice's path: NSGS sweeps + Newton iterations.
             sweeps = attempt.get("sweeps", 0)
             iterations = f"{attempt.get('method')} {sweeps}+{attempt['iterations'] - sweeps}"
+        elif attempt.get("left_out"):
+            # newton-twins: the contacts its answer leaves out.
+            iterations += " without " + ",".join(str(k) for k in attempt["left_out"])
         out[solver] = {"solver": solver, "iterations": iterations,
                        "seconds": attempt["seconds"], "error": attempt["error"],
                        "converged": attempt["converged"], "method": attempt.get("method")}
@@ -307,7 +310,7 @@ def main():
     parser.add_argument("--rigidref-solver", default="newton",
                         help="rigidref's solvers, comma-separated, of newton (default), "
                              "newton-regularised (ε following ‖F‖), pgs-exact (NSGS) and auto "
-                             "(NSGS, then Newton); with several, the table has a "
+                             "(NSGS, then Newton) and newton-twins (near-duplicate contacts left out); with several, the table has a "
                              "column each and the ratio is rigidref's fastest converged one ÷ "
                              "Siconos' fastest")
     parser.add_argument("--rigidref", default=os.environ.get(

@@ -15,7 +15,10 @@ of one contact per twin pair, in order: the contacts that carry 99 % of the squa
 best point, each paired with the contact whose normal row of W is most nearly parallel (cosine
 above 1 − `--cosine`). On RockPile_tob1 that search finds 7 pairs at Newton's 7.5e-8 point (128
 choices, each a Newton run of up to minutes); the answer stored in the repository came from two
-reductions named by hand (docs/problem-library.md).
+reductions named by hand (docs/problem-library.md). `rigidref solve-problems --solver
+newton-twins` does this in Rust from λ = 0, with a first choice this script lacks (of each pair,
+leave out the contact moving apart faster) and swaps in place of the search (docs/contact.md
+§"Near-duplicate contacts left out"); this script is kept to reproduce the sixth session's route.
 
     target/venv/bin/python python/twin_reduction.py PROBLEM.dat [--start λ.npy] [--polish N]
         [--leave-out K,K,... ...] [--out answer.json]

@@ -42,7 +42,12 @@ iterations on problems with redundant contacts, more on some others; docs/contac
 solver\", **Regularisation following ‖F‖**), auto (NSGS while its
 rate promises the tolerance within 1 000 sweeps, then Newton warm-started from its λ; the iter
 column says which path answered: nsgs, nsgs+newton or nsgs+proximal, with sweeps + Newton
-iterations; docs/contact.md §\"Automatic choice: NSGS, then Newton\").")]
+iterations; docs/contact.md §\"Automatic choice: NSGS, then Newton\"), newton-twins (Newton,
+restarted once from its own answer; where it still stalls, the problem without one contact of
+each near-duplicate pair that carries the error (normal rows of W with cosine above 1 − 1e-8),
+solved by Newton and judged on the whole problem: exact where the contacts left out end with
+w_n ≥ 0; the iter column names them; docs/contact.md §\"Near-duplicate contacts left out\",
+the method for RockPile_tob1).")]
 pub struct SolveProblemsArgs {
     /// Problem files, or folders of them.
     #[arg(required = true)]

@@ -185,6 +185,46 @@ impl<const R: usize> LocalProblem<R> {
         self.contacts.iter().map(|c| c.row.len()).sum()
     }
 
+    /// The problem without the contacts where `left_out[k]` is true: their rows and columns of W,
+    /// their q and μ removed, the others renumbered in order (`kept[i]` is the i-th kept
+    /// contact's number in `self`), each starting from `start[kept[i]]` (N·s). Plain data, as
+    /// `self`. docs/contact.md §"Near-duplicate contacts left out".
+    pub fn without(
+        &self,
+        left_out: &[bool],
+        start: &[SVector<f64, R>],
+    ) -> (LocalProblem<R>, Vec<usize>) {
+        let kept: Vec<usize> = (0..self.contacts.len()).filter(|&k| !left_out[k]).collect();
+        // Each contact's new number (usize::MAX for one left out).
+        let mut number = vec![usize::MAX; self.contacts.len()];
+        for (i, &k) in kept.iter().enumerate() {
+            number[k] = i;
+        }
+        let contacts = kept
+            .iter()
+            .map(|&k| {
+                let c = &self.contacts[k];
+                LocalContact {
+                    row: c
+                        .row
+                        .iter()
+                        .filter(|(j, _)| !left_out[*j])
+                        .map(|(j, block)| (number[*j], *block))
+                        .collect(),
+                    q: c.q,
+                    mu: c.mu,
+                    lambda0: start[k],
+                    bounds: c.bounds,
+                }
+            })
+            .collect();
+        let problem = LocalProblem {
+            friction: self.friction,
+            contacts,
+        };
+        (problem, kept)
+    }
+
     /// max |W − Wᵀ| / max |W| (0 for a symmetric W, or an empty one).
     pub fn asymmetry(&self) -> f64 {
         let mut largest: f64 = 0.0;

@@ -40,6 +40,7 @@ pub mod qp;
 pub mod residual;
 pub mod shock;
 mod sweep_entry;
+pub mod twins;
 mod wide;
 
 pub use crate::problem::{SolveMethod, SolveReport};

@@ -333,21 +333,33 @@ pub fn siconos_error_measures_given<const R: usize, P: ProblemView<R> + ?Sized>(
     let w = problem.constraint_velocity(lambda);
     let mut sum = 0.0;
     for k in 0..problem.count() {
-        sum += match problem.bounds(k) {
-            RowBounds::Free => w[k].norm_squared(),
-            RowBounds::Contact => {
-                let mu = problem.mu(k);
-                let wt = (1..R).map(|r| w[k][r] * w[k][r]).sum::<f64>().sqrt();
-                let mut w_hat = w[k];
-                w_hat[0] += mu * wt;
-                (lambda[k] - project_cone(&(lambda[k] - w_hat), mu)).norm_squared()
-            }
-        };
+        sum += siconos_share(problem.bounds(k), problem.mu(k), &lambda[k], &w[k]);
     }
     let norm = |v: &[SVector<f64, R>]| v.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt();
     SiconosErrorMeasures {
         absolute: sum.sqrt(),
         q_norm,
         scale: q_norm.max(norm(lambda)).max(norm(&w)),
+    }
+}
+
+/// One constraint's term of [`siconos_error`]'s numerator, squared: for a contact
+/// ‖λ_k − proj_K(λ_k − ŵ_k)‖² with ŵ_k = w_k + μ‖w_T,k‖ e_n, for a joint ‖w_k‖² (λ_k in N·s,
+/// w_k in m/s, mixed as Siconos does). The error's square sums these over the constraints.
+/// docs/contact.md §"Near-duplicate contacts left out" (zero for λ_k = 0 exactly where w_n ≥ 0).
+pub fn siconos_share<const R: usize>(
+    bounds: RowBounds,
+    mu: f64,
+    lambda: &SVector<f64, R>,
+    w: &SVector<f64, R>,
+) -> f64 {
+    match bounds {
+        RowBounds::Free => w.norm_squared(),
+        RowBounds::Contact => {
+            let wt = (1..R).map(|r| w[r] * w[r]).sum::<f64>().sqrt();
+            let mut w_hat = *w;
+            w_hat[0] += mu * wt;
+            (lambda - project_cone(&(lambda - w_hat), mu)).norm_squared()
+        }
     }
 }

@@ -18,6 +18,7 @@ use crate::solve::criteria::criteria;
 use crate::solve::residual::{
     coulomb_residual, residual, siconos_error_measures, siconos_error_measures_given,
 };
+use crate::solve::twins::{TwinSettings, solve_twins_local_until};
 use crate::solve::{
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, Regularisation,
     solve_newton_local_until, solve_pgs_local_until,
@@ -42,6 +43,10 @@ pub enum LibrarySolver {
     /// The automatic choice: NSGS while its rate promises the tolerance soon, then Newton
     /// warm-started from its λ (docs/contact.md §"Automatic choice: NSGS, then Newton").
     Auto,
+    /// The Newton solver restarted once from its own answer, then, where it still stalls, the
+    /// problem without one contact of each near-duplicate pair that carries the error, judged
+    /// on the whole problem (docs/contact.md §"Near-duplicate contacts left out").
+    NewtonTwins,
 }
 
 impl LibrarySolver {
@@ -53,6 +58,7 @@ impl LibrarySolver {
             LibrarySolver::Newton => "newton",
             LibrarySolver::NewtonRegularised => "newton-regularised",
             LibrarySolver::Auto => "auto",
+            LibrarySolver::NewtonTwins => "newton-twins",
         }
     }
 }
@@ -104,11 +110,15 @@ pub struct Attempt {
     /// The worst physical criteria over the contacts (docs/contact.md §"Physical criteria").
     pub criteria: ContactCriteria,
     /// For Newton: `newton` or `proximal` (which produced the answer); for the automatic
-    /// choice its path: `nsgs`, `nsgs+newton` or `nsgs+proximal`.
+    /// choice its path: `nsgs`, `nsgs+newton` or `nsgs+proximal`; for newton-twins `newton` or
+    /// `proximal` on the whole problem, `twins` where contacts are left out.
     pub method: &'static str,
     /// For the automatic choice: the NSGS sweeps of its first phase (the rest of `iterations`
     /// are Newton iterations); 0 for the other solvers.
     pub sweeps: u32,
+    /// For newton-twins: the contacts its answer leaves out (zero impulse, each with w_n ≥ 0
+    /// where the answer is exact), ascending; empty otherwise.
+    pub left_out: Vec<usize>,
 }
 
 /// One problem of the library and every solver's attempt.
@@ -343,6 +353,7 @@ pub fn attempt<const R: usize>(
     let started = Instant::now();
     let mut sweeps = 0;
     let mut path = None;
+    let mut left_out = Vec::new();
     let report = match solver {
         LibrarySolver::Pgs | LibrarySolver::PgsExact => {
             let pgs = PgsSettings {
@@ -384,6 +395,23 @@ pub fn attempt<const R: usize>(
                 ..done.report
             }
         }
+        LibrarySolver::NewtonTwins => {
+            let twins = TwinSettings {
+                newton: NewtonSettings {
+                    max_iterations: settings.newton_iterations,
+                    ..NewtonSettings::default()
+                },
+                tolerance,
+                ..TwinSettings::default()
+            };
+            let mut error = |l: &[SVector<f64, R>]| library_error_given(problem, l, q_norm);
+            let done = solve_twins_local_until(problem, &twins, &mut error, &mut lambda);
+            if !done.left_out.is_empty() {
+                path = Some("twins");
+            }
+            left_out = done.left_out;
+            done.report
+        }
     };
     let seconds = started.elapsed().as_secs_f64();
     let error = library_error(problem, &lambda);
@@ -401,6 +429,7 @@ pub fn attempt<const R: usize>(
         criteria: criteria(problem, &lambda).1,
         method: path.unwrap_or(report.method.name()),
         sweeps,
+        left_out,
     }
 }
 
@@ -440,6 +469,8 @@ pub fn markdown_table(entries: &[LibraryEntry], solvers: &[LibrarySolver]) -> St
                     a.sweeps,
                     a.iterations - a.sweeps
                 )
+            } else if !a.left_out.is_empty() {
+                format!("{} (without {:?})", a.iterations, a.left_out)
             } else {
                 a.iterations.to_string()
             };

@@ -15,6 +15,7 @@ mod problem;
 mod qp;
 mod random_coloured;
 mod siconos_error;
+mod twins;
 
 /// One contact whose Delassus block is `a` (kg⁻¹): one body with inverse mass `a` and J₁ = I.
 fn local_solve_problem(

@@ -1,0 +1,284 @@
+//! Near-duplicate contacts left out (docs/contact.md §"Near-duplicate contacts left out"):
+//! the law at a contact left out, the reduced problem, the pairs found, the swap of a wrong
+//! first choice, and RockPile_tob1 solved from λ = 0 by `rigidref solve-problems`' newton-twins.
+
+use crate::common;
+
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
+use proptest::prelude::*;
+use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
+use rigidref::problem::{FrictionModel, LocalProblem, ProblemView, RowBounds};
+use rigidref::solve::residual::{siconos_error, siconos_error_measures, siconos_share};
+use rigidref::solve::twins::{
+    TwinSettings, solve_twins_local_until, solve_without_twins, twin_pairs,
+};
+use rigidref::tools::experiments::problem_library::{
+    LibrarySettings, LibrarySolver, attempt, library_error,
+};
+
+/// A contact with zero impulse satisfies the law (its term of Siconos' error is zero) exactly
+/// where its normal velocity is ≥ 0, whatever μ and the tangential velocity: the argument that
+/// makes an answer of the reduced problem, extended by zeros, exact for the whole one. Exact
+/// ties included (w_n = +0 and −0, the smallest positive subnormal), 3D and 2D. In floating
+/// point a negative w_n is seen where it is not lost to rounding: ŵ_n = w_n + μ‖w_T‖ absorbs a
+/// w_n below half an ulp of μ‖w_T‖, and the term, a square, underflows below 1.5e-154; so the
+/// negative cases are −1e-6 and −1 m/s, and −1e-150 without tangential velocity.
+#[test]
+fn a_contact_with_zero_impulse_satisfies_the_law_exactly_where_it_does_not_approach() {
+    let edges = [0.0, -0.0, 5e-324, 1e-300, -1e-6, -1.0];
+    let law3 =
+        |mu: f64, w: SVector<f64, 3>| siconos_share(RowBounds::Contact, mu, &SVector::zeros(), &w);
+    let law2 =
+        |mu: f64, w: SVector<f64, 2>| siconos_share(RowBounds::Contact, mu, &SVector::zeros(), &w);
+    for &wn in &edges {
+        for mu in [0.0, 0.3, 1.0, 7.0] {
+            for wt in [0.0, 1e-9, 2.5] {
+                let share = law3(mu, nalgebra::Vector3::new(wn, wt, -wt));
+                assert_eq!(
+                    share == 0.0,
+                    wn >= 0.0,
+                    "3D μ {mu}, w_n {wn:e}, w_T {wt}: {share}"
+                );
+                let share = law2(mu, nalgebra::Vector2::new(wn, wt));
+                assert_eq!(
+                    share == 0.0,
+                    wn >= 0.0,
+                    "2D μ {mu}, w_n {wn:e}, w_T {wt}: {share}"
+                );
+            }
+        }
+    }
+    assert!(law3(1.0, nalgebra::Vector3::new(-1e-150, 0.0, 0.0)) > 0.0);
+    proptest!(common::seeded(500), |(
+        mu in 0.0f64..3.0,
+        w in prop::array::uniform3(-10.0f64..10.0),
+    )| {
+        let share = law3(mu, SVector::from(w));
+        prop_assert_eq!(share == 0.0, w[0] >= 0.0, "μ {} w {:?}: {}", mu, w, share);
+    });
+}
+
+/// A random problem of `n` contacts with W = H M⁻¹ Hᵀ (one 6-dof body per pair of contacts, so
+/// that W is coupled and singular like a real one).
+fn random_problem(n: usize, seed: u64) -> (LocalProblem<3>, DMatrix<f64>, DVector<f64>) {
+    let mut state = seed;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((state >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    };
+    let h = DMatrix::from_fn(3 * n, 6, |_, _| next());
+    let w = &h * h.transpose() + DMatrix::identity(3 * n, 3 * n) * 0.1;
+    let q = DVector::from_fn(3 * n, |_, _| next());
+    let mu: Vec<f64> = (0..n).map(|k| 0.2 + 0.1 * k as f64).collect();
+    let problem = LocalProblem::from_dense(FrictionModel::Cone, &w, &q, &mu).unwrap();
+    (problem, w, q)
+}
+
+/// The reduced problem is the whole one's rows and columns of the contacts kept, in order, with
+/// their q and μ and the start given; and its velocities are the whole problem's where the
+/// contacts left out carry nothing (to the bit: the same products summed in the same order,
+/// with the left-out terms zero).
+#[test]
+fn the_problem_without_some_contacts_is_the_others_rows_and_columns_of_w() {
+    let (problem, w, q) = random_problem(6, 7);
+    let left_out = [false, true, false, false, true, false];
+    let start: Vec<SVector<f64, 3>> = (0..6).map(|k| SVector::repeat(k as f64)).collect();
+    let (reduced, kept) = problem.without(&left_out, &start);
+    assert_eq!(kept, vec![0, 2, 3, 5]);
+    let rows: Vec<usize> = kept.iter().flat_map(|&k| 3 * k..3 * k + 3).collect();
+    let w_kept = DMatrix::from_fn(12, 12, |i, j| w[(rows[i], rows[j])]);
+    assert_eq!(reduced.dense_w(), w_kept);
+    assert_eq!(reduced.dense_q(), DVector::from_fn(12, |i, _| q[rows[i]]));
+    for (i, &k) in kept.iter().enumerate() {
+        assert_eq!(reduced.contacts[i].mu, problem.contacts[k].mu);
+        assert_eq!(reduced.contacts[i].lambda0, start[k]);
+    }
+    reduced.validate().unwrap();
+    let part: Vec<SVector<f64, 3>> = (0..4)
+        .map(|i| nalgebra::Vector3::new(1.0 + i as f64, 0.1, -0.2))
+        .collect();
+    let mut full = vec![SVector::zeros(); 6];
+    for (i, &k) in kept.iter().enumerate() {
+        full[k] = part[i];
+    }
+    let (w_part, w_full) = (reduced.velocity(&part), problem.velocity(&full));
+    for (i, &k) in kept.iter().enumerate() {
+        assert_eq!(w_part[i], w_full[k]);
+    }
+    let nothing = problem.without(&[false; 6], &start).0;
+    assert_eq!(nothing.dense_w(), w);
+}
+
+/// One point mass (1 kg) on the ground, touched twice at the same point ("twins": the same
+/// normal row of W, W = [[I, I], [I, I]], singular): contact 0 approaches at 1 m/s and slides
+/// at 0.2 m/s, contact 1 the same but δ = 1e-6 m/s slower in the normal. The one exact answer
+/// loads contact 0 (λ = (1, −0.2, 0) N·s: sticking, μ = 1) and leaves contact 1 with w_n = δ.
+fn twin_point() -> LocalProblem<3> {
+    let i = SMatrix::<f64, 3, 3>::identity();
+    let mut w = DMatrix::zeros(6, 6);
+    for (r, c) in [(0, 0), (0, 3), (3, 0), (3, 3)] {
+        w.fixed_view_mut::<3, 3>(r, c).copy_from(&i);
+    }
+    let q = DVector::from_vec(vec![-1.0, 0.2, 0.0, -1.0 + 1e-6, 0.2, 0.0]);
+    LocalProblem::from_dense(FrictionModel::Cone, &w, &q, &[1.0, 1.0]).unwrap()
+}
+
+/// The pairs are found among the contacts that carry the error, each with the contact whose
+/// normal row is parallel: the point's twins at an answer that loads the wrong one; none where
+/// the error is zero; none on a random problem whose rows are not parallel; and never a joint.
+#[test]
+fn twin_pairs_are_the_contacts_carrying_the_error_with_a_parallel_normal_row() {
+    let problem = twin_point();
+    // Contact 1 loaded: contact 0 would penetrate at δ.
+    let wrong = vec![
+        SVector::zeros(),
+        nalgebra::Vector3::new(1.0 - 1e-6, -0.2, 0.0),
+    ];
+    assert!(siconos_error(&problem, &wrong) > 0.0);
+    assert_eq!(twin_pairs(&problem, &wrong, 0.99, 1e-8), vec![(0, 1)]);
+    let right = vec![nalgebra::Vector3::new(1.0, -0.2, 0.0), SVector::zeros()];
+    assert_eq!(siconos_error(&problem, &right), 0.0);
+    assert!(twin_pairs(&problem, &right, 0.99, 1e-8).is_empty());
+    let mut joint = problem.clone();
+    joint.contacts[1].bounds = RowBounds::Free;
+    assert!(twin_pairs(&joint, &wrong, 0.99, 1e-8).is_empty());
+    let (random, _, _) = random_problem(6, 3);
+    let zero = vec![SVector::zeros(); 6];
+    assert!(siconos_error(&random, &zero) > 0.0);
+    assert!(twin_pairs(&random, &zero, 1.0, 1e-8).is_empty());
+}
+
+/// A wrong first choice is corrected: leaving out the loaded twin (contact 0), the reduced
+/// answer loads contact 1 and contact 0 ends approaching (w_n = −δ < 0), so the pair swaps and
+/// the second round leaves out contact 1: solved on the whole problem (each round stops where
+/// the whole problem's error is at most the tolerance, 1e-8).
+#[test]
+fn a_twin_left_out_that_would_penetrate_swaps_with_its_twin() {
+    let problem = twin_point();
+    let settings = TwinSettings::default();
+    let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+    let mut lambda = Vec::new();
+    let zero = vec![SVector::zeros(); 2];
+    let done = solve_without_twins(
+        &problem,
+        &settings,
+        &[(0, 1)],
+        vec![0],
+        &zero,
+        &mut error,
+        &mut lambda,
+    );
+    assert_eq!(done.rounds, 2);
+    assert_eq!(done.left_out, vec![1]);
+    assert!(done.error <= settings.tolerance, "error {:e}", done.error);
+    assert_eq!(done.error, siconos_error(&problem, &lambda));
+    assert_eq!(lambda[1], SVector::<f64, 3>::zeros());
+    assert!((lambda[0] - nalgebra::Vector3::new(1.0, -0.2, 0.0)).norm() <= 1e-7);
+    let w = problem.velocity(&lambda);
+    assert!(w[1][0] > 0.0, "contact 1 separates: w_n = {}", w[1][0]);
+    // Starting from the right choice takes one round.
+    let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+    let once = solve_without_twins(
+        &problem,
+        &settings,
+        &[(0, 1)],
+        vec![1],
+        &zero,
+        &mut error,
+        &mut lambda,
+    );
+    assert_eq!((once.rounds, once.left_out), (1, vec![1]));
+}
+
+/// The whole procedure on the twin point: exact, whichever path (Newton alone may solve so
+/// small a problem), and the same bits twice.
+#[test]
+fn newton_twins_solves_the_twin_point_exactly_and_reproducibly() {
+    let problem = twin_point();
+    let run = || {
+        let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+        let mut lambda = Vec::new();
+        let report =
+            solve_twins_local_until(&problem, &TwinSettings::default(), &mut error, &mut lambda);
+        (report, lambda)
+    };
+    let (report, lambda) = run();
+    assert!(siconos_error(&problem, &lambda) <= 1e-8, "{report:?}");
+    let w = problem.velocity(&lambda);
+    assert!(w.iter().all(|w| w[0] >= -1e-12), "{w:?}");
+    let (again, lambda_again) = run();
+    assert_eq!(report, again);
+    assert_eq!(lambda, lambda_again);
+    // As `rigidref solve-problems --solver newton-twins` runs it.
+    let a = attempt(
+        &problem,
+        LibrarySolver::NewtonTwins,
+        &LibrarySettings::default(),
+    );
+    assert!(a.converged && a.error <= 1e-8, "{a:?}");
+    assert_eq!(a.solver.name(), "newton-twins");
+}
+
+/// RockPile_tob1 (463 contacts, μ = 1), which no other solver of rigidref's or Siconos' solves
+/// (docs/problem-library.md §"RockPile_tob1"), solved from λ = 0 by `solve-problems`'
+/// newton-twins as `rigidref solve-problems --solver newton-twins` runs it: to 1e-8 in
+/// Siconos' measure and in the ‖q‖-normalised one (‖q‖ = 399.5 m/s, so the absolute error is
+/// at most 4e-6), with three contacts left out, one of each near-duplicate pair, each ending
+/// with w_n ≥ 0 (to the 1e-8 the answer is accepted at: −4e-6 m/s at most) and zero impulse.
+#[test]
+fn newton_twins_solves_rockpile_from_zero_leaving_out_one_contact_of_each_stalled_pair() {
+    let path = common::project_root().join("tests/data/siconos_hard/RockPile_tob1.dat");
+    let problem = match read_dat(&path).unwrap() {
+        AnyLocalProblem::Three(p) => p,
+        AnyLocalProblem::Two(_) => panic!("RockPile is a 3D problem"),
+    };
+    // The settings `rigidref solve-problems` gives it (its attempt() builds the same).
+    let library = LibrarySettings::default();
+    let settings = TwinSettings {
+        newton: rigidref::solve::NewtonSettings {
+            max_iterations: library.newton_iterations,
+            ..Default::default()
+        },
+        tolerance: library.tolerance,
+        ..TwinSettings::default()
+    };
+    let mut error = |l: &[SVector<f64, 3>]| library_error(&problem, l);
+    let mut lambda = Vec::new();
+    let started = std::time::Instant::now();
+    let report = solve_twins_local_until(&problem, &settings, &mut error, &mut lambda);
+    let measures = siconos_error_measures(&problem, &lambda);
+    println!(
+        "RockPile, newton-twins: {} iterations, {:.1} s, error {:.2e} (‖q‖-normalised {:.2e}, \
+         absolute {:.2e}), pairs {:?}, without {:?} after {} rounds",
+        report.iterations,
+        started.elapsed().as_secs_f64(),
+        measures.relative(),
+        measures.q_normalised(),
+        measures.absolute,
+        report.pairs,
+        report.left_out,
+        report.rounds
+    );
+    assert!(measures.relative() <= 1e-8 && measures.q_normalised() <= 1e-8);
+    assert!(measures.absolute <= 1e-8 * 399.6);
+    assert_eq!(report.whole_runs, 2, "the first run and one restart");
+    assert_eq!(report.left_out.len(), 3, "one of each of three pairs");
+    let w = problem.constraint_velocity(&lambda);
+    let big_w = problem.dense_w();
+    for &k in &report.left_out {
+        println!("contact {k} left out: w_n = {:.2e} m/s", w[k][0]);
+        assert_eq!(
+            lambda[k],
+            SVector::<f64, 3>::zeros(),
+            "contact {k} carries nothing"
+        );
+        assert!(w[k][0] >= -4e-6, "contact {k}: w_n = {}", w[k][0]);
+        let &(a, b) = report.pairs.iter().find(|p| p.0 == k || p.1 == k).unwrap();
+        let twin = if a == k { b } else { a };
+        assert!(lambda[twin][0] > 0.0, "its twin {twin} is loaded");
+        let (ra, rb) = (big_w.row(3 * k), big_w.row(3 * twin));
+        assert!(ra.dot(&rb) / (ra.norm() * rb.norm()) > 1.0 - 1e-8);
+    }
+}
