@@ -411,6 +411,19 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     let cone = local.friction == FrictionModel::Cone;
     let tolerance = settings.tolerance;
     let stop_given = stop.is_some();
+    // No contact: the empty answer at once, whatever the stop rule (there is no row to step
+    // on; a step on none failed in nalgebra's slicing before this test).
+    if n == 0 {
+        lambda.clear();
+        return SolveReport {
+            iterations: 0,
+            residual: residual(judge, lambda),
+            converged: true,
+            coulomb_residual: cone.then(|| coulomb_residual(judge, lambda)),
+            method: SolveMethod::Newton,
+            local_fallbacks: 0,
+        };
+    }
     // The answer must pass the independent measures too, not only the iteration's own F.
     let to_impulses = |x: &DVector<f64>| -> Vec<SVector<f64, R>> {
         (0..count)
@@ -470,7 +483,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
         }
         reached = again.reached || within_floor(&x);
     }
-    if !reached && n > 0 {
+    if !reached {
         let (extra, solved, improved) =
             proximal_point(&system, &mut x, settings, Schedule::Adaptive, &mut accept);
         iterations += extra;
@@ -484,7 +497,7 @@ fn newton<const R: usize, P: ProblemView<R> + ?Sized>(
     // and then converges; seen on spheres-in-a-box-98 of Siconos' data, which the stall rule
     // handed to a proximal loop that did not solve it), then the tenfold proximal loop from its
     // end; kept where it is better.
-    if !reached && n > 0 {
+    if !reached {
         let mut plain = start;
         let run = iterate(
             &system,

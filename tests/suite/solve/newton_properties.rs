@@ -939,3 +939,40 @@ fn every_stage_counts_its_iterations_and_the_best_point_is_returned_when_none_is
     eprintln!("{} problems used", used.borrow());
     assert!(*used.borrow() >= 20, "{}", used.borrow());
 }
+
+/// A problem without contacts is answered at once with the empty answer, whatever the stop rule:
+/// there is no row to step on (a stop rule that accepted nothing made the first run step on
+/// none, which failed in nalgebra's slicing; found while writing this test for the mutant
+/// `newton/mod.rs:487:22`, `n > 0` → `n >= 0` in the guard of the fallbacks, a guard the early
+/// return now makes unnecessary).
+#[test]
+fn a_problem_without_contacts_is_answered_at_once_whatever_the_stop_rule() {
+    for friction in [FrictionModel::Cone, FrictionModel::Box] {
+        let empty = LocalProblem::<3> {
+            friction,
+            contacts: Vec::new(),
+        };
+        let mut never = |_: &[SVector<f64, 3>]| false;
+        let mut lambda = vec![SVector::repeat(1.0)];
+        let report =
+            solve_newton_local_until(&empty, &NewtonSettings::default(), &mut never, &mut lambda);
+        assert!(lambda.is_empty());
+        assert!(report.converged && report.iterations == 0, "{report:?}");
+        assert_eq!(report.residual, 0.0);
+        let report = solve_newton_local(&empty, &NewtonSettings::default(), &mut lambda);
+        assert!(report.converged && report.iterations == 0, "{report:?}");
+        let empty_2d = LocalProblem::<2> {
+            friction,
+            contacts: Vec::new(),
+        };
+        let mut never = |_: &[SVector<f64, 2>]| false;
+        let mut lambda = Vec::new();
+        let report = solve_newton_local_until(
+            &empty_2d,
+            &NewtonSettings::default(),
+            &mut never,
+            &mut lambda,
+        );
+        assert!(report.converged && report.iterations == 0 && lambda.is_empty());
+    }
+}
