@@ -976,3 +976,61 @@ fn a_problem_without_contacts_is_answered_at_once_whatever_the_stop_rule() {
         assert!(report.converged && report.iterations == 0 && lambda.is_empty());
     }
 }
+
+/// The line search's sufficient decrease (docs/contact.md §"Newton solver"): a step is taken
+/// only where θ = ½‖F‖² falls below the largest θ of the last iterations by 2σtθ (σ = 1e-4), so
+/// the first step of a run, whose reference is θ₀, lowers θ. Built so that the full Newton step
+/// raises θ by a factor inside the margin, 1 + 1e-4 < 1 + 2σ: two frictionless 2D contacts,
+/// W_nn = [[1, c], [c, 4]] (c = −1.5, positive definite), q_n = (−1, p), from λ = 0. Contact 1
+/// approaches and is active, contact 2 separates and is not; the step solves w₁ = 0 with
+/// λ₂ = 0, λ = (1, 0), where c pushes contact 2 into approach: w₂ = c + p, θ = ½(c + p)², against
+/// θ₀ = ½. With (c + p)² = 1 + 1e-4 the full step must be refused and a shorter one taken
+/// (t = ½: θ = 0.156). A search that accepted any step within +2σtθ of the reference (the
+/// mutant `newton/mod.rs:322:62`, `−` → `+`) takes the full step, and θ rises.
+#[test]
+fn the_first_step_lowers_theta_even_where_the_full_step_raises_it_by_less_than_the_margin() {
+    let c = -1.5;
+    let p = -c - (1.0f64 + 1e-4).sqrt();
+    let w = DMatrix::from_row_slice(
+        4,
+        4,
+        &[
+            1.0, 0.0, c, 0.0, //
+            0.0, 1.0, 0.0, 0.0, //
+            c, 0.0, 4.0, 0.0, //
+            0.0, 0.0, 0.0, 1.0,
+        ],
+    );
+    let q = DVector::from_vec(vec![-1.0, 0.0, p, 0.0]);
+    let problem = LocalProblem::<2>::from_dense(FrictionModel::Cone, &w, &q, &[0.0, 0.0]).unwrap();
+    let theta =
+        |l: &[SVector<f64, 2>]| 0.5 * newton_function_local(&problem, l, None).0.norm_squared();
+    let start = vec![SVector::<f64, 2>::zeros(); 2];
+    let full = vec![nalgebra::Vector2::new(1.0, 0.0), SVector::zeros()];
+    let ratio = theta(&full) / theta(&start);
+    assert!(
+        ratio > 1.0 && ratio < 1.0 + 2e-4,
+        "the full step's θ ratio {ratio}"
+    );
+    let seen = RefCell::new(Vec::new());
+    let mut stop = |l: &[SVector<f64, 2>]| {
+        seen.borrow_mut().push(theta(l));
+        false
+    };
+    let settings = NewtonSettings {
+        max_iterations: 1,
+        proximal_iterations: 0,
+        ..NewtonSettings::default()
+    };
+    let mut lambda = Vec::new();
+    solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+    let seen = seen.into_inner();
+    assert!(seen.len() >= 2, "{seen:?}");
+    assert_eq!(seen[0], 0.5);
+    assert!(
+        seen[1] < seen[0] * (1.0 - 1e-4),
+        "the first step took θ from {} to {}",
+        seen[0],
+        seen[1]
+    );
+}
