@@ -9,6 +9,7 @@ use proptest::prelude::*;
 use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
 use rigidref::problem::{FrictionModel, LocalProblem, ProblemView, RowBounds};
 use rigidref::solve::residual::{siconos_error, siconos_error_measures, siconos_share};
+use rigidref::solve::solve_newton_local_until;
 use rigidref::solve::twins::{
     TwinSettings, solve_twins_local_until, solve_without_twins, twin_pairs,
 };
@@ -211,6 +212,22 @@ fn newton_twins_solves_the_twin_point_exactly_and_reproducibly() {
     let (again, lambda_again) = run();
     assert_eq!(report, again);
     assert_eq!(lambda, lambda_again);
+    // Solved by the first run (no restart, no pair): the report counts that one run and its
+    // iterations, as Newton alone reports them with the same stop rule.
+    let mut stop = |l: &[SVector<f64, 3>]| siconos_error(&problem, l) <= 1e-8;
+    let mut alone = Vec::new();
+    let newton = solve_newton_local_until(
+        &problem,
+        &TwinSettings::default().newton,
+        &mut stop,
+        &mut alone,
+    );
+    assert_eq!((report.whole_runs, report.rounds), (1, 0));
+    assert!(report.pairs.is_empty() && report.left_out.is_empty());
+    assert!(newton.iterations > 0);
+    assert_eq!(report.iterations, newton.iterations);
+    assert_eq!(report.report.iterations, newton.iterations);
+    assert_eq!(lambda, alone);
     // As `rigidref solve-problems --solver newton-twins` runs it.
     let a = attempt(
         &problem,
