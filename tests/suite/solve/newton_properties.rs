@@ -900,6 +900,27 @@ fn disk_law_norm(problem: &LocalProblem<3>, lambda: &[SVector<f64, 3>]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Newton with one iteration per run and no proximal subproblem, under a stop rule that accepts
+/// nothing: `measure` of every iterate the rule sees, in order, the report and the answer.
+fn one_iteration_runs<const R: usize>(
+    problem: &LocalProblem<R>,
+    measure: impl Fn(&[SVector<f64, R>]) -> f64,
+) -> (Vec<f64>, SolveReport, Vec<SVector<f64, R>>) {
+    let seen = RefCell::new(Vec::new());
+    let mut stop = |l: &[SVector<f64, R>]| {
+        seen.borrow_mut().push(measure(l));
+        false
+    };
+    let settings = NewtonSettings {
+        max_iterations: 1,
+        proximal_iterations: 0,
+        ..NewtonSettings::default()
+    };
+    let mut lambda = Vec::new();
+    let report = solve_newton_local_until(problem, &settings, &mut stop, &mut lambda);
+    (seen.into_inner(), report, lambda)
+}
+
 /// Where nothing is accepted, every stage runs (docs/contact.md §"Proximal-point
 /// globalisation"): the first Newton run, the adaptive proximal loop, plain Newton from the
 /// start, the tenfold proximal loop. With no proximal iteration allowed each loop is only its
@@ -916,19 +937,7 @@ fn every_stage_counts_its_iterations_and_the_best_point_is_returned_when_none_is
     let used = RefCell::new(0usize);
     proptest!(common::seeded(100), |(s in physical_spec(1..4, 1..6), mu in 0.05..0.8f64)| {
         let problem = compliant_cone(&s, mu);
-        let norms = RefCell::new(Vec::new());
-        let mut stop = |l: &[SVector<f64, 3>]| {
-            norms.borrow_mut().push(disk_law_norm(&problem, l));
-            false
-        };
-        let settings = NewtonSettings {
-            max_iterations: 1,
-            proximal_iterations: 0,
-            ..NewtonSettings::default()
-        };
-        let mut lambda = Vec::new();
-        let report = solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
-        let norms = norms.into_inner();
+        let (norms, report, lambda) = one_iteration_runs(&problem, |l| disk_law_norm(&problem, l));
         prop_assume!(norms.len() >= 2 && norms[1] > 1e-10);
         *used.borrow_mut() += 1;
         prop_assert_eq!(norms.len(), 8, "{:?}", norms);
@@ -1012,19 +1021,7 @@ fn the_first_step_lowers_theta_even_where_the_full_step_raises_it_by_less_than_t
         ratio > 1.0 && ratio < 1.0 + 2e-4,
         "the full step's θ ratio {ratio}"
     );
-    let seen = RefCell::new(Vec::new());
-    let mut stop = |l: &[SVector<f64, 2>]| {
-        seen.borrow_mut().push(theta(l));
-        false
-    };
-    let settings = NewtonSettings {
-        max_iterations: 1,
-        proximal_iterations: 0,
-        ..NewtonSettings::default()
-    };
-    let mut lambda = Vec::new();
-    solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
-    let seen = seen.into_inner();
+    let (seen, _, _) = one_iteration_runs(&problem, theta);
     assert!(seen.len() >= 2, "{seen:?}");
     assert_eq!(seen[0], 0.5);
     assert!(
