@@ -28,6 +28,7 @@ fn _rigidref(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<arrays::CooMatrix>()?;
     m.add_function(wrap_pyfunction!(problem::solvers::solve_pgs, m)?)?;
     m.add_function(wrap_pyfunction!(problem::solvers::solve_newton, m)?)?;
+    m.add_function(wrap_pyfunction!(problem::solvers::solve_newton_twins, m)?)?;
     m.add_function(wrap_pyfunction!(problem::solvers::solve_clarabel, m)?)?;
     m.add_function(wrap_pyfunction!(problem::solvers::residual, m)?)?;
     m.add_function(wrap_pyfunction!(problem::solvers::coulomb_residual, m)?)?;

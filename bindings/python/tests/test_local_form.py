@@ -97,3 +97,70 @@ def test_regularised_newton_solves_boxes_stack_by_plain_newton_in_fewer_iteratio
     assert regularised.method == "newton" and plain.method != "newton"
     assert regularised.iterations < plain.iterations
     assert regularised.residual <= 1e-10 and rigidref.siconos_error(p, regularised.lam) <= 1e-8
+
+
+def _twin_point(rows=3):
+    # One point mass touched twice at the same point (docs/contact.md §"Near-duplicate contacts
+    # left out"; the Rust tests' twin point): W = [[I, I], [I, I]], singular; contact 1
+    # approaches δ = 1e-6 m/s slower than contact 0. The one exact answer loads contact 0
+    # (λ = (1, −0.2[, 0]) N·s, sticking at μ = 1) and leaves contact 1 moving apart at δ.
+    eye = np.eye(rows)
+    W = np.block([[eye, eye], [eye, eye]])
+    q = np.array(([-1.0, 0.2, 0.0] if rows == 3 else [-1.0, 0.2]) * 2)
+    q[rows] += 1e-6
+    return rigidref.ContactProblem.from_arrays(A=W, b=q, mu=[1.0, 1.0], friction_model="cone",
+                                               dof_per_body=6 if rows == 3 else 3)
+
+
+def test_newton_twins_leaves_out_the_twin_moving_apart_where_newton_stalls():
+    # solve_newton_twins is `rigidref solve-problems --solver newton-twins` (src/solve/twins.rs).
+    # Newton held to one iteration without its proximal fallback stalls on the twin point; the
+    # reduction finds the pair, leaves out contact 1 (the one moving apart faster at the stalled
+    # answer) and solves the rest: exact on the whole problem, contact 1 with λ = 0 exactly and
+    # w_n = δ > 0. In 3D and 2D.
+    for rows in (3, 2):
+        p = _twin_point(rows)
+        held = dict(max_iterations=1, proximal_iterations=0, restarts=0)
+        alone = rigidref.solve_newton(p, max_iterations=1, proximal_iterations=0)
+        assert rigidref.siconos_error(p, alone.lam) > 1e-8, "Newton alone stalls here"
+        s = rigidref.solve_newton_twins(p, **held)
+        assert (s.method, s.left_out, s.pairs) == ("twins", [1], [(0, 1)]), s
+        assert rigidref.siconos_error(p, s.lam) <= 1e-8
+        np.testing.assert_array_equal(s.lam[1], np.zeros(rows))
+        np.testing.assert_allclose(s.lam[0], [1.0, -0.2, 0.0][:rows], atol=1e-7)
+        w = p.w(s.lam)
+        assert 0.0 < w[1, 0] <= 2e-6 and abs(w[0, 0]) <= 1e-7
+        # The same bits again.
+        again = rigidref.solve_newton_twins(p, **held)
+        np.testing.assert_array_equal(again.lam, s.lam)
+        assert again.iterations == s.iterations
+        # With its defaults Newton solves the point on the whole problem: nothing left out.
+        whole = rigidref.solve_newton_twins(p)
+        assert (whole.method, whole.left_out, whole.pairs) == ("newton", [], [])
+        assert rigidref.siconos_error(p, whole.lam) <= 1e-8
+        # The other solvers leave the two fields empty.
+        assert (alone.left_out, alone.pairs) == ([], [])
+
+
+def test_newton_twins_on_a_body_problem_solves_its_local_form():
+    # The twin point as a body: one 1 kg body with a unit inverse inertia, touched twice at its
+    # centre (J = [I 0] per contact), so W = J M⁻¹ Jᵀ = [[I, I], [I, I]]: the same bits as on
+    # its local form.
+    J = np.zeros((6, 6))
+    J[0:3, 0:3] = np.eye(3)
+    J[3:6, 0:3] = np.eye(3)
+    q = np.array([-1.0, 0.2, 0.0, -1.0 + 1e-6, 0.2, 0.0])
+    body = rigidref.ContactProblem.from_arrays(J, np.eye(6), q, [1.0, 1.0], friction_model="cone")
+    held = dict(max_iterations=1, proximal_iterations=0, restarts=0)
+    s = rigidref.solve_newton_twins(body, **held)
+    local = rigidref.solve_newton_twins(body.to_local(), **held)
+    np.testing.assert_array_equal(s.lam, local.lam)
+    assert s.left_out == local.left_out == [1]
+    # A warm start replaces λ0, as for the other solvers; bad settings are refused.
+    start = rigidref.solve_newton_twins(body, warm_start=s.lam)
+    assert start.iterations <= 1 and rigidref.siconos_error(body.to_local(), start.lam) <= 1e-8
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(rigidref.ProblemError, match="tolerance"):
+            rigidref.solve_newton_twins(body, tolerance=bad)
+    with pytest.raises(rigidref.ProblemError, match="warm_start"):
+        rigidref.solve_newton_twins(body, warm_start=np.zeros((3, 3)))

@@ -34,6 +34,7 @@ from ._rigidref import (
     siconos_error,
     solve_clarabel,
     solve_newton,
+    solve_newton_twins,
     solve_pgs,
     validate,
 )
@@ -59,6 +60,7 @@ __all__ = [
     "siconos_error",
     "solve_clarabel",
     "solve_newton",
+    "solve_newton_twins",
     "solve_pgs",
     "validate",
     "write_problem",

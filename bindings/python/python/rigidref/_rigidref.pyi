@@ -143,6 +143,12 @@ class Solution:
     @property
     def status(self) -> Optional[str]:
         """clarabel's status; None for the other solvers."""
+    @property
+    def left_out(self) -> List[int]:
+        """solve_newton_twins: the contacts left out (lambda = 0 there); empty otherwise."""
+    @property
+    def pairs(self) -> List[Tuple[int, int]]:
+        """solve_newton_twins: the near-duplicate pairs found; empty otherwise."""
 
 class Solve:
     """One contact solve of a step."""
@@ -215,6 +221,16 @@ def solve_newton(
     warm_start: Optional[npt.ArrayLike] = None,
     regularised: bool = False,
 ) -> Solution: ...
+def solve_newton_twins(
+    problem: ContactProblem,
+    tolerance: float = 1e-8,
+    max_iterations: int = 200,
+    proximal_iterations: int = 60,
+    restarts: int = 1,
+    rounds: int = 8,
+    warm_start: Optional[npt.ArrayLike] = None,
+) -> Solution:
+    """Newton with near-duplicate contacts left out (docs/contact.md), stopped on Siconos' error."""
 def solve_clarabel(
     problem: ContactProblem,
     formulation: Literal["cone", "frictionless", "box_fixed", "cone_fixed"] = "cone",

@@ -19,10 +19,12 @@ use rigidref::problem::{
     ProblemView, RowBounds, SolveReport,
 };
 use rigidref::solve::qp::{QpFormulation, QpSettings, solve_qp};
+use rigidref::solve::twins::{TwinSettings, solve_twins_local_until};
 use rigidref::solve::{
     ContactOrder, LocalSolve, NewtonSettings, PgsSettings, PgsWorkspace, Regularisation, Solvable,
     solve_pgs as pgs, solve_pgs_local,
 };
+use rigidref::tools::experiments::problem_library::library_error_given;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

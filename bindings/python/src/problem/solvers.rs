@@ -20,6 +20,12 @@ pub struct Solution {
     pub method: String,
     /// clarabel's status (e.g. "Solved"); None for the other solvers.
     pub status: Option<String>,
+    /// `solve_newton_twins` only: the contacts left out of the answer (λ = 0 there; ascending,
+    /// empty where the answer is a Newton run's on the whole problem). Empty for the others.
+    pub left_out: Vec<usize>,
+    /// `solve_newton_twins` only: the near-duplicate pairs found at the stalled answer
+    /// (contact numbers, ascending). Empty for the others.
+    pub pairs: Vec<(usize, usize)>,
 }
 
 #[pymethods]
@@ -54,6 +60,8 @@ pub fn solution<const R: usize>(
         coulomb_residual: report.coulomb_residual,
         method: method_name(report),
         status: None,
+        left_out: Vec::new(),
+        pairs: Vec::new(),
     }
 }
 
@@ -234,6 +242,78 @@ pub fn solve_newton(
     })
 }
 
+/// The exact solver with near-duplicate contacts left out (src/solve/twins.rs, docs/contact.md
+/// §"Near-duplicate contacts left out"; `rigidref solve-problems --solver newton-twins`): Newton
+/// on the problem's local form, restarted `restarts` times from its own answer, then, where it
+/// still stalls, without one contact of each near-duplicate pair (normal rows of W with cosine
+/// above 1 − 1e-8), at most `rounds` reduced problems. Every stage stops where the answer's
+/// error on the whole problem is at most `tolerance`: Siconos' error (`siconos_error`) for the
+/// Coulomb cone and for 2D, the residual over max(‖b‖, ‖w‖) for box friction in 3D, as
+/// `solve-problems` measures it. `max_iterations` and `proximal_iterations` are each Newton
+/// run's. `.method` is "twins" where contacts were left out (`.left_out`, with `.pairs`);
+/// `.converged` is Newton's own test on the whole problem (residual ≤ 1e-10 m/s); compare
+/// `siconos_error(problem, solution.lam)` with `tolerance` for the stop rule's.
+#[pyfunction]
+#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (problem, tolerance = 1e-8, max_iterations = 200, proximal_iterations = 60, restarts = 1, rounds = 8, warm_start = None))]
+pub fn solve_newton_twins(
+    py: Python<'_>,
+    problem: &ContactProblem,
+    tolerance: f64,
+    max_iterations: u32,
+    proximal_iterations: u32,
+    restarts: u32,
+    rounds: u32,
+    warm_start: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Solution> {
+    if tolerance.is_nan() || tolerance <= 0.0 {
+        return Err(errors::problem(format!(
+            "tolerance {tolerance}: expected a positive number"
+        )));
+    }
+    let settings = TwinSettings {
+        newton: NewtonSettings {
+            max_iterations,
+            proximal_iterations,
+            ..Default::default()
+        },
+        restarts,
+        rounds,
+        tolerance,
+        ..TwinSettings::default()
+    };
+    match &problem.inner {
+        AnyProblem::P3(p) => run_twins(py, &p.to_local(), warm_start, &settings),
+        AnyProblem::P2(p) => run_twins(py, &p.to_local(), warm_start, &settings),
+        AnyProblem::L3(p) => run_twins(py, p, warm_start, &settings),
+        AnyProblem::L2(p) => run_twins(py, p, warm_start, &settings),
+    }
+}
+
+/// [`solve_newton_twins`] on a local problem, stopped on `solve-problems`' error.
+fn run_twins<const R: usize>(
+    py: Python<'_>,
+    p: &LocalProblem<R>,
+    warm_start: Option<&Bound<'_, PyAny>>,
+    settings: &TwinSettings,
+) -> PyResult<Solution> {
+    let p = warm(p, warm_start)?;
+    let (done, lambda) = py.detach(|| {
+        let q_norm = p.dense_q().norm();
+        let mut error = |l: &[SVector<f64, R>]| library_error_given(&p, l, q_norm);
+        let mut lambda = Vec::new();
+        let done = solve_twins_local_until(&p, settings, &mut error, &mut lambda);
+        (done, lambda)
+    });
+    let mut s = solution(py, &done.report, &lambda);
+    if !done.left_out.is_empty() {
+        s.method = "twins".into();
+    }
+    s.left_out = done.left_out;
+    s.pairs = done.pairs;
+    Ok(s)
+}
+
 /// The problem as a convex program solved by clarabel (src/solve/qp.rs, docs/contact.md
 /// §"Convex formulations"): formulation "cone" (Anitescu's relaxation; the default),
 /// "frictionless", or "box_fixed" / "cone_fixed" with the friction bounds frozen at
@@ -296,6 +376,8 @@ pub fn solve_clarabel(
             coulomb_residual: coulomb,
             method: "clarabel".into(),
             status: Some(solved.status),
+            left_out: Vec::new(),
+            pairs: Vec::new(),
         })
     })
 }
