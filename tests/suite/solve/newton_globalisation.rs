@@ -304,3 +304,51 @@ fn rockpile_has_an_exact_answer_that_leaves_one_of_three_near_duplicate_contacts
         assert!(cosine > 1.0 - 1e-8, "{out}/{twin}: cosine {cosine}");
     }
 }
+
+/// Where no run reaches the stop rule, the last fallback's answer (plain Newton from the start
+/// without the stall rule, then the tenfold loop from its end) is returned wherever its law norm
+/// is lower than the earlier runs' answer, although it did not solve either (docs/contact.md
+/// §"Newton solver": "kept where it is better"). BoxesStack1 with the proximal loops cut to no
+/// subproblem and a stop rule that accepts nothing, which records every iterate it is shown:
+/// the last fallback starts where λ = 0 is shown a second time, and the answer returned is first
+/// shown after that. The first run stalls at 26 iterations, so the last fallback's path differs
+/// from the first run's. Measured: 30 iterations per run, returned at 97 of 120 iterates shown
+/// (the last fallback from 58); 120 per run, at 341 of 390 (from 148). Kills the mutant
+/// `newton/mod.rs:531:19` (`||` → `&&`: only a solved last fallback kept), which returns the
+/// earlier runs' answer (shown before 58 and 148).
+#[test]
+fn an_unsolved_last_fallback_is_kept_where_its_law_norm_is_lower() {
+    let problem = boxes_stack();
+    for max_iterations in [30, 120] {
+        let settings = NewtonSettings {
+            max_iterations,
+            proximal_iterations: 0,
+            ..NewtonSettings::default()
+        };
+        let mut shown: Vec<Vec<SVector<f64, 3>>> = Vec::new();
+        let mut stop = |l: &[SVector<f64, 3>]| {
+            shown.push(l.to_vec());
+            false
+        };
+        let mut lambda = Vec::new();
+        solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+        let zero = |l: &Vec<SVector<f64, 3>>| l.iter().all(|x| *x == SVector::<f64, 3>::zeros());
+        let starts: Vec<usize> = (0..shown.len()).filter(|&i| zero(&shown[i])).collect();
+        assert_eq!(
+            starts.len(),
+            2,
+            "{max_iterations}: the first run and the last fallback"
+        );
+        assert!(
+            starts[1] < 2 * (max_iterations as usize + 1),
+            "{max_iterations}: the first run stalls before its limit ({starts:?})"
+        );
+        let returned = shown.iter().position(|l| *l == lambda).unwrap();
+        assert!(
+            returned > starts[1],
+            "{max_iterations}: returned the earlier runs' iterate {returned} (last fallback from {})",
+            starts[1]
+        );
+        assert!(siconos_error(&problem, &lambda) > 1e-8, "no run solves it");
+    }
+}
