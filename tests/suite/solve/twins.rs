@@ -238,6 +238,43 @@ fn newton_twins_solves_the_twin_point_exactly_and_reproducibly() {
     assert_eq!(a.solver.name(), "newton-twins");
 }
 
+/// A restart that improves without solving is kept, and the next restart starts from it: on the
+/// twin point with each Newton run held to one iteration and no proximal subproblem, the first
+/// run and its restart stall and the third run, from the restart's answer, solves the whole
+/// problem, so nothing is left out. With one restart the same start goes on to the reduction
+/// (contact 1 left out), which shows the third run is what solved it. Kills the mutant
+/// `twins.rs:101:61` (`e < b` → `e == b`: an improving restart is not kept and ends the
+/// restarts), which reduces after two runs.
+#[test]
+fn an_improving_restart_is_kept_and_restarted_from() {
+    let problem = twin_point();
+    let held = |restarts| TwinSettings {
+        newton: rigidref::solve::NewtonSettings {
+            max_iterations: 1,
+            proximal_iterations: 0,
+            ..Default::default()
+        },
+        restarts,
+        ..TwinSettings::default()
+    };
+    let run = |settings: &TwinSettings| {
+        let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+        let mut lambda = Vec::new();
+        let report = solve_twins_local_until(&problem, settings, &mut error, &mut lambda);
+        (report, lambda)
+    };
+    let (once, _) = run(&held(1));
+    assert_eq!(once.whole_runs, 2, "{once:?}");
+    assert_eq!((once.pairs.clone(), once.left_out), (vec![(0, 1)], vec![1]));
+    let (twice, lambda) = run(&held(2));
+    assert_eq!(twice.whole_runs, 3, "{twice:?}");
+    assert!(
+        twice.left_out.is_empty() && twice.pairs.is_empty(),
+        "{twice:?}"
+    );
+    assert!(siconos_error(&problem, &lambda) <= 1e-8);
+}
+
 /// RockPile_tob1 (463 contacts, μ = 1), which no other solver of rigidref's or Siconos' solves
 /// (docs/problem-library.md §"RockPile_tob1"), solved from λ = 0 by `solve-problems`'
 /// newton-twins as `rigidref solve-problems --solver newton-twins` runs it: to 1e-8 in
