@@ -41,10 +41,12 @@ pub fn clamp_box<const R: usize>(lambda: &SVector<f64, R>, bound: f64) -> SVecto
 }
 
 /// Scales the friction rows 1..R of `lambda` into the disk of radius `bound`; row 0 unchanged.
+/// A zero bound gives zero friction rows (each times +0, so keeping its sign) even where their
+/// squares underflow to a zero norm (components below ~1.5e-154).
 pub fn project_disk<const R: usize>(lambda: &SVector<f64, R>, bound: f64) -> SVector<f64, R> {
     let mut p = *lambda;
     let norm = (1..R).map(|r| p[r] * p[r]).sum::<f64>().sqrt();
-    if norm > bound {
+    if norm > bound || bound == 0.0 {
         let scale = if norm > 0.0 { bound / norm } else { 0.0 };
         for r in 1..R {
             p[r] *= scale;

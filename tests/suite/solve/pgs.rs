@@ -306,3 +306,29 @@ fn problem_file_round_trips_exactly() {
         .unwrap_err();
     assert!(err.contains("mu must be ≥ 0"), "{err}");
 }
+
+/// The disk projection (src/solve/projection.rs::project_disk) at its edges: a zero bound
+/// leaves no friction, even where the friction rows are so small that their squares underflow
+/// and the computed norm is 0 (1e-170: the projection left them before, a violation of the
+/// zero bound); a trial exactly on the rim (norm = bound, 3-4-5) comes back with the same bits;
+/// ±0 rows keep their signs; the normal row is never changed; 2D as 3D.
+#[test]
+fn the_disk_projection_is_exact_at_a_zero_bound_and_on_the_rim() {
+    use rigidref::solve::projection::project_disk;
+    let tiny = nalgebra::Vector3::new(1.0, 1e-170, -1e-170);
+    let p = project_disk(&tiny, 0.0);
+    assert_eq!(p[0], 1.0);
+    assert!(p[1] == 0.0 && p[2] == 0.0, "{p:?}");
+    assert!(p[1].is_sign_positive() && p[2].is_sign_negative(), "{p:?}");
+    let p2 = project_disk(&nalgebra::Vector2::new(2.0, -1e-170), 0.0);
+    assert_eq!((p2[0], p2[1]), (2.0, 0.0));
+    let zeros = nalgebra::Vector3::new(0.5, -0.0, 0.0);
+    let p = project_disk(&zeros, 0.0);
+    assert!(p[1] == 0.0 && p[1].is_sign_negative() && p[2].is_sign_positive());
+    let rim = nalgebra::Vector3::new(7.0, 3.0, -4.0);
+    assert_eq!(project_disk(&rim, 5.0), rim);
+    let outside = project_disk(&nalgebra::Vector3::new(7.0, 6.0, -8.0), 5.0);
+    assert_eq!(outside, nalgebra::Vector3::new(7.0, 3.0, -4.0));
+    let inside = nalgebra::Vector3::new(7.0, 1e-170, 2.0);
+    assert_eq!(project_disk(&inside, 5.0), inside);
+}
