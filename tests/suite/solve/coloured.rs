@@ -203,3 +203,35 @@ fn two_threads_give_the_one_threads_bits_on_large_coloured_solves() {
         }
     }
 }
+
+/// Two threads stop at a tolerance where one thread does: on problems large enough for the
+/// threads to run (a random friction problem tiled 200 times), with the tolerance set to the
+/// residual one thread reaches after 5 sweeps, both stop after the same number of sweeps (more
+/// than one), converged, with the same bits of λ and of the residual. Covers the threaded
+/// sweep's own stop test (`pgs_sweep.rs`, `after_sweep`), which the small problems of the test
+/// above never reach (their threads do not start); kills the mutant `pgs_sweep.rs:135:86`
+/// (`<=` → `>`: stop after the first sweep not converged).
+#[test]
+fn two_threads_stop_at_the_tolerance_after_the_one_threads_sweeps() {
+    let mut runner = proptest::test_runner::TestRunner::new(common::seeded(5));
+    let strategy = spec(8..9, 10..20);
+    for _ in 0..5 {
+        let s = proptest::strategy::ValueTree::current(&strategy.new_tree(&mut runner).unwrap());
+        let big = tiled(&build(&s, 0.5, 0.0, FrictionModel::Box), 200);
+        let (_, five) = solve(&big, 5, None, ContactOrder::Coloured, 1);
+        let tolerance = Some(five.residual);
+        let (one, one_report, _) =
+            super::solve_seeded(&big, 200, tolerance, ContactOrder::Coloured, 0, 1);
+        let (two, two_report, workspace) =
+            super::solve_seeded(&big, 200, tolerance, ContactOrder::Coloured, 0, 2);
+        assert_eq!(workspace.last_threads(), 2, "the threads did not run");
+        assert!(
+            one_report.converged && two_report.converged,
+            "{two_report:?}"
+        );
+        assert!((2..=5).contains(&one_report.iterations), "{one_report:?}");
+        assert_eq!(one_report.iterations, two_report.iterations);
+        assert_eq!(one_report.residual.to_bits(), two_report.residual.to_bits());
+        assert!(one == two, "λ differs between 1 and 2 threads");
+    }
+}
