@@ -162,6 +162,20 @@ fn coloured_runs_are_bit_identical_on_one_and_two_threads_and_found_is_the_defau
     }
 }
 
+/// `cases` random problems with friction (μ 0.5, box; 8 bodies, 10 to 19 contacts), drawn from
+/// the runner seeded with `cases` as the threads' tests have always drawn them.
+fn friction_problems(cases: u32) -> Vec<ContactProblem3> {
+    let mut runner = proptest::test_runner::TestRunner::new(common::seeded(cases));
+    let strategy = spec(8..9, 10..20);
+    (0..cases)
+        .map(|_| {
+            let s =
+                proptest::strategy::ValueTree::current(&strategy.new_tree(&mut runner).unwrap());
+            build(&s, 0.5, 0.0, FrictionModel::Box)
+        })
+        .collect()
+}
+
 /// Solves large enough for the threads (200 disjoint copies of a random problem with friction,
 /// 2 000 to 4 000 contacts): two threads run (the workspace says so) and give every bit of the
 /// one thread's λ and report, after 3 sweeps and after 200; and every copy's λ is the small
@@ -169,11 +183,7 @@ fn coloured_runs_are_bit_identical_on_one_and_two_threads_and_found_is_the_defau
 /// copy's contacts in the small problem's coloured order).
 #[test]
 fn two_threads_give_the_one_threads_bits_on_large_coloured_solves() {
-    let mut runner = proptest::test_runner::TestRunner::new(common::seeded(20));
-    let strategy = spec(8..9, 10..20);
-    for _ in 0..20 {
-        let s = proptest::strategy::ValueTree::current(&strategy.new_tree(&mut runner).unwrap());
-        let small = build(&s, 0.5, 0.0, FrictionModel::Box);
+    for small in friction_problems(20) {
         let big = tiled(&small, 200);
         for sweeps in [3, 200] {
             let (one, _, one_report, _, one_threads) =
@@ -213,11 +223,8 @@ fn two_threads_give_the_one_threads_bits_on_large_coloured_solves() {
 /// (`<=` → `>`: stop after the first sweep not converged).
 #[test]
 fn two_threads_stop_at_the_tolerance_after_the_one_threads_sweeps() {
-    let mut runner = proptest::test_runner::TestRunner::new(common::seeded(5));
-    let strategy = spec(8..9, 10..20);
-    for _ in 0..5 {
-        let s = proptest::strategy::ValueTree::current(&strategy.new_tree(&mut runner).unwrap());
-        let big = tiled(&build(&s, 0.5, 0.0, FrictionModel::Box), 200);
+    for small in friction_problems(5) {
+        let big = tiled(&small, 200);
         let (_, five) = solve(&big, 5, None, ContactOrder::Coloured, 1);
         let tolerance = Some(five.residual);
         let (one, one_report, _) =
