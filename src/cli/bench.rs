@@ -57,7 +57,7 @@ pub struct BenchArgs {
     pub contact_order: rigidref::solve::ContactOrder,
     /// Threads of rigidref's coloured sweeps in the 3D scenes (with --contact-order coloured;
     /// rapier runs on one thread either way).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: u32,
     /// Persistent manifolds in the `collision: complete` scenes (the cube grids and pyramids):
     /// each piece pair's separating-axis features kept between substeps (docs/contact.md

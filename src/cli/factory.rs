@@ -85,8 +85,8 @@ pub struct FactoryArgs {
     /// sequential, or coloured (docs/contact.md §"Coloured order").
     #[arg(long, value_enum, default_value_t = FACTORY_ORDER)]
     pub order: rigidref::solve::ContactOrder,
-    /// Threads of the coloured order's sweeps (the same bits on any number).
-    #[arg(long, default_value_t = 1)]
+    /// Threads of the coloured order's sweeps (the same bits on any number; at least 1).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: u32,
     /// Shock propagation after each velocity solve: the pile solved again layer by layer from
     /// the floor up, each layer against supports held fixed (docs/blocks2d.md §"Shock

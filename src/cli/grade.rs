@@ -58,8 +58,8 @@ pub struct GradeArgs {
     /// Where to write grade.csv, grade.md and grade.json.
     #[arg(long, default_value = ".")]
     pub out: PathBuf,
-    /// Threads [default: the machine's cores].
-    #[arg(long)]
+    /// Threads, at least 1 [default: the machine's cores].
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     pub jobs: Option<usize>,
     /// The largest submission file opened, MB; a larger one is refused unopened.
     #[arg(long, default_value_t = 512)]

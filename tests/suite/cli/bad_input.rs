@@ -553,6 +553,38 @@ fn bad_command_line_values_are_errors() {
     assert!(error_line(&out).contains("/no/such/scene.json"));
 }
 
+/// A thread count of 0 means nothing a user could want; `--set threads=0` is refused, and so are
+/// the commands' own thread options (before, `factory --threads 0`, `bench --threads 0` and
+/// `grade --jobs 0` quietly ran on one thread). The refusal is clap's: exit code 2, the first line
+/// naming the option and the range.
+#[test]
+fn thread_counts_of_zero_are_refused_naming_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    for (command, option) in [
+        ("factory", "--threads"),
+        ("bench", "--threads"),
+        ("grade", "--jobs"),
+    ] {
+        let out = Command::new(common::rigidref_bin())
+            .current_dir(dir.path())
+            .args([command, option, "0"])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{command} {option} 0");
+        let stderr = common::stderr(&out);
+        assert!(!stderr.contains("panicked"), "panic: {stderr}");
+        let first = stderr.lines().next().unwrap_or_default();
+        assert!(
+            first.starts_with("error:") && first.contains(option) && first.contains("1.."),
+            "{command}: {stderr}"
+        );
+        assert!(
+            std::fs::read_dir(dir.path()).unwrap().next().is_none(),
+            "{command} {option} 0 wrote something"
+        );
+    }
+}
+
 #[test]
 fn unknown_collision_method_is_rejected_naming_the_allowed_values() {
     expect_error(
