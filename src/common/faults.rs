@@ -35,6 +35,10 @@ pub struct Faults {
     /// surface without checking that it still is (docs/contact.md §"Temporal coherence",
     /// "Vertices on the surface").
     pub surface_skip_unchecked: bool,
+    /// Detection answers a candidate vertex on its leading triangle without checking that the
+    /// vertex has moved less than half the triangle's lead since its search (docs/contact.md
+    /// §"Temporal coherence", "Leading triangles").
+    pub leading_motion_unchecked: bool,
 }
 
 #[cfg(feature = "fault-injection")]
@@ -48,6 +52,7 @@ impl Faults {
         stale_detection_cache: false,
         deepest_face_axis: false,
         surface_skip_unchecked: false,
+        leading_motion_unchecked: false,
     };
 }
 

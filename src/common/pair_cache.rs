@@ -26,8 +26,12 @@ pub struct CacheStats {
     /// box and sphere).
     pub queries: u64,
     /// Of those, the ones answered on a nearest triangle kept from an earlier step, without
-    /// the BVH search.
+    /// the BVH search (kept for the list's life, or leading).
     pub nearest_kept: u64,
+    /// Of `nearest_kept`, the ones answered on a leading triangle: the vertex within half the
+    /// triangle's lead of where its last search found it (docs/contact.md §"Temporal
+    /// coherence", "Leading triangles").
+    pub nearest_leading: u64,
     /// Of those, the ones answered without the search because the vertex's last search found
     /// it on the surface and it still is, within half the surface tolerance of the same
     /// triangle (no contact: docs/contact.md §"Temporal coherence", "Vertices on the surface").
@@ -71,6 +75,7 @@ impl CacheStats {
             mismatches: self.mismatches - before.mismatches,
             queries: self.queries - before.queries,
             nearest_kept: self.nearest_kept - before.nearest_kept,
+            nearest_leading: self.nearest_leading - before.nearest_leading,
             on_surface: self.on_surface - before.on_surface,
             manifolds_kept: self.manifolds_kept - before.manifolds_kept,
             manifolds_searched: self.manifolds_searched - before.manifolds_searched,

@@ -22,7 +22,7 @@ use nalgebra::{Matrix3, Vector3};
 pub const MARGIN_FRACTION: f64 = 0.05;
 
 /// A candidate of a pair (i, j), i < j.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Candidate {
     /// A vertex of body i, against body j, and what is known of its nearest triangle of j.
     VertexOfFirst(u32, NearestTriangle),
@@ -188,14 +188,13 @@ pub fn cached_pair_contacts(
     let margin = pair_margin(&colliders[i], &colliders[j]);
     let gap = |other: usize| 2.0 * margin + 1e-9 * colliders[other].radius();
     let gaps = (gap(j), gap(i));
-    let (mut queries, mut nearest_kept, mut on_surface) = (0, 0, 0);
+    let (mut queries, mut nearest_kept, mut nearest_leading, mut on_surface) = (0, 0, 0, 0);
     for c in candidates.iter_mut() {
         let (vertex, (own, other), (body, against), nearest, gap) = match c {
             Candidate::VertexOfFirst(v, nearest) => (*v, (i, j), (bi, bj), nearest, gaps.0),
             Candidate::VertexOfSecond(v, nearest) => (*v, (j, i), (bj, bi), nearest, gaps.1),
             Candidate::Pieces(..) => continue,
         };
-        let kept = matches!(nearest, NearestTriangle::Kept(_));
         let answer = vertex_contact(
             own,
             body,
@@ -206,9 +205,9 @@ pub fn cached_pair_contacts(
             (nearest, gap),
             out,
         );
-        let queried = answer != VertexQuery::Culled;
-        queries += queried as u64;
-        nearest_kept += (queried && kept) as u64;
+        queries += (answer != VertexQuery::Culled) as u64;
+        nearest_kept += matches!(answer, VertexQuery::OnKept | VertexQuery::OnLeading) as u64;
+        nearest_leading += (answer == VertexQuery::OnLeading) as u64;
         on_surface += (answer == VertexQuery::OnSurface) as u64;
     }
     if pieces {
@@ -245,5 +244,6 @@ pub fn cached_pair_contacts(
     }
     cache.stats.queries += queries;
     cache.stats.nearest_kept += nearest_kept;
+    cache.stats.nearest_leading += nearest_leading;
     cache.stats.on_surface += on_surface;
 }

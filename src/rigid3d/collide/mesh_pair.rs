@@ -21,19 +21,50 @@ pub const SURFACE_TOLERANCE: f64 = 1e-9;
 
 /// What a kept candidate vertex knows of its nearest triangle of the other body
 /// ([`MeshCollider::signed_distance_keeping`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum NearestTriangle {
     /// Not looked at yet.
     Unknown,
-    /// Not nearer than every other triangle by the gap (or too deep to ask): searched each time.
-    Ambiguous,
+    /// No triangle leads by more than round-off (or too deep to ask, or still moving): searched
+    /// each time; after `retry_in` more searches the next also looks for a leading triangle.
+    Ambiguous {
+        /// Searches left before the next looks for a lead.
+        retry_in: u8,
+    },
     /// This triangle, nearer than every other by more than the gap when it was found.
     Kept(u32),
+    /// This triangle, nearer than every other by `lead` (m, at most the gap) when the search
+    /// found it at `at` (the vertex in the other body's frame, m): it stays the nearest, and the
+    /// search's answer, while the vertex is within (`lead` − [`LEAD_ROUND_OFF`] ρ) / 2 of `at`
+    /// (docs/contact.md §"Temporal coherence", "Leading triangles").
+    Leading {
+        /// The nearest triangle.
+        triangle: u32,
+        /// How much nearer than every other triangle it was at `at`, m.
+        lead: f64,
+        /// Where the vertex was (the other body's frame), m.
+        at: [f64; 3],
+        /// Whether it has answered a query since (one that fails at once moved too fast for
+        /// its lead, and the vertex waits [`LEAD_RETRY`] searches before the next look).
+        served: bool,
+    },
     /// Ambiguous, and its last search found the vertex on the surface: within
     /// [`ON_SURFACE_FRACTION`] of the mesh's bounding radius of this triangle. While it still is,
     /// it is no contact, and the search is skipped ([`vertex_contact`]).
     OnSurface(u32),
 }
+
+/// Round-off allowance of a lead, as a fraction of the mesh's bounding radius: a triangle is
+/// leading only when it is nearer than every other by more than this, and kept while twice the
+/// vertex's motion stays below its lead less this (distances are computed to about 1e-16 of
+/// the coordinates; the same allowance as the kept triangles' gap).
+pub const LEAD_ROUND_OFF: f64 = 1e-9;
+
+/// Searches a vertex waits before it looks for a leading triangle again, after a look found
+/// none or its leading triangle was given up at the next query (a moving vertex): the look
+/// costs about as much as the search, so a moving vertex pays it on one search in
+/// `LEAD_RETRY + 1`.
+pub const LEAD_RETRY: u8 = 8;
 
 /// A vertex within this fraction of the mesh's bounding radius of one of its triangles is on
 /// the surface for [`NearestTriangle::OnSurface`]: half of [`SURFACE_TOLERANCE`], so that the
@@ -162,63 +193,113 @@ impl MeshCollider {
     /// than `gap`. Every triangle within `distance + gap` of `p` is compared (the BVH's boxes
     /// meeting a cube of that half-side around `p`); the others are farther anyway.
     fn is_unique_nearest(&self, p: &Vector3<f64>, triangle: u32, distance: f64, gap: f64) -> bool {
+        self.lead(p, triangle, distance, gap)
+            .is_some_and(|lead| lead > gap)
+    }
+
+    /// How much nearer `p` `triangle` (at `distance` from it) is than every other triangle within
+    /// `distance + gap` of `p` (the BVH's boxes meeting a cube of that half-side around `p`), m:
+    /// the least (other's distance − `distance`), +∞ when there is none; every triangle farther
+    /// than that reach is more than `gap` farther than `triangle`. `None` when the reach is not
+    /// finite. docs/contact.md §"Temporal coherence".
+    fn lead(&self, p: &Vector3<f64>, triangle: u32, distance: f64, gap: f64) -> Option<f64> {
         let q = to_parry(p);
         let reach = distance + gap;
         if !reach.is_finite() {
-            return false;
+            return None;
         }
         let around = parry3d_f64::bounding_volume::Aabb::new(
             q - PVector::splat(reach),
             q + PVector::splat(reach),
         );
+        let mut lead = f64::INFINITY;
         for other in self.shape.bvh().intersect_aabb(&around) {
             if other == triangle {
                 continue;
             }
             let (projection, _) =
                 (self.shape.triangle(other)).project_local_point_and_get_location(q, false);
-            if (projection.point - q).length() - distance <= gap {
-                return false;
+            let ahead = (projection.point - q).length() - distance;
+            if ahead.is_nan() {
+                return Some(0.0);
             }
+            lead = lead.min(ahead);
         }
-        true
+        Some(lead)
     }
 
     /// [`Self::signed_distance`] for a kept candidate vertex, using and settling what is known of
-    /// its nearest triangle: on a kept triangle without the search; by the search when it is
-    /// ambiguous; and when unknown, by the search, after which the triangle is kept if the
-    /// vertex is within `gap` of the surface and the triangle is nearer than every other by
-    /// more than `gap` (shallow vertices only, so that the comparison's neighbourhood stays
-    /// small), else marked ambiguous, or on the surface when it is within
-    /// [`ON_SURFACE_FRACTION`] of the radius of it ([`NearestTriangle::OnSurface`]; so too after
-    /// each search of an ambiguous vertex). docs/contact.md §"Temporal coherence".
+    /// its nearest triangle, and how it was answered: on a kept triangle without the search; on
+    /// a leading triangle without the search while the vertex is within half its lead (less
+    /// round-off) of where it was searched; otherwise by the search, after which (for a vertex
+    /// within `gap` of the surface, so that the comparison's neighbourhood stays small) the
+    /// triangle's lead over every other is measured: when unknown, a lead above `gap` keeps the
+    /// triangle for the list's life; else the vertex is on the surface when it is within
+    /// [`ON_SURFACE_FRACTION`] of the radius of it ([`NearestTriangle::OnSurface`]), leading
+    /// where the lead is above [`LEAD_ROUND_OFF`] of the radius, else ambiguous (and the next
+    /// [`LEAD_RETRY`] searches do not measure a lead). docs/contact.md §"Temporal coherence"
+    /// ("Leading triangles").
     pub fn signed_distance_keeping(
         &self,
         p: &Vector3<f64>,
         nearest: &mut NearestTriangle,
         gap: f64,
-    ) -> SignedDistance {
+    ) -> (SignedDistance, VertexQuery) {
         let on_surface = |sd: &SignedDistance| {
             (sd.distance.abs() <= ON_SURFACE_FRACTION * self.radius)
                 .then_some(NearestTriangle::OnSurface(sd.triangle as u32))
         };
+        let round_off = LEAD_ROUND_OFF * self.radius;
         match *nearest {
-            NearestTriangle::Kept(triangle) => self.signed_distance_on(p, triangle),
-            NearestTriangle::Ambiguous | NearestTriangle::OnSurface(_) => {
-                let sd = self.signed_distance(p);
-                *nearest = on_surface(&sd).unwrap_or(NearestTriangle::Ambiguous);
-                sd
+            NearestTriangle::Kept(triangle) => {
+                (self.signed_distance_on(p, triangle), VertexQuery::OnKept)
             }
-            NearestTriangle::Unknown => {
+            NearestTriangle::Leading {
+                triangle,
+                lead,
+                at,
+                ref mut served,
+            } if crate::common::faults::fault!(leading_motion_unchecked)
+                || 2.0 * (p - Vector3::from(at)).norm() + round_off < lead =>
+            {
+                *served = true;
+                (self.signed_distance_on(p, triangle), VertexQuery::OnLeading)
+            }
+            NearestTriangle::Ambiguous { .. }
+            | NearestTriangle::OnSurface(_)
+            | NearestTriangle::Leading { .. }
+            | NearestTriangle::Unknown => {
+                let unknown = *nearest == NearestTriangle::Unknown;
+                let retry_in = match *nearest {
+                    NearestTriangle::Ambiguous { retry_in } => retry_in,
+                    NearestTriangle::Leading { served: false, .. } => LEAD_RETRY,
+                    _ => 0,
+                };
+                let look = retry_in == 0;
                 let sd = self.signed_distance(p);
                 let depth = sd.distance.abs();
-                *nearest =
-                    if depth < gap && self.is_unique_nearest(p, sd.triangle as u32, depth, gap) {
-                        NearestTriangle::Kept(sd.triangle as u32)
-                    } else {
-                        on_surface(&sd).unwrap_or(NearestTriangle::Ambiguous)
-                    };
-                sd
+                let lead = (look && depth < gap)
+                    .then(|| self.lead(p, sd.triangle as u32, depth, gap))
+                    .flatten()
+                    .unwrap_or(0.0);
+                let triangle = sd.triangle as u32;
+                *nearest = if unknown && lead > gap {
+                    NearestTriangle::Kept(triangle)
+                } else if let Some(on) = on_surface(&sd) {
+                    on
+                } else if lead > round_off {
+                    NearestTriangle::Leading {
+                        triangle,
+                        lead: lead.min(gap),
+                        at: [p.x, p.y, p.z],
+                        served: false,
+                    }
+                } else {
+                    NearestTriangle::Ambiguous {
+                        retry_in: if look { LEAD_RETRY } else { retry_in - 1 },
+                    }
+                };
+                (sd, VertexQuery::Searched)
             }
         }
     }
@@ -314,8 +395,14 @@ pub enum VertexQuery {
     /// Still on j's surface where its last search found it ([`NearestTriangle::OnSurface`]):
     /// no contact, without the search.
     OnSurface,
-    /// By its signed distance (searched, or on a kept triangle).
-    Answered,
+    /// By its signed distance, found by the BVH search.
+    Searched,
+    /// By its signed distance on its kept triangle ([`NearestTriangle::Kept`]), without the
+    /// search.
+    OnKept,
+    /// By its signed distance on its leading triangle ([`NearestTriangle::Leading`]), without
+    /// the search.
+    OnLeading,
 }
 
 /// Appends a contact for every vertex of body `i` inside body `j` by more than
@@ -336,7 +423,7 @@ pub fn vertex_contacts(
         return;
     }
     for vertex in 0..body_i.mesh.vertices.len() {
-        let mut nearest = NearestTriangle::Ambiguous;
+        let mut nearest = NearestTriangle::Ambiguous { retry_in: 0 };
         vertex_contact(
             i,
             body_i,
@@ -388,7 +475,7 @@ pub fn vertex_contact(
     {
         return VertexQuery::OnSurface;
     }
-    let sd = collider_j.signed_distance_keeping(&in_j, nearest, gap);
+    let (sd, answer) = collider_j.signed_distance_keeping(&in_j, nearest, gap);
     if sd.distance < -SURFACE_TOLERANCE * collider_j.radius
         && sd.normal.iter().all(|x| x.is_finite())
     {
@@ -402,5 +489,5 @@ pub fn vertex_contact(
             depth: -sd.distance,
         });
     }
-    VertexQuery::Answered
+    answer
 }

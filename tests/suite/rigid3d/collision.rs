@@ -114,6 +114,67 @@ fn a_unique_nearest_triangle_gives_the_bvh_answer_while_the_point_moves_less_tha
     );
 }
 
+#[test]
+fn a_leading_triangle_gives_the_bvh_answer_while_the_point_moves_less_than_half_its_lead() {
+    // The leading triangles of temporal coherence (docs/contact.md §"Temporal coherence",
+    // "Leading triangles"): a point within the gap g of the surface whose nearest triangle is
+    // nearer than every other by a lead ℓ ≤ g (near an edge, a corner or a medial plane of the
+    // mesh) keeps that triangle while it moves by less than (ℓ − 1e-9 ρ) / 2 from where it was
+    // searched: there its signed distance on the triangle is the BVH search's, bit for bit.
+    // Points 0.49 (ℓ − 1e-9 ρ) away in a random direction are answered on the triangle and
+    // compared with the search; points just past half the lead must be searched again. g is
+    // detection's: twice the margin (MARGIN_FRACTION of the radius) plus 1e-9 ρ.
+    use rigidref::rigid3d::collide::mesh_pair::{LEAD_ROUND_OFF, NearestTriangle, VertexQuery};
+    let (leading, other) = (std::cell::Cell::new(0), std::cell::Cell::new(0));
+    for (name, mesh) in meshes() {
+        let collider = MeshCollider::new(mesh.clone()).unwrap();
+        let radius = mesh.bounding_radius();
+        let gap = 2.0 * rigidref::rigid3d::collide::coherence::MARGIN_FRACTION * radius
+            + 1e-9 * radius;
+        let round_off = LEAD_ROUND_OFF * radius;
+        let lo = Aabb::around(mesh.vertices.iter().copied());
+        let span = lo.max - lo.min;
+        let config = common::seeded(300);
+        proptest!(config, |(f in (-0.1..1.1f64, -0.1..1.1f64, -0.1..1.1f64),
+                            o in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64),
+                            d in (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64))| {
+            // A point within the gap of the surface: a surface point, moved by up to 0.6 g.
+            let far = lo.min + Vector3::new(f.0 * span.x, f.1 * span.y, f.2 * span.z);
+            let p = collider.signed_distance(&far).closest + Vector3::new(o.0, o.1, o.2) * 0.35 * gap;
+            let mut state = NearestTriangle::Unknown;
+            let (first, answer) = collider.signed_distance_keeping(&p, &mut state, gap);
+            prop_assert_eq!(answer, VertexQuery::Searched);
+            let bits = |sd: rigidref::rigid3d::collide::closest_point::SignedDistance| {
+                let v = |x: &Vector3<f64>| x.map(f64::to_bits);
+                (sd.distance.to_bits(), v(&sd.closest), v(&sd.normal), sd.triangle)
+            };
+            prop_assert_eq!(bits(first), bits(collider.signed_distance(&p)));
+            let NearestTriangle::Leading { triangle, lead, .. } = state else {
+                other.set(other.get() + 1);
+                return Ok(());
+            };
+            leading.set(leading.get() + 1);
+            prop_assert!(lead > round_off && lead <= gap, "{}: lead {}", name, lead);
+            prop_assert_eq!(triangle as usize, first.triangle);
+            let direction = Vector3::new(d.0, d.1, d.2).normalize();
+            let near = p + direction * 0.49 * (lead - round_off);
+            let (sd, answer) = collider.signed_distance_keeping(&near, &mut state, gap);
+            prop_assert_eq!(answer, VertexQuery::OnLeading);
+            prop_assert_eq!(bits(sd), bits(collider.signed_distance(&near)),
+                "{} at {:?}, triangle {}, lead {}", name, near, triangle, lead);
+            // Still leading from the first search's point; past half the lead it searches.
+            let past = p + direction * (0.5 * lead + round_off);
+            let (sd, answer) = collider.signed_distance_keeping(&past, &mut state, gap);
+            prop_assert_eq!(answer, VertexQuery::Searched);
+            prop_assert_eq!(bits(sd), bits(collider.signed_distance(&past)));
+        });
+    }
+    // Both occur: points near edges, corners and medial planes lead by less than the gap, the
+    // others keep their triangle for the list's life (or are too deep, or tie).
+    let (leading, other) = (leading.get(), other.get());
+    assert!(leading > 200 && other > 200, "leading {leading}, other {other}");
+}
+
 fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> RigidBody {
     let mut b = RigidBody::new("b", 1.0, Matrix3::identity(), mesh);
     b.x = x;
