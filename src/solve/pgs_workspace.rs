@@ -8,7 +8,7 @@
 use super::pgs_lanes::{LANES, LaneGroup, grouped};
 use super::pgs_rows::{BodyRows, CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes};
-use super::pgs_setup::{build_entry, inverse_mass_times, nonzero_columns};
+use super::pgs_setup::{build_entry, inverse_mass_times};
 use super::pgs_visit::ContactRows;
 use super::residual::RowScales;
 use super::sweep_entry::{Entry, RowLaw};
@@ -42,9 +42,6 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) colour_of: Vec<usize>,
     /// Per body: whether its inverse mass is not zero (a pinned body's Δu never changes).
     pub(super) moving: Vec<bool>,
-    /// Per body, per row of its M⁻¹, the columns outside of which the row is zero
-    /// ([`nonzero_columns`]: found once per body, used by each of its contacts' M⁻¹Jᵀ).
-    pub(super) mass_rows: Vec<[(usize, usize); D]>,
     /// Threads a coloured sweep runs on ([`PgsWorkspace::set_threads`]; 1 by default).
     pub(super) threads: usize,
     /// Threads the last solve's sweeps ran on.
@@ -123,7 +120,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             colour_masks: Vec::new(),
             colour_of: Vec::new(),
             moving: Vec::new(),
-            mass_rows: Vec::new(),
             threads: 1,
             last_threads: 1,
             lanes: Lanes::Native,
@@ -187,13 +183,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.slot.resize(count, Slot::One(0));
         self.finite_columns.clear();
         self.finite_columns.resize(count, false);
-        self.mass_rows.clear();
-        (self.mass_rows).extend(
-            problem
-                .bodies
-                .iter()
-                .map(|b| nonzero_columns(&b.inverse_mass)),
-        );
         let PgsWorkspace {
             entries,
             entry_contact,
@@ -202,18 +191,16 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             slot,
             colour_starts,
             moving,
-            mass_rows,
             groups,
             group_starts,
             finite_columns,
             ..
         } = self;
-        let mass_rows = &*mass_rows;
         if !lanes {
             for (position, &k) in order.iter().enumerate() {
                 prefetch_ahead(problem, order, position);
                 slot[k] = Slot::One(entries.len());
-                let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
+                let entry = build_entry(problem, k, &mut scales[k]);
                 finite_columns[k] = columns_finite(&entry);
                 entries.push(entry);
                 entry_contact.push(k);
@@ -227,7 +214,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             for position in a..b {
                 prefetch_ahead(problem, order, position);
                 let k = order[position];
-                let entry = build_entry(problem, mass_rows, k, &mut scales[k]);
+                let entry = build_entry(problem, k, &mut scales[k]);
                 finite_columns[k] = columns_finite(&entry);
                 if position < in_groups {
                     let lane = (position - a) % LANES;
@@ -482,13 +469,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             Slot::Lane(_) => {
                 let c = &problem.contacts[k];
                 let sides: [Option<SMatrix<f64, D, R>>; 2] = std::array::from_fn(|s| {
-                    c.bodies[s].map(|b| {
-                        inverse_mass_times(
-                            &problem.bodies[b].inverse_mass,
-                            &self.mass_rows[b],
-                            &c.jacobian[s].transpose(),
-                        )
-                    })
+                    c.bodies[s].map(|b| inverse_mass_times(problem, k, s, b))
                 });
                 for r in 0..R {
                     for s in 0..2 {

@@ -637,9 +637,10 @@ fn check_velocity_changes<const D: usize, const R: usize>(seed: u64, m: SMatrix<
 /// Every body's Δu is M⁻¹ Jᵀ λ of the answer (`ContactProblem::velocity_change`, nalgebra's
 /// full product) where M⁻¹ is not a rigid body's diag(m⁻¹ I, J⁻¹) but any symmetric positive
 /// definite block with exact zeros between nonzero entries of a row (a problem file may give
-/// one): the set-up sums M⁻¹Jᵀ over each row's span of nonzero columns
-/// (`pgs_setup.rs::nonzero_columns`), and a span that started at the first zero instead would
-/// drop the row's first term. 2D and 3D, box and cone, one at a time and four per lane, 1 and
+/// one): the set-up once summed M⁻¹Jᵀ over each row's span of nonzero columns, where a span
+/// that started at the first zero would drop the row's first term; it now takes nalgebra's full
+/// product (`pgs_setup.rs::inverse_mass_times`), which this keeps checked against
+/// `velocity_change` on such blocks. 2D and 3D, box and cone, one at a time and four per lane, 1 and
 /// 20 sweeps. Tolerance 1e-12 of the largest |Δu|: the two sums differ only in the order of
 /// their additions (the solve accumulates Δu impulse by impulse).
 #[test]
