@@ -129,8 +129,8 @@ fn a_leading_triangle_gives_the_bvh_answer_while_the_point_moves_less_than_half_
     for (name, mesh) in meshes() {
         let collider = MeshCollider::new(mesh.clone()).unwrap();
         let radius = mesh.bounding_radius();
-        let gap = 2.0 * rigidref::rigid3d::collide::coherence::MARGIN_FRACTION * radius
-            + 1e-9 * radius;
+        let gap =
+            2.0 * rigidref::rigid3d::collide::coherence::MARGIN_FRACTION * radius + 1e-9 * radius;
         let round_off = LEAD_ROUND_OFF * radius;
         let lo = Aabb::around(mesh.vertices.iter().copied());
         let span = lo.max - lo.min;
@@ -172,7 +172,10 @@ fn a_leading_triangle_gives_the_bvh_answer_while_the_point_moves_less_than_half_
     // Both occur: points near edges, corners and medial planes lead by less than the gap, the
     // others keep their triangle for the list's life (or are too deep, or tie).
     let (leading, other) = (leading.get(), other.get());
-    assert!(leading > 200 && other > 200, "leading {leading}, other {other}");
+    assert!(
+        leading > 200 && other > 200,
+        "leading {leading}, other {other}"
+    );
 }
 
 fn body_with(mesh: Arc<TriMesh>, x: Vector3<f64>, rotation: Matrix3<f64>) -> RigidBody {
