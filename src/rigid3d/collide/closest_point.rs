@@ -99,17 +99,20 @@ pub fn brute_force_signed_distance(mesh: &TriMesh, p: &Vector3<f64>) -> SignedDi
     let (distance_squared, closest, triangle) = best;
     let _ = distance_squared;
     let inside = winding_number(mesh, p) > 0.5;
-    SignedDistance::new(mesh, p, closest, inside, triangle)
+    SignedDistance::new(mesh, mesh.bounding_radius(), p, closest, inside, triangle)
 }
 
 impl SignedDistance {
     /// The signed distance of `p` given its closest surface point (on `triangle`) and whether it
     /// is inside: the distance negated inside; the normal from the closest point toward `p`
     /// outside, from `p` toward it inside, and the triangle's normal when `p` is on the surface
-    /// (closer than 1e-12 of the mesh's radius, where that direction is undefined). Shared by the
-    /// oracle and the fast path, which differ in how they find the closest point and the side.
+    /// (closer than 1e-12 of the mesh's bounding radius `radius`, m, where that direction is
+    /// undefined). Shared by the oracle and the fast path, which differ in how they find the
+    /// closest point and the side. `radius` is [`TriMesh::bounding_radius`], passed in because
+    /// finding it visits every vertex (the fast path keeps it).
     pub fn new(
         mesh: &TriMesh,
+        radius: f64,
         p: &Vector3<f64>,
         closest: Vector3<f64>,
         inside: bool,
@@ -118,7 +121,7 @@ impl SignedDistance {
         let distance = (closest - p).norm();
         let t = mesh.triangles[triangle];
         let v = &mesh.vertices;
-        let normal = if distance > 1e-12 * mesh.bounding_radius() {
+        let normal = if distance > 1e-12 * radius {
             if inside {
                 (closest - p) / distance
             } else {

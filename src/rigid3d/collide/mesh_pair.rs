@@ -170,6 +170,7 @@ impl MeshCollider {
             .project_local_point_and_get_location(to_parry(p), false);
         SignedDistance::new(
             &self.mesh,
+            self.radius,
             p,
             from_parry(projection.point),
             projection.is_inside,
@@ -346,6 +347,7 @@ impl MeshCollider {
         }
         SignedDistance::new(
             &self.mesh,
+            self.radius,
             p,
             from_parry(projection.point),
             projection.is_inside,

@@ -352,3 +352,44 @@ fn an_unsolved_last_fallback_is_kept_where_its_law_norm_is_lower() {
         assert!(siconos_error(&problem, &lambda) > 1e-8, "no run solves it");
     }
 }
+
+/// Where the adaptive proximal loop does not solve, its last plain Newton run starts from the
+/// best centre it found (the least law norm), not from where the loop began (docs/contact.md
+/// §"Newton solver", the proximal-point fallback: "finish with plain Newton from the best
+/// centre"). BoxesStack1 with short runs and a stop rule that accepts nothing, which records
+/// every point it is shown: the loop shows each centre it moves to, and a run shows its start
+/// first, so the last run's start is the first point after the first run shown a second time;
+/// its first showing must be a centre of the loop (after the first run's at most
+/// `max_iterations` + 1 points), not the first run's answer. Kills the mutant
+/// `newton/mod.rs:618:21` (`norm < best.0` → `==`: the best centre never kept), whose last run
+/// starts from the first run's answer.
+#[test]
+fn an_unsolved_proximal_loop_finishes_from_its_best_centre() {
+    let problem = boxes_stack();
+    for max_iterations in [4, 10] {
+        let settings = NewtonSettings {
+            max_iterations,
+            proximal_iterations: 3,
+            ..NewtonSettings::default()
+        };
+        let mut shown: Vec<Vec<SVector<f64, 3>>> = Vec::new();
+        let mut stop = |l: &[SVector<f64, 3>]| {
+            shown.push(l.to_vec());
+            false
+        };
+        let mut lambda = Vec::new();
+        solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+        let first_run = max_iterations as usize + 1;
+        let repeat = (first_run..shown.len())
+            .find_map(|j| (0..j).find(|&i| shown[i] == shown[j]).map(|i| (i, j)));
+        let (i, j) = repeat.expect("the last run's start was shown before");
+        assert!(
+            i >= first_run,
+            "{max_iterations}: the last run starts from point {i} (the first run's), shown again at {j}"
+        );
+        assert!(
+            siconos_error(&problem, &lambda) > 1e-8,
+            "{max_iterations}: nothing solves"
+        );
+    }
+}
