@@ -33,6 +33,30 @@ fn canonical_scenes() -> Vec<(String, Scene)> {
     scenes
 }
 
+/// The detection statistics of each of the project's scenes `names`, run for `seconds` with the
+/// cache and its check on, after asserting that every substep was checked and none differed
+/// from fresh detection.
+fn stats_of_checked_runs(
+    names: &[&str],
+    seconds: f64,
+) -> Vec<rigidref::common::pair_cache::CacheStats> {
+    names
+        .iter()
+        .map(|name| {
+            let mut scene = load_scene(&common::project_root().join("scenes").join(name)).unwrap();
+            let world = run_checked(&mut scene, seconds);
+            let stats = world.detection_stats();
+            eprintln!("{name}: {stats:?}");
+            assert_eq!(stats.checked, world.step * u64::from(scene.params.substeps));
+            assert_eq!(
+                stats.mismatches, 0,
+                "{name}: cached detection differed from fresh"
+            );
+            stats
+        })
+        .collect()
+}
+
 /// Runs `frames` frames (at most 2 s) of `scene` with the cache and its check on; returns the
 /// world.
 fn run_checked(scene: &mut Scene, seconds: f64) -> World {
@@ -225,16 +249,8 @@ fn run_reports_the_detection_check_when_it_is_switched_on() {
 #[test]
 fn vertices_on_the_surface_skip_the_search_and_give_the_fresh_contacts() {
     let (mut on_surface, mut queries) = (0, 0);
-    for name in ["touching_two_cubes.json", "touching_ten_cubes.json"] {
-        let mut scene = load_scene(&common::project_root().join("scenes").join(name)).unwrap();
-        let world = run_checked(&mut scene, 1.0);
-        let stats = world.detection_stats();
-        eprintln!("{name}: {stats:?}");
-        assert_eq!(stats.checked, world.step * u64::from(scene.params.substeps));
-        assert_eq!(
-            stats.mismatches, 0,
-            "{name}: cached detection differed from fresh"
-        );
+    for stats in stats_of_checked_runs(&["touching_two_cubes.json", "touching_ten_cubes.json"], 1.0)
+    {
         (on_surface, queries) = (on_surface + stats.on_surface, queries + stats.queries);
     }
     // Measured: 7 992 of touching_two_cubes' 8 000 queries, none of touching_ten_cubes' 1 439
@@ -278,16 +294,7 @@ fn leading_triangles_answer_resting_vertices_and_give_the_fresh_contacts() {
     // Measured over 2 s: 2 075 of touching_pyramid's 2 605 queries, 1 173 of touching_ten_cubes'
     // 3 164 (its vertices exactly over the edges of the cubes below tie and are searched).
     let (mut leading, mut queries) = (0, 0);
-    for name in ["touching_pyramid.json", "touching_ten_cubes.json"] {
-        let mut scene = load_scene(&common::project_root().join("scenes").join(name)).unwrap();
-        let world = run_checked(&mut scene, 2.0);
-        let stats = world.detection_stats();
-        eprintln!("{name}: {stats:?}");
-        assert_eq!(stats.checked, world.step * u64::from(scene.params.substeps));
-        assert_eq!(
-            stats.mismatches, 0,
-            "{name}: cached detection differed from fresh"
-        );
+    for stats in stats_of_checked_runs(&["touching_pyramid.json", "touching_ten_cubes.json"], 2.0) {
         (leading, queries) = (leading + stats.nearest_leading, queries + stats.queries);
     }
     assert!(

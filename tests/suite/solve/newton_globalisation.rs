@@ -305,6 +305,22 @@ fn rockpile_has_an_exact_answer_that_leaves_one_of_three_near_duplicate_contacts
     }
 }
 
+/// Newton on `problem` with a stop rule that accepts nothing and records every point it is
+/// shown, in order; returns those points and the answer.
+fn shown_points(
+    problem: &LocalProblem<3>,
+    settings: &NewtonSettings,
+) -> (Vec<Vec<SVector<f64, 3>>>, Vec<SVector<f64, 3>>) {
+    let mut shown: Vec<Vec<SVector<f64, 3>>> = Vec::new();
+    let mut stop = |l: &[SVector<f64, 3>]| {
+        shown.push(l.to_vec());
+        false
+    };
+    let mut lambda = Vec::new();
+    solve_newton_local_until(problem, settings, &mut stop, &mut lambda);
+    (shown, lambda)
+}
+
 /// Where no run reaches the stop rule, the last fallback's answer (plain Newton from the start
 /// without the stall rule, then the tenfold loop from its end) is returned wherever its law norm
 /// is lower than the earlier runs' answer, although it did not solve either (docs/contact.md
@@ -325,13 +341,7 @@ fn an_unsolved_last_fallback_is_kept_where_its_law_norm_is_lower() {
             proximal_iterations: 0,
             ..NewtonSettings::default()
         };
-        let mut shown: Vec<Vec<SVector<f64, 3>>> = Vec::new();
-        let mut stop = |l: &[SVector<f64, 3>]| {
-            shown.push(l.to_vec());
-            false
-        };
-        let mut lambda = Vec::new();
-        solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+        let (shown, lambda) = shown_points(&problem, &settings);
         let zero = |l: &Vec<SVector<f64, 3>>| l.iter().all(|x| *x == SVector::<f64, 3>::zeros());
         let starts: Vec<usize> = (0..shown.len()).filter(|&i| zero(&shown[i])).collect();
         assert_eq!(
@@ -372,13 +382,7 @@ fn an_unsolved_proximal_loop_finishes_from_its_best_centre() {
             proximal_iterations: 3,
             ..NewtonSettings::default()
         };
-        let mut shown: Vec<Vec<SVector<f64, 3>>> = Vec::new();
-        let mut stop = |l: &[SVector<f64, 3>]| {
-            shown.push(l.to_vec());
-            false
-        };
-        let mut lambda = Vec::new();
-        solve_newton_local_until(&problem, &settings, &mut stop, &mut lambda);
+        let (shown, lambda) = shown_points(&problem, &settings);
         let first_run = max_iterations as usize + 1;
         let repeat = (first_run..shown.len())
             .find_map(|j| (0..j).find(|&i| shown[i] == shown[j]).map(|i| (i, j)));
