@@ -59,7 +59,8 @@ pub(super) const fn dimensions_fit<const D: usize, const R: usize>() -> bool {
 
 impl<const D: usize, const R: usize> LaneGroup<D, R> {
     /// A group with every lane empty (all zero; no side a body), to be filled lane by lane with
-    /// [`LaneGroup::set_lane`] where it is stored.
+    /// [`LaneGroup::set_lane`] where it is stored: made only when the groups grow, since
+    /// `set_lane` overwrites a reused group's lane whole.
     pub(super) fn empty() -> Self {
         let zero = Wide::splat(0.0);
         LaneGroup {
@@ -77,21 +78,29 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
         }
     }
 
-    /// Puts contact `k`'s entry `e` in lane `l` (an empty lane): each quantity of the entry
-    /// into its lane, nothing computed. `moving[b]`: whether body b's inverse mass is not zero.
+    /// Puts contact `k`'s entry `e` in lane `l`: every quantity of the lane written, each from
+    /// the entry (nothing computed), the static world's side as zeros, so that a group reused
+    /// from an earlier solve keeps nothing of it once its four lanes are set. `moving[b]`:
+    /// whether body b's inverse mass is not zero.
     pub(super) fn set_lane(&mut self, l: usize, k: usize, e: &Entry<D, R>, moving: &[bool]) {
         self.contact[l] = k;
         for s in 0..2 {
-            // The static world's side stays zero (its Δu is zero and never written).
-            let Some(body) = e.bodies[s] else { continue };
-            self.body[s][l] = body;
-            self.present[s].set(l);
-            self.moving[s][l] = moving[body];
+            // The static world's side is zero (its Δu is zero and never written).
+            let body = e.bodies[s];
+            self.body[s][l] = body.unwrap_or(0);
+            self.present[s].assign(l, body.is_some());
+            self.moving[s][l] = body.is_some_and(|b| moving[b]);
             for r in 0..R {
                 for d in 0..D {
-                    self.jacobian_t[s][r][d].0[l] = e.jacobian_t[s][(d, r)];
-                    self.inverse_mass_jacobian_t[s][r][d].0[l] =
-                        e.inverse_mass_jacobian_t[s][(d, r)];
+                    let (j, mj) = match body {
+                        Some(_) => (
+                            e.jacobian_t[s][(d, r)],
+                            e.inverse_mass_jacobian_t[s][(d, r)],
+                        ),
+                        None => (0.0, 0.0),
+                    };
+                    self.jacobian_t[s][r][d].0[l] = j;
+                    self.inverse_mass_jacobian_t[s][r][d].0[l] = mj;
                 }
             }
         }

@@ -168,7 +168,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.order.clear();
         self.colour_starts.clear();
         self.sweep_colours.clear();
-        self.groups.clear();
         self.group_starts.clear();
         self.local_fallbacks = 0;
         let count = problem.contacts.len();
@@ -197,6 +196,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             ..
         } = self;
         if !lanes {
+            groups.clear();
             for (position, &k) in order.iter().enumerate() {
                 prefetch_ahead(problem, order, position);
                 slot[k] = Slot::One(entries.len());
@@ -207,6 +207,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             }
             return;
         }
+        // The groups of the last solve are reused where there are as many (each lane of each
+        // group is written whole by `set_lane`), so that a solve does not zero them again: about
+        // 2.7 kB per group of four in 3D.
+        let mut used = 0;
         group_starts.push(0);
         for colour in colour_starts.windows(2) {
             let (a, b) = (colour[0], colour[1]);
@@ -219,9 +223,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 if position < in_groups {
                     let lane = (position - a) % LANES;
                     if lane == 0 {
-                        groups.push(LaneGroup::empty());
+                        if used == groups.len() {
+                            groups.push(LaneGroup::empty());
+                        }
+                        used += 1;
                     }
-                    let g = groups.len() - 1;
+                    let g = used - 1;
                     groups[g].set_lane(lane, k, &entry, moving);
                     slot[k] = Slot::Lane(g * LANES + lane);
                 } else {
@@ -230,8 +237,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                     entry_contact.push(k);
                 }
             }
-            group_starts.push(groups.len());
+            group_starts.push(used);
         }
+        groups.truncate(used);
     }
 
     /// Contact `k`'s constants as a visit reads them.

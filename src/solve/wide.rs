@@ -115,10 +115,10 @@ impl Mask {
     /// No lane's condition holds.
     pub const NONE: Mask = Mask([0; LANES]);
 
-    /// Sets lane `l`'s condition.
+    /// Sets lane `l`'s condition to `holds`.
     #[inline(always)]
-    pub fn set(&mut self, l: usize) {
-        self.0[l] = u64::MAX;
+    pub fn assign(&mut self, l: usize, holds: bool) {
+        self.0[l] = if holds { u64::MAX } else { 0 };
     }
 
     /// Lane `l`'s condition.
