@@ -297,8 +297,9 @@ impl World {
         }
         self.warm_start.store(&contacts, &record.lambda);
         record.substep = substep;
-        record.contacts.clear();
-        record.contacts.extend_from_slice(&contacts);
+        // The record keeps this substep's contacts by taking their buffer, not a copy; detection
+        // writes the next substep's into the record's old one (it clears what it is given).
+        std::mem::swap(&mut record.contacts, &mut contacts);
         record.report = report;
         record.solve_seconds = solve_seconds;
         record.solve_cpu_seconds = cpu.unwrap_or(0.0);

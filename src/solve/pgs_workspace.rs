@@ -164,7 +164,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             .resize(problem.bodies.len(), SVector::zeros());
         self.entries.clear();
         self.entry_contact.clear();
-        self.scales.clear();
         self.order.clear();
         self.colour_starts.clear();
         self.sweep_colours.clear();
@@ -176,11 +175,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         } else {
             self.order.extend(0..count);
         }
+        // Every contact's scales, slot and finite_columns are written below (each contact is
+        // in the order once), so the last solve's are left in place rather than cleared: only
+        // the length changes.
         self.scales
             .resize(count, RowScales::of_block(SMatrix::zeros()));
-        self.slot.clear();
         self.slot.resize(count, Slot::One(0));
-        self.finite_columns.clear();
         self.finite_columns.resize(count, false);
         let PgsWorkspace {
             entries,
