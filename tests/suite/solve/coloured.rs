@@ -242,3 +242,48 @@ fn two_threads_stop_at_the_tolerance_after_the_one_threads_sweeps() {
         assert!(one == two, "λ differs between 1 and 2 threads");
     }
 }
+
+/// The threads start exactly where the docs say (`solve_pgs`; docs/contact.md §"Coloured
+/// order"): where the problem has at least `MIN_CONTACTS_PER_THREAD` contacts per thread and
+/// colour. Random friction problems tiled 1, 2, 3, … times (the copies are disjoint, so the
+/// colour count is the small problem's) up to past that size, solved on two threads: the
+/// workspace reports two threads at every size at or above 64 × 2 × colours contacts and one
+/// below; each problem has more than one colour, so a threshold that adds the colours instead
+/// of multiplying by them starts the threads too early.
+#[test]
+fn threads_start_at_the_contacts_per_thread_and_colour_the_docs_give() {
+    use rigidref::solve::pgs::MIN_CONTACTS_PER_THREAD;
+    let settings = PgsSettings {
+        max_iterations: 1,
+        tolerance: None,
+        order: ContactOrder::Coloured,
+        local: LocalSolve::Rows,
+    };
+    let mut below = 0;
+    for small in friction_problems(5) {
+        let mut colours = 0;
+        for copies in 1.. {
+            let problem = tiled(&small, copies);
+            let mut workspace = rigidref::solve::PgsWorkspace::new(0);
+            workspace.set_threads(2);
+            let mut lambda = Vec::new();
+            rigidref::solve::solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
+            colours = workspace.colours();
+            assert!(colours > 1, "one colour: the test cannot tell × from +");
+            let threshold = MIN_CONTACTS_PER_THREAD * 2 * colours;
+            let n = problem.contacts.len();
+            let expected = if n >= threshold { 2 } else { 1 };
+            assert_eq!(
+                workspace.last_threads(),
+                expected,
+                "{n} contacts, {colours} colours (threshold {threshold})"
+            );
+            below += usize::from(n < threshold && n >= MIN_CONTACTS_PER_THREAD * 2 + colours);
+            if n >= threshold + small.contacts.len() {
+                break;
+            }
+        }
+        assert!(colours > 1);
+    }
+    assert!(below > 0, "no size between the two thresholds was tried");
+}
