@@ -90,17 +90,14 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
             self.body[s][l] = body.unwrap_or(0);
             self.present[s].assign(l, body.is_some());
             self.moving[s][l] = body.is_some_and(|b| moving[b]);
+            let (j, mj) = match body {
+                Some(_) => (e.jacobian_t[s], e.inverse_mass_jacobian_t[s]),
+                None => (SMatrix::zeros(), SMatrix::zeros()),
+            };
             for r in 0..R {
                 for d in 0..D {
-                    let (j, mj) = match body {
-                        Some(_) => (
-                            e.jacobian_t[s][(d, r)],
-                            e.inverse_mass_jacobian_t[s][(d, r)],
-                        ),
-                        None => (0.0, 0.0),
-                    };
-                    self.jacobian_t[s][r][d].0[l] = j;
-                    self.inverse_mass_jacobian_t[s][r][d].0[l] = mj;
+                    self.jacobian_t[s][r][d].0[l] = j[(d, r)];
+                    self.inverse_mass_jacobian_t[s][r][d].0[l] = mj[(d, r)];
                 }
             }
         }
