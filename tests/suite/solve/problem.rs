@@ -353,3 +353,53 @@ fn free_rows_are_solved_to_their_linear_system_and_round_trip() {
     let back: rigidref::problem::json::ProblemFile = serde_json::from_str(&text).unwrap();
     assert_eq!(back.to_problem::<3, 2>().unwrap(), problem);
 }
+
+#[test]
+fn the_cone_step_scale_is_the_largest_friction_eigenvalue_and_never_negative() {
+    // ρ (RowScales::tangent_rho) is the largest eigenvalue of the friction rows' block A_tt, and
+    // PGS steps a friction impulse by w_t/ρ: a negative ρ would step it the wrong way, so a
+    // block whose A_tt has no positive eigenvalue gets ρ = 0 (a row no impulse of its own can
+    // move), in 2D (one friction row) as in 3D. Such blocks are reachable: validation accepts an
+    // inverse mass with eigenvalues down to −1e-9 of its largest entry (a file's printed digits),
+    // and its round-off floor (64 ε of the largest diagonal) is far smaller. Values exact in
+    // binary except the 3D eigenvalue, compared with nalgebra's to 1e-14 relative.
+    use nalgebra::{Matrix2, Matrix3, Matrix4, SMatrix, Vector3};
+    use rigidref::problem::{ContactProblem, ProblemBody, ProblemContact, RowBounds};
+    use rigidref::solve::residual::{row_scales, tangent_eigenvalue};
+    // 2D: A_tt is the one friction row's diagonal.
+    assert_eq!(tangent_eigenvalue(&Matrix2::new(3.0, 0.5, 0.5, 2.0)), 2.0);
+    assert_eq!(tangent_eigenvalue(&Matrix2::new(3.0, 0.5, 0.5, -0.5)), 0.0);
+    // 3D: the closed form of the symmetric 2 × 2 A_tt.
+    let a = Matrix3::new(5.0, 0.25, -0.5, 0.25, 2.0, 0.75, -0.5, 0.75, 1.5);
+    let largest = a.fixed_view::<2, 2>(1, 1).into_owned().symmetric_eigenvalues().max();
+    assert!((tangent_eigenvalue(&a) - largest).abs() <= 1e-14 * largest);
+    let negative = Matrix3::new(5.0, 0.0, 0.0, 0.0, -0.5, 0.125, 0.0, 0.125, -0.25);
+    assert_eq!(tangent_eigenvalue(&negative), 0.0);
+    // Above three rows, Gershgorin's bound (the largest absolute row sum of A_tt).
+    let four = Matrix4::new(
+        9.0, 0.0, 0.0, 0.0, 0.0, 2.0, -1.0, 0.5, 0.0, -1.0, 1.0, 0.25, 0.0, 0.5, 0.25, 3.0,
+    );
+    assert_eq!(tangent_eigenvalue(&four), 3.75);
+    // A validated 2D problem whose friction row's diagonal is −5e-10 kg⁻¹.
+    let problem = ContactProblem::<3, 2> {
+        friction: FrictionModel::Box,
+        bodies: vec![ProblemBody {
+            inverse_mass: Matrix3::from_diagonal(&Vector3::new(1.0, -5e-10, 1.0)),
+            velocity: Vector3::new(0.0, -1.0, 0.0),
+        }],
+        contacts: vec![ProblemContact {
+            bodies: [Some(0), None],
+            // normal row along x, friction row along y
+            jacobian: [SMatrix::<f64, 2, 3>::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0), SMatrix::zeros()],
+            b: nalgebra::Vector2::zeros(),
+            mu: 0.5,
+            compliance: 0.0,
+            lambda0: SVector::<f64, 2>::zeros(),
+            bounds: RowBounds::Contact,
+        }],
+    };
+    problem.validate().unwrap();
+    let scales = row_scales(&problem, 0);
+    assert_eq!(scales.diagonal[1], -5e-10);
+    assert_eq!(scales.tangent_rho, 0.0);
+}
