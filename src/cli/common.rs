@@ -193,10 +193,14 @@ pub(crate) fn detection_check(
         _ => String::new(),
     };
     let manifolds = match stats.manifold_rate() {
-        Some(rate) => format!(
+        Some(rate) if stats.kept_differs > 0 => format!(
             "; kept features gave {:.1} % of piece-pair manifolds, and the contacts differed within the bound of docs/contact.md §\"Persistent manifolds\" on {} substeps",
             100.0 * rate,
             stats.kept_differs
+        ),
+        Some(rate) => format!(
+            "; kept features gave {:.1} % of piece-pair manifolds",
+            100.0 * rate
         ),
         None => String::new(),
     };

@@ -39,6 +39,10 @@ pub struct Faults {
     /// vertex has moved less than half the triangle's lead since its search (docs/contact.md
     /// §"Temporal coherence", "Leading triangles").
     pub leading_motion_unchecked: bool,
+    /// `collision: complete` with the detection cache answers a piece pair on its kept face axis
+    /// without checking that the pair has moved less than the axis's lead since its search
+    /// (docs/contact.md §"Temporal coherence", "Leading axes").
+    pub axis_lead_motion_unchecked: bool,
 }
 
 #[cfg(feature = "fault-injection")]
@@ -53,6 +57,7 @@ impl Faults {
         deepest_face_axis: false,
         surface_skip_unchecked: false,
         leading_motion_unchecked: false,
+        axis_lead_motion_unchecked: false,
     };
 }
 

@@ -36,9 +36,12 @@ pub struct CacheStats {
     /// it on the surface and it still is, within half the surface tolerance of the same
     /// triangle (no contact: docs/contact.md §"Temporal coherence", "Vertices on the surface").
     pub on_surface: u64,
-    /// 3D, persistent manifolds: piece-pair manifolds re-derived from kept features.
+    /// 3D, `collision: complete` with the cache: piece-pair manifolds re-derived from kept
+    /// features (a leading axis, exactly; with persistent manifolds, within the preferences'
+    /// bound).
     pub manifolds_kept: u64,
-    /// 3D, persistent manifolds: piece-pair manifolds found by the full separating-axis search.
+    /// 3D, `collision: complete` with the cache: piece-pair manifolds found by the full
+    /// separating-axis search.
     pub manifolds_searched: u64,
     /// 3D, persistent manifolds: of the checked steps, those whose contacts differed from fresh
     /// detection's only as a kept manifold may (docs/contact.md §"Persistent manifolds"); not
@@ -54,7 +57,7 @@ impl CacheStats {
     }
 
     /// The share of piece-pair manifolds re-derived from kept features, or `None` when none was
-    /// asked for (persistent manifolds off).
+    /// asked for (no `collision: complete`, or no cache).
     pub fn manifold_rate(&self) -> Option<f64> {
         let all = self.manifolds_kept + self.manifolds_searched;
         (all > 0).then(|| self.manifolds_kept as f64 / all as f64)

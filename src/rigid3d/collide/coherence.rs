@@ -8,7 +8,7 @@
 
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, NearestTriangle, VertexQuery, vertex_contact};
-use super::persistent::KeptFeatures;
+use super::persistent::{KeepRule, KeptFeatures};
 use super::pieces::pose;
 use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::Contact;
@@ -164,7 +164,7 @@ pub fn cached_pair_contacts(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
-    kept: Option<&mut PairCache<(), KeptFeatures>>,
+    kept: Option<(&mut PairCache<(), KeptFeatures>, KeepRule)>,
     cache: &mut PairCache<Anchor, Candidate>,
     manifold: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
@@ -216,7 +216,8 @@ pub fn cached_pair_contacts(
             .filter(|c| matches!(c, Candidate::Pieces(..)))
             .count();
         // The features are kept while the candidates are (a fresh list starts unknown).
-        let features = kept.map(|kept| {
+        let rule = kept.as_ref().map_or(KeepRule::Exact, |(_, rule)| *rule);
+        let features = kept.map(|(kept, _)| {
             kept.candidates(
                 (i, j),
                 |_| !found.get(),
@@ -237,6 +238,7 @@ pub fn cached_pair_contacts(
             bodies,
             colliders,
             piece_pairs,
+            rule,
             pair_start,
             manifold,
             out,

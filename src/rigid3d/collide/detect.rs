@@ -6,6 +6,7 @@ use super::ground::ground_contacts;
 use super::manifold::{ManifoldBuffers, manifold_contacts};
 use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
+use super::persistent::KeepRule;
 use super::vertex_contact::Contact;
 use crate::common::broad::{Aabb, KeptPairs, overlapping_pairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
@@ -96,7 +97,8 @@ pub struct Detector {
     check: bool,
     /// Keep each piece pair's separating-axis features (`persistent_manifolds`).
     persistent: bool,
-    /// Those features, per body pair, one per piece candidate in order.
+    /// Each piece pair's last separating-axis search, per body pair, one per piece candidate in
+    /// order (with the cache and `collision: complete`: a leading axis, or persistent manifolds).
     features: PairCache<(), super::persistent::KeptFeatures>,
     /// The check's oracle, for contacts that differ as kept manifolds may.
     oracle: super::sat::OracleBuffers,
@@ -197,7 +199,16 @@ impl Detector {
                     bodies,
                     colliders,
                     method == CollisionMethod::Complete,
-                    self.persistent.then_some(&mut self.features),
+                    // Each piece pair's last search kept: served exactly (its leading axis),
+                    // or within the preferences' bound with persistent manifolds.
+                    Some((
+                        &mut self.features,
+                        if self.persistent {
+                            KeepRule::WithinPreferences
+                        } else {
+                            KeepRule::Exact
+                        },
+                    )),
                     &mut self.cache,
                     &mut self.manifold,
                     out,

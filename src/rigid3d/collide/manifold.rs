@@ -4,7 +4,7 @@
 //! [`super::separating_axes`]). docs/contact.md §"Complete collision detection".
 
 use super::mesh_pair::MeshCollider;
-use super::persistent::{KeptCounts, KeptFeatures, kept_contact};
+use super::persistent::{KeepRule, KeptCounts, KeptFeatures, kept_contact};
 use super::pieces::{ConvexPieces, pose};
 use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::{Contact, Feature};
@@ -71,11 +71,13 @@ pub fn manifold_contacts(
 /// its kept features (persistent manifolds) has its manifold from them where they serve
 /// ([`kept_contact`]; docs/contact.md §"Persistent manifolds"), and forgets them when its boxes
 /// are apart.
+#[allow(clippy::too_many_arguments)]
 pub fn manifold_contacts_among<'k>(
     (i, j): (usize, usize),
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     candidates: impl Iterator<Item = (usize, usize, Option<&'k mut KeptFeatures>)>,
+    rule: KeepRule,
     pair_start: usize,
     buffers: &mut ManifoldBuffers,
     out: &mut Vec<Contact>,
@@ -88,6 +90,7 @@ pub fn manifold_contacts_among<'k>(
             &piece_b.world_aabb(&pair.pose_j),
             pair.margin,
         ) {
+            let kept = kept.map(|kept| (kept, rule));
             piece_pair_contacts(&pair, (a, b), pair_start, buffers, kept, out);
         } else if let Some(kept) = kept {
             *kept = KeptFeatures::Unknown;
@@ -153,7 +156,7 @@ fn piece_pair_contacts(
     (a, b): (usize, usize),
     pair_start: usize,
     buffers: &mut ManifoldBuffers,
-    kept: Option<&mut KeptFeatures>,
+    kept: Option<(&mut KeptFeatures, KeepRule)>,
     out: &mut Vec<Contact>,
 ) {
     let (i, j, tolerance, margin) = (pair.i, pair.j, pair.tolerance, pair.margin);
@@ -163,12 +166,13 @@ fn piece_pair_contacts(
     // a gap stops it.
     let polytopes = (&piece_a.polytope, &piece_b.polytope);
     let found = match kept {
-        Some(kept) => kept_contact(
+        Some((kept, rule)) => kept_contact(
             &mut buffers.sat,
             polytopes,
             &pair.placement,
             margin,
             pair.radius,
+            rule,
             kept,
             &mut buffers.kept,
         ),

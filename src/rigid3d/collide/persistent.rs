@@ -1,13 +1,17 @@
-//! Persistent contact manifolds (`persistent_manifolds: true` with `collision: complete` and
-//! the detection cache): each piece pair keeps the axis its last full separating-axis search
-//! chose (the reference face, or the edge pair; or the axis that showed it apart) and, while the
-//! pair has moved little and that axis stays within the face preferences' allowance of the
-//! deepest, its manifold is re-derived from that axis alone (its gap, then the same clipping at
-//! the present poses) instead of searching every axis. docs/contact.md §"Persistent manifolds".
+//! What a piece pair keeps of its last full separating-axis search (`collision: complete` with
+//! the detection cache), and when it serves instead of the search:
+//!
+//! - exactly, by default: a face axis while the pair has moved less than the axis's lead, where
+//!   the search would choose it again (docs/contact.md §"Temporal coherence", "Leading axes");
+//! - as persistent contact manifolds (`persistent_manifolds: true`): the axis the search chose
+//!   (the reference face, or the edge pair; or the axis that showed it apart) while the pair has
+//!   moved little and that axis stays within the face preferences' allowance of the deepest, its
+//!   manifold re-derived from that axis alone (its gap, then the same clipping at the present
+//!   poses). docs/contact.md §"Persistent manifolds".
 
 use super::polytope::Polytope;
 use super::separating_axes::{
-    AXIS_TIE_TOLERANCE, Axis, EDGE_PREFERENCE, FACE_B_PREFERENCE, Placement, SatBuffers,
+    AXIS_TIE_TOLERANCE, Axis, EDGE_PREFERENCE, FACE_B_PREFERENCE, Placement, SatBuffers, SearchGaps,
 };
 use nalgebra::Vector3;
 
@@ -32,7 +36,65 @@ pub enum KeptFeatures {
         exact_gap: f64,
         /// B's body frame in A's then.
         at: Placement,
+        /// The axis's lead then, m ([`axis_lead`]; −∞ where it has none): fresh detection would
+        /// choose it while the pair has moved by less than this (less τ) since.
+        lead: f64,
     },
+}
+
+/// Which answers kept features may give.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KeepRule {
+    /// Fresh detection's only, bit for bit: a kept face axis serves while the pair has moved
+    /// by less than its lead (the detection cache with `collision: complete`; docs/contact.md
+    /// §"Temporal coherence", "Leading axes").
+    Exact,
+    /// Any axis within the face preferences' bound of the exact depth (`persistent_manifolds`;
+    /// docs/contact.md §"Persistent manifolds").
+    WithinPreferences,
+}
+
+/// The lead ℓ of the face axis a full search chose, m (docs/contact.md §"Temporal coherence",
+/// "Leading axes"): if every vertex of either piece has moved by at most δ relative to the
+/// other since, with δ + τ < ℓ (τ = [`AXIS_TIE_TOLERANCE`] × the larger piece radius, round-off)
+/// and the exact gap G then plus δ + τ still under the search's `stop_above`, the search would
+/// choose the same face again. Each face's gap, and the exact gap, has changed by at most δ; ℓ
+/// is the least of
+///
+/// - (g − g₂) / 2: the face stays the strictly largest of its piece's (g₂ the second largest);
+/// - for a face of A, (g_A − g_B + 0.02 |g_A|) / 2.02: B's best face still does not beat it;
+///   for a face of B, (g_B − g_A − 0.02 |g_A| − 2τ) / 2.02: it still beats A's;
+/// - (g − G + 0.1 |g|) / 2.1: no edge pair (whose gap is at most the exact gap, G + δ) beats
+///   the faces;
+///
+/// (the preferences' τ left out: slack for the comparisons' own rounding). −∞ where the search
+/// chose an edge pair or fell back to the exact axis (an edge pair's axis turns with the pieces:
+/// no such bound), where G ≥ −τ (the pieces not clearly overlapping: the exact gap is minus the
+/// penetration depth only for overlapping pieces; for pieces apart it can lie below their
+/// distance), and where a gap is not finite.
+pub fn axis_lead(gaps: &SearchGaps, axis: Axis, tie: f64) -> f64 {
+    let (a, b, exact) = (gaps.face_a, gaps.face_b, gaps.exact);
+    let finite = a.is_finite() && b.is_finite() && exact.is_finite();
+    if axis != gaps.preferred || !finite || exact >= -tie {
+        return f64::NEG_INFINITY;
+    }
+    let (b_slack, e_slack) = (1.0 - FACE_B_PREFERENCE, 1.0 - EDGE_PREFERENCE);
+    let (own, second, against_other_kind) = match axis {
+        Axis::FaceOfA(_) => (
+            a,
+            gaps.face_a_second,
+            (a - b + b_slack * a.abs()) / (2.0 + b_slack),
+        ),
+        Axis::FaceOfB(_) => (
+            b,
+            gaps.face_b_second,
+            (b - a - b_slack * a.abs() - 2.0 * tie) / (2.0 + b_slack),
+        ),
+        Axis::Edges(..) => return f64::NEG_INFINITY,
+    };
+    let among_own = (own - second) / 2.0;
+    let against_edges = (own - exact + e_slack * own.abs()) / (2.0 + e_slack);
+    among_own.min(against_other_kind).min(against_edges)
 }
 
 /// How far a gap may fall short of the exact (largest) gap for its axis to stand: the face
@@ -73,17 +135,49 @@ pub struct KeptCounts {
 ///   serves when δ ≤ [`MANIFOLD_MOTION_FRACTION`] · min(ρ_A, ρ_B), its gap g now is within
 ///   [`preference_allowance`] of U, and its points reach U's depth less the search's own
 ///   shortfall allowance; its points are then those the search would give if it chose it.
+///
+/// With [`KeepRule::Exact`], a touching face axis serves only while δ + τ is under its lead
+/// ([`axis_lead`]) and G + δ + τ under `stop_above`, and its points reach the depth −g less the
+/// search's shortfall allowance (so that the search's fall-back to the exact axis, whose depth is
+/// at most −g, cannot happen): the search's answer, bit for bit.
+#[allow(clippy::too_many_arguments)]
 pub fn kept_contact(
     sat: &mut SatBuffers,
     (a, b): (&Polytope, &Polytope),
     at: &Placement,
     stop_above: f64,
     radius: f64,
+    rule: KeepRule,
     kept: &mut KeptFeatures,
     counts: &mut KeptCounts,
 ) -> Option<Vector3<f64>> {
     let tie = AXIS_TIE_TOLERANCE * a.radius.max(b.radius);
     match *kept {
+        KeptFeatures::Touching {
+            axis,
+            exact_gap,
+            at: found_at,
+            lead,
+        } if rule == KeepRule::Exact => {
+            let moved = (at.rotation - found_at.rotation).norm()
+                * (radius + found_at.translation.norm())
+                + (at.translation - found_at.translation).norm();
+            let u = moved + tie;
+            // The teeth tests' deliberate bug: the lead kept however far the pair has moved.
+            let within = crate::common::faults::fault!(axis_lead_motion_unchecked) || u < lead;
+            if within && exact_gap + u < stop_above {
+                sat.points.clear();
+                sat.place(b, at);
+                if let Some((normal, gap)) = sat.axis_gap(a, b, at, axis) {
+                    let reached = sat.points_along(a, b, axis, &normal);
+                    let depth = -gap;
+                    if reached >= depth - (1.0 - EDGE_PREFERENCE) * depth.abs() {
+                        counts.served += 1;
+                        return Some(normal);
+                    }
+                }
+            }
+        }
         // An edge pair is one of the search's axes only while its Gauss-map arcs cross; a face
         // always is, so only a face's gap proves that the search would stop.
         KeptFeatures::Apart(axis) if !matches!(axis, Axis::Edges(..)) => {
@@ -100,6 +194,7 @@ pub fn kept_contact(
             axis,
             exact_gap,
             at: found_at,
+            ..
         } => {
             let moved = (at.rotation - found_at.rotation).norm()
                 * (radius + found_at.translation.norm())
@@ -133,10 +228,14 @@ pub fn kept_contact(
     counts.searched += 1;
     match sat.contact_or_apart(a, b, at, stop_above) {
         Ok(found) => {
+            let lead = sat
+                .last_search
+                .map_or(f64::NEG_INFINITY, |gaps| axis_lead(&gaps, found.axis, tie));
             *kept = KeptFeatures::Touching {
                 axis: found.axis,
                 exact_gap: found.exact_gap,
                 at: *at,
+                lead,
             };
             Some(found.normal)
         }

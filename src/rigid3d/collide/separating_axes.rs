@@ -119,6 +119,25 @@ pub struct LeastPenetration {
     pub exact_gap: f64,
 }
 
+/// What the last full search ([`SatBuffers::contact_or_apart`]) found, beyond its answer: the
+/// gaps that decided it, for the leading axis (docs/contact.md §"Temporal coherence", "Leading
+/// axes"). Gaps in m; −∞ where there is no such axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SearchGaps {
+    /// The largest gap over A's faces.
+    pub face_a: f64,
+    /// The second largest gap over A's faces.
+    pub face_a_second: f64,
+    /// The largest gap over B's faces.
+    pub face_b: f64,
+    /// The second largest gap over B's faces.
+    pub face_b_second: f64,
+    /// The largest gap over every axis tried: minus the exact penetration depth.
+    pub exact: f64,
+    /// The axis the preferences chose (before the fall-back to the exact axis).
+    pub preferred: Axis,
+}
+
 /// One contact point of two pieces, A's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactPoint {
@@ -171,6 +190,8 @@ pub struct SatBuffers {
     every_edge_gap: bool,
     /// Crossing edge pairs skipped by their bound, over this buffer's life.
     pub edge_pairs_skipped: u64,
+    /// The gaps behind the last search that found the pieces touching ([`SearchGaps`]).
+    pub last_search: Option<SearchGaps>,
 }
 
 /// The dot products [`arcs_cross`] takes for every edge of A against every edge of B, computed
@@ -286,6 +307,7 @@ impl SatBuffers {
         let bv = &self.b_vertices;
         // 1. Face axes of A, then of B (B's plane moved into A's frame).
         let mut face_a = (usize::MAX, f64::NEG_INFINITY);
+        let (mut face_a_second, mut face_b_second) = (f64::NEG_INFINITY, f64::NEG_INFINITY);
         // The teeth tests' deliberate bug: the face of greatest penetration, as GJK/EPA gave in
         // degenerate poses (docs/verification.md §"Teeth").
         let wrong = crate::common::faults::fault!(deepest_face_axis);
@@ -300,7 +322,10 @@ impl SatBuffers {
                 gap > face_a.1
             };
             if better {
+                face_a_second = face_a.1;
                 face_a = (f, gap);
+            } else if gap > face_a_second {
+                face_a_second = gap;
             }
         }
         if wrong {
@@ -323,7 +348,10 @@ impl SatBuffers {
                 return Err(Axis::FaceOfB(g));
             }
             if gap > face_b.1 {
+                face_b_second = face_b.1;
                 face_b = (g, gap);
+            } else if gap > face_b_second {
+                face_b_second = gap;
             }
         }
         // 2. Edge axes, for the edge pairs that make a face of the Minkowski difference
@@ -405,6 +433,14 @@ impl SatBuffers {
         } else {
             face
         };
+        self.last_search = Some(SearchGaps {
+            face_a: face_a.1,
+            face_a_second,
+            face_b: face_b.1,
+            face_b_second,
+            exact: exact.2,
+            preferred: axis,
+        });
         Ok(LeastPenetration {
             axis,
             normal,
@@ -452,6 +488,7 @@ impl SatBuffers {
         stop_above: f64,
     ) -> Result<LeastPenetration, Axis> {
         self.points.clear();
+        self.last_search = None;
         self.place(b, at);
         let mut found = self.least_penetration(a, b, at, stop_above)?;
         let reached = self.points_along(a, b, found.axis, &found.normal);

@@ -371,7 +371,11 @@ fn the_cone_step_scale_is_the_largest_friction_eigenvalue_and_never_negative() {
     assert_eq!(tangent_eigenvalue(&Matrix2::new(3.0, 0.5, 0.5, -0.5)), 0.0);
     // 3D: the closed form of the symmetric 2 × 2 A_tt.
     let a = Matrix3::new(5.0, 0.25, -0.5, 0.25, 2.0, 0.75, -0.5, 0.75, 1.5);
-    let largest = a.fixed_view::<2, 2>(1, 1).into_owned().symmetric_eigenvalues().max();
+    let largest = a
+        .fixed_view::<2, 2>(1, 1)
+        .into_owned()
+        .symmetric_eigenvalues()
+        .max();
     assert!((tangent_eigenvalue(&a) - largest).abs() <= 1e-14 * largest);
     let negative = Matrix3::new(5.0, 0.0, 0.0, 0.0, -0.5, 0.125, 0.0, 0.125, -0.25);
     assert_eq!(tangent_eigenvalue(&negative), 0.0);
@@ -390,7 +394,10 @@ fn the_cone_step_scale_is_the_largest_friction_eigenvalue_and_never_negative() {
         contacts: vec![ProblemContact {
             bodies: [Some(0), None],
             // normal row along x, friction row along y
-            jacobian: [SMatrix::<f64, 2, 3>::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0), SMatrix::zeros()],
+            jacobian: [
+                SMatrix::<f64, 2, 3>::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+                SMatrix::zeros(),
+            ],
             b: nalgebra::Vector2::zeros(),
             mu: 0.5,
             compliance: 0.0,
