@@ -42,6 +42,15 @@ pub enum KeptFeatures {
     },
 }
 
+/// How far the search's largest gap G may lie below the true largest projection gap of two
+/// overlapping pieces (minus their penetration depth), in units of τ: the search gives no axis
+/// of its own to a pair of edges parallel within [`super::separating_axes::PARALLEL_SINE`] nor to
+/// triangles merged into one face within 1e-9 of the radius, and each such face of the
+/// Minkowski difference is a strip at most about 1e-9 × an edge length (≤ 2τ) wide next to a face
+/// the search does measure, whose gap is then within that width of the strip's. Twice the sum of
+/// the two: slack, not a tight bound (docs/contact.md §"Temporal coherence", "Leading axes").
+pub const EXACT_GAP_SHORTFALL: f64 = 8.0;
+
 /// Which answers kept features may give.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum KeepRule {
@@ -57,15 +66,15 @@ pub enum KeepRule {
 /// The lead ℓ of the face axis a full search chose, m (docs/contact.md §"Temporal coherence",
 /// "Leading axes"): if every vertex of either piece has moved by at most δ relative to the
 /// other since, with δ + τ < ℓ (τ = [`AXIS_TIE_TOLERANCE`] × the larger piece radius, round-off)
-/// and the exact gap G then plus δ + τ still under the search's `stop_above`, the search would
+/// and the exact gap G then plus ε + δ + τ still under the search's `stop_above`, the search would
 /// choose the same face again. Each face's gap, and the exact gap, has changed by at most δ; ℓ
 /// is the least of
 ///
 /// - (g − g₂) / 2: the face stays the strictly largest of its piece's (g₂ the second largest);
 /// - for a face of A, (g_A − g_B + 0.02 |g_A|) / 2.02: B's best face still does not beat it;
 ///   for a face of B, (g_B − g_A − 0.02 |g_A| − 2τ) / 2.02: it still beats A's;
-/// - (g − G + 0.1 |g|) / 2.1: no edge pair (whose gap is at most the exact gap, G + δ) beats
-///   the faces;
+/// - (g − G − ε + 0.1 |g|) / 2.1: no edge pair (whose gap is at most the true largest gap, at
+///   most G + ε + δ; ε = [`EXACT_GAP_SHORTFALL`] τ) beats the faces;
 ///
 /// (the preferences' τ left out: slack for the comparisons' own rounding). −∞ where the search
 /// chose an edge pair or fell back to the exact axis (an edge pair's axis turns with the pieces:
@@ -93,7 +102,9 @@ pub fn axis_lead(gaps: &SearchGaps, axis: Axis, tie: f64) -> f64 {
         Axis::Edges(..) => return f64::NEG_INFINITY,
     };
     let among_own = (own - second) / 2.0;
-    let against_edges = (own - exact + e_slack * own.abs()) / (2.0 + e_slack);
+    // The true largest gap, which bounds every edge pair's, is at most G + ε.
+    let shortfall = EXACT_GAP_SHORTFALL * tie;
+    let against_edges = (own - exact - shortfall + e_slack * own.abs()) / (2.0 + e_slack);
     among_own.min(against_other_kind).min(against_edges)
 }
 
@@ -137,7 +148,7 @@ pub struct KeptCounts {
 ///   shortfall allowance; its points are then those the search would give if it chose it.
 ///
 /// With [`KeepRule::Exact`], a touching face axis serves only while δ + τ is under its lead
-/// ([`axis_lead`]) and G + δ + τ under `stop_above`, and its points reach the depth −g less the
+/// ([`axis_lead`]) and G + ε + δ + τ under `stop_above`, and its points reach the depth −g less the
 /// search's shortfall allowance (so that the search's fall-back to the exact axis, whose depth is
 /// at most −g, cannot happen): the search's answer, bit for bit.
 #[allow(clippy::too_many_arguments)]
@@ -165,7 +176,7 @@ pub fn kept_contact(
             let u = moved + tie;
             // The teeth tests' deliberate bug: the lead kept however far the pair has moved.
             let within = crate::common::faults::fault!(axis_lead_motion_unchecked) || u < lead;
-            if within && exact_gap + u < stop_above {
+            if within && exact_gap + EXACT_GAP_SHORTFALL * tie + u < stop_above {
                 sat.points.clear();
                 sat.place(b, at);
                 if let Some((normal, gap)) = sat.axis_gap(a, b, at, axis) {
