@@ -63,15 +63,17 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     let cell = super::stats::median(sides)
         .filter(|c| *c > 0.0)
         .unwrap_or(1.0);
-    let cell_of =
-        |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| (p[k] / cell).floor() as i64) };
-    let (mut entries, mut wide) = (Vec::new(), Vec::new());
+    let cell_of = |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| floor(p[k] / cell) as i64) };
+    // Per entry: its cell's hash and the entry's index, sorted by the hash; the cells and the
+    // boxes beside them.
+    let (mut keys, mut cells, mut owners, mut wide) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for (i, b) in boxes.iter().enumerate() {
         if is_empty(b) {
             continue;
         }
         let covered: f64 = (0..3)
-            .map(|k| (b.max[k] / cell).floor() - (b.min[k] / cell).floor() + 1.0)
+            .map(|k| floor(b.max[k] / cell) - floor(b.min[k] / cell) + 1.0)
             .product();
         if !is_finite(b) || covered > MAX_CELLS as f64 {
             wide.push(i);
@@ -81,18 +83,23 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
-                    entries.push((cell_key([x, y, z]), [x, y, z], i));
+                    keys.push((cell_key([x, y, z]), cells.len()));
+                    cells.push([x, y, z]);
+                    owners.push(i);
                 }
             }
         }
     }
-    // Sorted by a hash of the cell (one integer compare): two cells that share a hash share a
-    // run of the list, and the cell itself is compared before a pair is tested.
-    entries.sort_unstable_by_key(|e| e.0);
+    // Sorted by a hash of the cell: two cells that share a hash share a run of the list, and
+    // the cell itself is compared before a pair is tested. Only the runs matter, not their
+    // order, so the pairs do not depend on the sort.
+    radix_sort_by_key(&mut keys);
     let mut pairs = Vec::new();
-    for group in entries.chunk_by(|a, b| a.0 == b.0) {
-        for (n, &(_, home, i)) in group.iter().enumerate() {
-            for &(_, cell, j) in &group[n + 1..] {
+    for group in keys.chunk_by(|a, b| a.0 == b.0) {
+        for (n, &(_, e)) in group.iter().enumerate() {
+            let (home, i) = (cells[e], owners[e]);
+            for &(_, f) in &group[n + 1..] {
+                let (cell, j) = (cells[f], owners[f]);
                 let (a, b) = (&boxes[i], &boxes[j]);
                 if cell == home && a.overlaps(b) && cell_of(&a.min.sup(&b.min)) == home {
                     pairs.push((i.min(j), i.max(j)));
@@ -111,6 +118,46 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     }
     pairs.sort_unstable();
     pairs
+}
+
+/// ⌊x⌋: the value of [`f64::floor`] (signed zeros, NaN and infinities included) without the
+/// library call the baseline x86-64 target makes of it: through the integer truncation where
+/// |x| < 2⁵² (exact there), `f64::floor` elsewhere. The grid's cells are ⌊coordinate / side⌋.
+pub fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let truncated = x as i64 as f64;
+        let below = if truncated > x {
+            truncated - 1.0
+        } else {
+            truncated
+        };
+        below.copysign(x)
+    } else {
+        x.floor()
+    }
+}
+
+/// Sorts `items` by their key, stably, by eight counting passes over its bytes (least
+/// significant first): O(n) where a comparison sort is O(n log n).
+fn radix_sort_by_key(items: &mut Vec<(u64, usize)>) {
+    let mut scratch = vec![(0, 0); items.len()];
+    for pass in 0..8 {
+        let digit = |key: u64| ((key >> (8 * pass)) & 0xff) as usize;
+        let mut starts = [0usize; 256];
+        for &(key, _) in items.iter() {
+            starts[digit(key)] += 1;
+        }
+        let mut sum = 0;
+        for start in starts.iter_mut() {
+            (*start, sum) = (sum, sum + *start);
+        }
+        for &item in items.iter() {
+            let d = digit(item.0);
+            scratch[starts[d]] = item;
+            starts[d] += 1;
+        }
+        std::mem::swap(items, &mut scratch);
+    }
 }
 
 /// A cell's place in the sorted list: its coordinates hashed ([`crate::common::hash`]).
