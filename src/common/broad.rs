@@ -55,6 +55,11 @@ impl Aabb {
 /// is O(n log n + k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays
 /// for every pair overlapping along that axis (a column of a grid of stacks, a strip of a pile).
 pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
+    // The grid's list numbers its entries in 32 bits (at most MAX_CELLS per box): beyond that
+    // many boxes, the sweep, which gives the same pairs.
+    if boxes.len() > u32::MAX as usize / MAX_CELLS {
+        return sweep_and_prune_pairs(boxes);
+    }
     let sides: Vec<f64> = boxes
         .iter()
         .filter(|b| is_finite(b) && !is_empty(b))
@@ -83,7 +88,7 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
-                    keys.push((cell_key([x, y, z]), cells.len()));
+                    keys.push((cell_key([x, y, z]), cells.len() as u32));
                     cells.push([x, y, z]);
                     owners.push(i);
                 }
@@ -97,9 +102,9 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     let mut pairs = Vec::new();
     for group in keys.chunk_by(|a, b| a.0 == b.0) {
         for (n, &(_, e)) in group.iter().enumerate() {
-            let (home, i) = (cells[e], owners[e]);
+            let (home, i) = (cells[e as usize], owners[e as usize]);
             for &(_, f) in &group[n + 1..] {
-                let (cell, j) = (cells[f], owners[f]);
+                let (cell, j) = (cells[f as usize], owners[f as usize]);
                 let (a, b) = (&boxes[i], &boxes[j]);
                 if cell == home && a.overlaps(b) && cell_of(&a.min.sup(&b.min)) == home {
                     pairs.push((i.min(j), i.max(j)));
@@ -137,12 +142,12 @@ pub fn floor(x: f64) -> f64 {
     }
 }
 
-/// Sorts `items` by their key, stably, by eight counting passes over its bytes (least
+/// Sorts `items` by their key, stably, by four counting passes over its bytes (least
 /// significant first): O(n) where a comparison sort is O(n log n).
-fn radix_sort_by_key(items: &mut Vec<(u64, usize)>) {
+fn radix_sort_by_key(items: &mut Vec<(u32, u32)>) {
     let mut scratch = vec![(0, 0); items.len()];
-    for pass in 0..8 {
-        let digit = |key: u64| ((key >> (8 * pass)) & 0xff) as usize;
+    for pass in 0..4 {
+        let digit = |key: u32| ((key >> (8 * pass)) & 0xff) as usize;
         let mut starts = [0usize; 256];
         for &(key, _) in items.iter() {
             starts[digit(key)] += 1;
@@ -160,14 +165,17 @@ fn radix_sort_by_key(items: &mut Vec<(u64, usize)>) {
     }
 }
 
-/// A cell's place in the sorted list: its coordinates hashed ([`crate::common::hash`]).
-fn cell_key(cell: [i64; 3]) -> u64 {
+/// A cell's place in the sorted list: its coordinates hashed ([`crate::common::hash`]), the
+/// hash's two halves folded into 32 bits (cells sharing a key share a run of the list and are
+/// told apart by their coordinates).
+fn cell_key(cell: [i64; 3]) -> u32 {
     use std::hash::Hasher;
     let mut h = crate::common::hash::WordHasher::default();
     for c in cell {
         h.write_u64(c as u64);
     }
-    h.finish()
+    let hash = h.finish();
+    (hash ^ (hash >> 32)) as u32
 }
 
 /// Cells a box may cover and still be entered in the grid (4 × 4 × 4).

@@ -10,7 +10,9 @@ use proptest::prelude::*;
 use rigidref::rigid3d::collide::penetration::{
     PENETRATION_BOUND, body_size, brute_force_pair_depth, pair_depth,
 };
+use rigidref::rigid3d::collide::persistent::{KeepRule, KeptCounts, KeptFeatures, kept_contact};
 use rigidref::rigid3d::collide::pieces::ConvexPieces;
+use rigidref::rigid3d::collide::separating_axes::{AXIS_TIE_TOLERANCE, Placement, SatBuffers};
 use rigidref::rigid3d::collide::{
     CollisionMethod, Contact, Feature, MeshCollider, detect_contacts,
 };
@@ -744,6 +746,19 @@ fn dropped_bodies_never_pass_through_each_other_at_ordinary_speeds() {
 }
 
 /// The convex pieces of the project's box, ball and tee meshes.
+/// The project box B placed on box A (A's frame): one side up, lifted by `lift` (negative:
+/// overlapping), turned `turn` about y and shifted sideways by half of `offset`'s x and z.
+fn box_on_box(
+    turn: f64,
+    offset: Vector3<f64>,
+    lift: f64,
+) -> rigidref::rigid3d::collide::separating_axes::Placement {
+    rigidref::rigid3d::collide::separating_axes::Placement {
+        rotation: turn_about_y(turn),
+        translation: Vector3::new(offset.x * 0.5, BOX + lift, offset.z * 0.5),
+    }
+}
+
 fn project_pieces() -> Vec<rigidref::rigid3d::collide::pieces::Piece> {
     ["box", "ball", "tee"]
         .iter()
@@ -829,12 +844,7 @@ fn edge_pairs_skipped_by_their_bound_change_nothing() {
         lift in -0.001..0.001f64,
     )| {
         let (a, b, at) = if resting == 0 {
-            // Box on box: B one side up from A, turned about y, shifted sideways.
-            let at = Placement {
-                rotation: turn_about_y(turn.x),
-                translation: Vector3::new(offset.x * 0.5, BOX + lift, offset.z * 0.5),
-            };
-            (0, 0, at)
+            (0, 0, box_on_box(turn.x, offset, lift))
         } else {
             (a, b, Placement { rotation: *Rotation3::new(turn).matrix(), translation: offset })
         };
@@ -867,6 +877,29 @@ fn edge_pairs_skipped_by_their_bound_change_nothing() {
     );
 }
 
+/// `at` moved by a motion whose bound (docs/contact.md §"Persistent manifolds": ‖ΔR‖ (ρ + |t₀|)
+/// + |Δt|) is at most `allowed`, m: half as a turn about `axis` (‖R − R₀‖ ≤ √2 θ), half as a
+/// shift along `shift`. `radius`: the larger body radius ρ.
+fn moved_within(
+    at: &rigidref::rigid3d::collide::separating_axes::Placement,
+    axis: Vector3<f64>,
+    shift: Vector3<f64>,
+    allowed: f64,
+    radius: f64,
+) -> rigidref::rigid3d::collide::separating_axes::Placement {
+    let theta = 0.5 * allowed / (std::f64::consts::SQRT_2 * (radius + at.translation.norm()));
+    rigidref::rigid3d::collide::separating_axes::Placement {
+        rotation: Rotation3::new(axis.normalize() * theta).matrix() * at.rotation,
+        translation: at.translation + shift.normalize() * (0.5 * allowed),
+    }
+}
+
+/// The largest distance of a piece's vertices from its body's origin, m: the radius detection
+/// passes for the motion bound.
+fn body_reach(p: &rigidref::rigid3d::collide::polytope::Polytope) -> f64 {
+    p.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max)
+}
+
 /// A piece pair keeps the face axis its full search chose, with that axis's lead ℓ
 /// (docs/contact.md §"Temporal coherence", "Leading axes"): moved by less than ℓ − τ since, the
 /// kept axis gives the full search's manifold, bit for bit. On 400 random overlapping
@@ -877,10 +910,6 @@ fn edge_pairs_skipped_by_their_bound_change_nothing() {
 /// The kept axes must serve many of them, or the comparison shows nothing.
 #[test]
 fn a_kept_face_axis_gives_the_full_search_while_the_pair_moves_less_than_its_lead() {
-    use rigidref::rigid3d::collide::persistent::{
-        KeepRule, KeptCounts, KeptFeatures, kept_contact,
-    };
-    use rigidref::rigid3d::collide::separating_axes::{AXIS_TIE_TOLERANCE, Placement, SatBuffers};
     let pieces = project_pieces();
     let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
     let buffers = std::cell::RefCell::new((SatBuffers::default(), SatBuffers::default()));
@@ -896,21 +925,12 @@ fn a_kept_face_axis_gives_the_full_search_while_the_pair_moves_less_than_its_lea
         shift in v3(1.0),
     )| {
         let (a, b, at) = if resting == 0 {
-            let at = Placement {
-                rotation: turn_about_y(turn.x),
-                translation: Vector3::new(offset.x * 0.5, BOX + lift, offset.z * 0.5),
-            };
-            (0, 0, at)
+            (0, 0, box_on_box(turn.x, offset, lift))
         } else {
             (a, b, Placement { rotation: *Rotation3::new(turn).matrix(), translation: offset })
         };
         let (pa, pb) = (&pieces[a].polytope, &pieces[b].polytope);
-        // The larger bounding radius of the two bodies (the pieces' vertices from their body's
-        // origin), as detection passes it.
-        let reach = |p: &rigidref::rigid3d::collide::polytope::Polytope| {
-            p.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max)
-        };
-        let radius = reach(pa).max(reach(pb));
+        let radius = body_reach(pa).max(body_reach(pb));
         let tie = AXIS_TIE_TOLERANCE * pa.radius.max(pb.radius);
         let stop = 0.005;
         let (sat, fresh) = &mut *buffers.borrow_mut();
@@ -925,14 +945,7 @@ fn a_kept_face_axis_gives_the_full_search_while_the_pair_moves_less_than_its_lea
         }
         led.set(led.get() + 1);
         for fraction in [0.49, 0.98] {
-            // Half the allowed motion as a turn (‖R − R₀‖ ≤ √2 θ), half as a shift.
-            let allowed = fraction * (lead - tie);
-            let theta = 0.5 * allowed / (std::f64::consts::SQRT_2 * (radius + at.translation.norm()));
-            let turn = Rotation3::new(axis.normalize() * theta);
-            let moved_to = Placement {
-                rotation: turn.matrix() * at.rotation,
-                translation: at.translation + shift.normalize() * (0.5 * allowed),
-            };
+            let moved_to = moved_within(&at, axis, shift, fraction * (lead - tie), radius);
             let moved = (moved_to.rotation - at.rotation).norm() * (radius + at.translation.norm())
                 + (moved_to.translation - at.translation).norm();
             prop_assert!(moved + tie < lead, "{moved} {lead}");
@@ -965,10 +978,6 @@ fn a_kept_face_axis_gives_the_full_search_while_the_pair_moves_less_than_its_lea
 /// that differ from the full search's: the lead is what makes the kept axis exact.
 #[test]
 fn a_kept_face_axis_is_wrong_when_the_pair_moves_past_its_lead() {
-    use rigidref::rigid3d::collide::persistent::{
-        KeepRule, KeptCounts, KeptFeatures, kept_contact,
-    };
-    use rigidref::rigid3d::collide::separating_axes::{AXIS_TIE_TOLERANCE, Placement, SatBuffers};
     use rigidref::verify::faults::{Faults, with_faults};
     let pieces = project_pieces();
     let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
@@ -987,12 +996,9 @@ fn a_kept_face_axis_is_wrong_when_the_pair_moves_past_its_lead() {
             shift in v3(1.0),
         )| {
             // Box on box, the stacks' case.
-            let at = Placement {
-                rotation: turn_about_y(turn.x),
-                translation: Vector3::new(offset.x * 0.5, BOX + lift, offset.z * 0.5),
-            };
+            let at = box_on_box(turn.x, offset, lift);
             let p = &pieces[0].polytope;
-            let radius = p.vertices.iter().map(|v| v.norm()).fold(0.0, f64::max);
+            let radius = body_reach(p);
             let tie = AXIS_TIE_TOLERANCE * p.radius;
             let stop = 0.005;
             let (sat, fresh) = &mut *buffers.borrow_mut();
@@ -1005,11 +1011,7 @@ fn a_kept_face_axis_is_wrong_when_the_pair_moves_past_its_lead() {
             }
             for times in [10.0, 40.0] {
                 let allowed = (times * (lead - tie)).min(0.002);
-                let theta = 0.5 * allowed / (std::f64::consts::SQRT_2 * (radius + at.translation.norm()));
-                let moved_to = Placement {
-                    rotation: Rotation3::new(axis.normalize() * theta).matrix() * at.rotation,
-                    translation: at.translation + shift.normalize() * (0.5 * allowed),
-                };
+                let moved_to = moved_within(&at, axis, shift, allowed, radius);
                 let mut again = kept;
                 let normal = kept_contact(sat, (p, p), &moved_to, stop, radius, KeepRule::Exact, &mut again, &mut counts);
                 let search = fresh.contact(p, p, &moved_to, stop).map(|f| f.normal);
@@ -1028,4 +1030,89 @@ fn a_kept_face_axis_is_wrong_when_the_pair_moves_past_its_lead() {
         differ.get(),
         moves.get()
     );
+}
+
+/// The lead of a kept face axis (docs/contact.md §"Temporal coherence", "Leading axes", the
+/// table), on hand-made search results: each of its three terms the least in one case (among
+/// the piece's own faces; against the other piece's best face, for a face of A and of B; against
+/// the edge pairs, with the shortfall ε = 8τ), and no lead at all where the search chose an edge
+/// pair, fell back from its preferred face, found the pieces not clearly overlapping (G ≥ −τ)
+/// or a gap that is not a number. The expected values are the table's formulas worked by hand;
+/// 1e-12 relative: a few roundings.
+#[test]
+fn the_lead_of_a_kept_face_is_the_tables_least_term() {
+    use rigidref::rigid3d::collide::persistent::axis_lead;
+    use rigidref::rigid3d::collide::separating_axes::{Axis, SearchGaps};
+    let tie = 1e-9;
+    let gaps = |a: f64, a2: f64, b: f64, b2: f64, exact: f64, preferred: Axis| SearchGaps {
+        face_a: a,
+        face_a_second: a2,
+        face_b: b,
+        face_b_second: b2,
+        exact,
+        preferred,
+    };
+    let close = |lead: f64, expected: f64| {
+        assert!(
+            (lead - expected).abs() <= 1e-12 * expected.abs(),
+            "{lead:e} against {expected:e}"
+        );
+    };
+    // Equal boxes face on face: A's and B's faces tie, only B's 2 % preference separates them.
+    let a = Axis::FaceOfA(2);
+    close(
+        axis_lead(&gaps(-0.01, -0.5, -0.01, -0.5, -0.01, a), a, tie),
+        0.0002 / 2.02,
+    );
+    // A face of B that beats A's by more than 2 %: the edge term is the least.
+    let b = Axis::FaceOfB(1);
+    close(
+        axis_lead(&gaps(-0.02, -0.5, -0.01, -0.5, -0.01, b), b, tie),
+        (0.001 - 8e-9) / 2.1,
+    );
+    // A face of B nearer A's: its lead over A's best face is the least.
+    close(
+        axis_lead(&gaps(-0.0105, -0.5, -0.01, -0.5, -0.01, b), b, tie),
+        (0.00029 - 2e-9) / 2.02,
+    );
+    // A's second face close behind its best: the term among its own faces is the least.
+    close(
+        axis_lead(&gaps(-0.01, -0.0102, -0.05, -0.5, -0.01, a), a, tie),
+        0.0001,
+    );
+    // An edge pair's gap above the face's (not by the 10 % that would make it the axis).
+    close(
+        axis_lead(&gaps(-0.01, -0.5, -0.05, -0.5, -0.0095, a), a, tie),
+        (0.0005 - 8e-9) / 2.1,
+    );
+    // No lead: an edge pair chosen; the search fell back from its preferred face; the pieces not
+    // clearly overlapping; a gap not a number, or infinite.
+    let none = |lead: f64| assert_eq!(lead, f64::NEG_INFINITY);
+    let edges = Axis::Edges(3, 4);
+    none(axis_lead(
+        &gaps(-0.02, -0.5, -0.02, -0.5, -0.01, edges),
+        edges,
+        tie,
+    ));
+    none(axis_lead(&gaps(-0.01, -0.5, -0.01, -0.5, -0.01, b), a, tie));
+    none(axis_lead(
+        &gaps(-0.01, -0.5, -0.01, -0.5, -0.5e-9, a),
+        a,
+        tie,
+    ));
+    none(axis_lead(
+        &gaps(f64::NAN, -0.5, -0.01, -0.5, -0.01, a),
+        a,
+        tie,
+    ));
+    none(axis_lead(
+        &gaps(-0.01, -0.5, f64::NAN, -0.5, -0.01, a),
+        a,
+        tie,
+    ));
+    none(axis_lead(
+        &gaps(-0.01, -0.5, -0.01, -0.5, f64::NEG_INFINITY, a),
+        a,
+        tie,
+    ));
 }
