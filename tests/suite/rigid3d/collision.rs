@@ -459,7 +459,11 @@ fn broad_phase_finds_the_touching_pairs_on_cell_boundaries() {
         }
         // Unshifted, every box touches each of its neighbours in the 4 × 3 × 2 block, faces,
         // edges and corners: ((3·4 − 2)(3·3 − 2)(3·2 − 2) − 24) / 2 = 128 pairs.
-        assert!(shift != 0.0 || all_pairs.len() == 128, "{}", all_pairs.len());
+        assert!(
+            shift != 0.0 || all_pairs.len() == 128,
+            "{}",
+            all_pairs.len()
+        );
         assert_eq!(overlapping_pairs(&boxes), all_pairs, "shift {shift}");
     }
 }
