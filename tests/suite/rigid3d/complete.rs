@@ -877,9 +877,9 @@ fn edge_pairs_skipped_by_their_bound_change_nothing() {
     );
 }
 
-/// `at` moved by a motion whose bound (docs/contact.md §"Persistent manifolds": ‖ΔR‖ (ρ + |t₀|)
-/// + |Δt|) is at most `allowed`, m: half as a turn about `axis` (‖R − R₀‖ ≤ √2 θ), half as a
-/// shift along `shift`. `radius`: the larger body radius ρ.
+/// `at` moved by a motion whose bound (docs/contact.md §"Persistent manifolds",
+/// ‖ΔR‖ (ρ + |t₀|) plus |Δt|) is at most `allowed`, m: half as a turn about `axis`
+/// (‖R − R₀‖ ≤ √2 θ), half as a shift along `shift`. `radius`: the larger body radius ρ.
 fn moved_within(
     at: &rigidref::rigid3d::collide::separating_axes::Placement,
     axis: Vector3<f64>,
