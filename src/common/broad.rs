@@ -52,7 +52,7 @@ impl Aabb {
 /// A box covering more than [`MAX_CELLS`] cells (a container, the ground) is tested against every
 /// other box instead. Boxes that are empty (a smallest corner beyond the largest) or not a number
 /// overlap nothing. The same pairs as [`sweep_and_prune_pairs`] and as testing all pairs; the cost
-/// is O(n log n + k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays
+/// is O(n + k log k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays
 /// for every pair overlapping along that axis (a column of a grid of stacks, a strip of a pile).
 pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
     // The grid's list numbers its entries in 32 bits (at most MAX_CELLS per box): beyond that

@@ -121,6 +121,14 @@ pub fn preference_allowance(gap: f64, tie: f64) -> f64 {
     }
 }
 
+/// The motion bound δ from placement `found_at` to `at`, m: ‖R − R₀‖ (ρ + |t₀|) + |t − t₀|,
+/// a bound on how far any vertex of either piece has moved in the other's frame (`radius`: ρ,
+/// the larger body's bounding radius; the Frobenius norm bounds the spectral one).
+fn motion_since(found_at: &Placement, at: &Placement, radius: f64) -> f64 {
+    (at.rotation - found_at.rotation).norm() * (radius + found_at.translation.norm())
+        + (at.translation - found_at.translation).norm()
+}
+
 /// How often kept features served a piece pair.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct KeptCounts {
@@ -170,9 +178,7 @@ pub fn kept_contact(
             at: found_at,
             lead,
         } if rule == KeepRule::Exact => {
-            let moved = (at.rotation - found_at.rotation).norm()
-                * (radius + found_at.translation.norm())
-                + (at.translation - found_at.translation).norm();
+            let moved = motion_since(&found_at, at, radius);
             let u = moved + tie;
             // The teeth tests' deliberate bug: the lead kept however far the pair has moved.
             let within = crate::common::faults::fault!(axis_lead_motion_unchecked) || u < lead;
@@ -207,9 +213,7 @@ pub fn kept_contact(
             at: found_at,
             ..
         } => {
-            let moved = (at.rotation - found_at.rotation).norm()
-                * (radius + found_at.translation.norm())
-                + (at.translation - found_at.translation).norm();
+            let moved = motion_since(&found_at, at, radius);
             if moved <= MANIFOLD_MOTION_FRACTION * a.radius.min(b.radius) {
                 sat.points.clear();
                 sat.place(b, at);
