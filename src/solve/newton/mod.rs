@@ -194,13 +194,14 @@ const PROXIMAL_SIGMA: f64 = 5.0;
 const PROXIMAL_INNER_RATIO: f64 = 10.0;
 /// Each subproblem of the tenfold loop is solved to the centre's law norm divided by this.
 const TENFOLD_INNER_RATIO: f64 = 100.0;
-/// The proximal parameter's range (relative to diag(W)).
-const ETA_MIN: f64 = 1e-12;
-const ETA_MAX: f64 = 1e8;
+/// The proximal parameter's smallest value (relative to diag(W)).
+pub const ETA_MIN: f64 = 1e-12;
+/// The proximal parameter's largest value (relative to diag(W)).
+pub const ETA_MAX: f64 = 1e8;
 
 /// How the proximal loop sets η (docs/contact.md §"Proximal-point globalisation").
-#[derive(Clone, Copy, PartialEq)]
-enum Schedule {
+#[derive(Clone, Copy, PartialEq, Debug)]
+pub enum Schedule {
     /// η = σ ‖F(λ_c)‖ / max|b| after a solved subproblem; subproblems solved to a tenth of
     /// ‖F(λ_c)‖ under the stall rule; the centre moves to any answer that lowers ‖F‖.
     Adaptive,
@@ -209,6 +210,34 @@ enum Schedule {
     /// solves problems the adaptive loop does not (fc2d_granularflowonwall_02020 of Siconos'
     /// data, a problem of rigid3d scene 7).
     Tenfold,
+}
+
+impl Schedule {
+    /// η of the loop's first subproblem (dimensionless, relative to diag(W)), from the law norm
+    /// ‖F(λ_c)‖∞ (m/s) at the entry point and the velocity scale max|b| (m/s): σ ‖F‖ / max|b|
+    /// clamped to [[`ETA_MIN`], [`ETA_MAX`]] (adaptive), or 1 (tenfold).
+    pub fn first_eta(self, norm: f64, scale: f64) -> f64 {
+        match self {
+            Schedule::Adaptive => Self::adapted(norm, scale),
+            Schedule::Tenfold => 1.0,
+        }
+    }
+
+    /// η of the next subproblem after one with η = `eta` that was `solved` (reached its inner
+    /// tolerance) or not, the centre's law norm being `norm` (m/s) and the velocity scale `scale`
+    /// (m/s): after a solved one σ ‖F‖ / max|b| (adaptive) or η / 10 (tenfold), after a failed
+    /// one 10 η, within [[`ETA_MIN`], [`ETA_MAX`]].
+    pub fn next_eta(self, eta: f64, solved: bool, norm: f64, scale: f64) -> f64 {
+        match (self, solved) {
+            (Schedule::Adaptive, true) => Self::adapted(norm, scale),
+            (Schedule::Tenfold, true) => (eta * 0.1).max(ETA_MIN),
+            (_, false) => (eta * 10.0).min(ETA_MAX),
+        }
+    }
+
+    fn adapted(norm: f64, scale: f64) -> f64 {
+        (PROXIMAL_SIGMA * norm / scale).clamp(ETA_MIN, ETA_MAX)
+    }
 }
 
 /// How a run of Newton iterations ended.
@@ -577,15 +606,15 @@ fn proximal_point<const R: usize>(
     };
     // The velocity scale that makes ‖F‖ relative (Siconos' PROX sets α = σ × its relative error).
     let scale = system.velocity_scale();
-    let adapted = |norm: f64| (PROXIMAL_SIGMA * norm / scale).clamp(ETA_MIN, ETA_MAX);
     let mut iterations = 0;
     let mut centre = x.clone();
     let mut norm = original_norm(&centre);
     let adaptive = schedule == Schedule::Adaptive;
-    let (mut eta, inner_ratio, stall) = if adaptive {
-        (adapted(norm), PROXIMAL_INNER_RATIO, Stall::Short)
+    let mut eta = schedule.first_eta(norm, scale);
+    let (inner_ratio, stall) = if adaptive {
+        (PROXIMAL_INNER_RATIO, Stall::Short)
     } else {
-        (1.0, TENFOLD_INNER_RATIO, Stall::Never)
+        (TENFOLD_INNER_RATIO, Stall::Never)
     };
     // The best point by the original law norm, from the entry point on: what is returned when
     // nothing solves, and whether the loop improved on its entry at all.
@@ -625,18 +654,13 @@ fn proximal_point<const R: usize>(
         }
         if run.reached {
             failures = 0;
-            eta = if adaptive {
-                adapted(norm)
-            } else {
-                (eta * 0.1).max(ETA_MIN)
-            };
         } else {
             failures += 1;
             if eta >= ETA_MAX && failures > 3 {
                 break;
             }
-            eta = (eta * 10.0).min(ETA_MAX);
         }
+        eta = schedule.next_eta(eta, run.reached, norm, scale);
     }
     // Not solved: finish with plain Newton from the best centre, and keep whichever is better.
     let mut last = best.1.clone();

@@ -397,3 +397,46 @@ fn an_unsolved_proximal_loop_finishes_from_its_best_centre() {
         );
     }
 }
+
+/// The proximal parameter follows its schedule (docs/contact.md §"Proximal-point
+/// globalisation"): the adaptive loop starts at and returns to σ ‖F(λ_c)‖∞ / max|b| (σ = 5) after
+/// a solved subproblem; the tenfold loop starts at η = 1 and divides η by 10 after a solved one;
+/// both multiply η by 10 after a failed one; every value within [10⁻¹², 10⁸]. Exact values: each
+/// is one multiplication or division and a clamp, the expressions of the rule. Kills the mutant
+/// `newton/mod.rs:631:22` (`eta * 0.1` → `eta / 0.1`: the tenfold loop's η grew after every solved
+/// subproblem), which no problem in the mutation filter reaches (the tenfold loop runs only after
+/// the adaptive loop failed).
+#[test]
+fn the_proximal_parameter_follows_its_schedule() {
+    use rigidref::solve::newton::{ETA_MAX, ETA_MIN, Schedule};
+    assert_eq!((ETA_MIN, ETA_MAX), (1e-12, 1e8));
+    let (adaptive, tenfold) = (Schedule::Adaptive, Schedule::Tenfold);
+    // Adaptive: σ ‖F‖ / scale, clamped.
+    assert_eq!(adaptive.first_eta(0.3, 2.0), 5.0 * 0.3 / 2.0);
+    assert_eq!(adaptive.first_eta(1e-20, 1.0), 1e-12);
+    assert_eq!(adaptive.first_eta(1e10, 1.0), 1e8);
+    assert_eq!(adaptive.next_eta(0.75, true, 0.01, 2.0), 5.0 * 0.01 / 2.0);
+    assert_eq!(adaptive.next_eta(0.75, false, 0.01, 2.0), 7.5);
+    // Tenfold: from 1, ÷ 10 after a solved subproblem, × 10 after a failed one.
+    assert_eq!(tenfold.first_eta(0.3, 2.0), 1.0);
+    let mut eta = tenfold.first_eta(0.3, 2.0);
+    let mut seen = vec![eta];
+    for solved in [true, true, false, true] {
+        eta = tenfold.next_eta(eta, solved, 0.3, 2.0);
+        seen.push(eta);
+    }
+    assert_eq!(
+        seen,
+        [
+            1.0,
+            1.0 * 0.1,
+            1.0 * 0.1 * 0.1,
+            1.0 * 0.1 * 0.1 * 10.0,
+            1.0 * 0.1 * 0.1 * 10.0 * 0.1
+        ]
+    );
+    // The range holds at both ends.
+    assert_eq!(tenfold.next_eta(1e-12, true, 0.3, 2.0), 1e-12);
+    assert_eq!(tenfold.next_eta(1e8, false, 0.3, 2.0), 1e8);
+    assert_eq!(adaptive.next_eta(1e8, false, 0.3, 2.0), 1e8);
+}
