@@ -106,8 +106,16 @@ impl<const D: usize, const R: usize> ProblemContact<D, R> {
     /// The compliance on row `r` (kg⁻¹): a contact's on its normal row only, a joint's on every
     /// row.
     pub fn row_compliance(&self, r: usize) -> f64 {
-        if r == 0 || self.bounds == RowBounds::Free {
-            self.compliance
+        self.bounds.row_compliance(self.compliance, r)
+    }
+}
+
+impl RowBounds {
+    /// The compliance on row `r` (kg⁻¹) of a constraint so bounded whose compliance is
+    /// `compliance`: a contact's on its normal row only, a joint's on every row.
+    pub fn row_compliance(self, compliance: f64, r: usize) -> f64 {
+        if r == 0 || self == RowBounds::Free {
+            compliance
         } else {
             0.0
         }

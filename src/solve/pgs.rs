@@ -92,7 +92,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         residual: workspace.residual(problem, lambda),
         converged,
         coulomb_residual: (problem.friction == FrictionModel::Cone)
-            .then(|| workspace.coulomb_residual(problem, lambda)),
+            .then(|| workspace.coulomb_residual(lambda)),
         method: crate::problem::SolveMethod::Pgs,
         local_fallbacks: workspace.local_fallbacks,
     }

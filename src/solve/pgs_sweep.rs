@@ -68,7 +68,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             entries,
             entry_contact,
             slot,
-            scales,
             order,
             colour_starts,
             moving,
@@ -132,7 +131,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
                 )
             };
             let done =
-                row_residual(problem, groups, entries, entry_contact, scales, dv, l) <= tolerance;
+                row_residual(problem.friction, groups, entries, entry_contact, dv, l) <= tolerance;
             reached.store(done, std::sync::atomic::Ordering::Relaxed);
             done
         };

@@ -111,7 +111,26 @@ pub fn contact_residual<const R: usize>(
     w: &SVector<f64, R>,
     scales: &RowScales<R>,
 ) -> f64 {
-    let a = &scales.diagonal;
+    contact_residual_of_rows(
+        friction,
+        mu,
+        lambda,
+        w,
+        &scales.diagonal,
+        scales.tangent_rho,
+    )
+}
+
+/// [`contact_residual`] from what it reads of the row scales: the diagonal a (kg⁻¹) and ρ
+/// (kg⁻¹). PGS's groups keep these two per lane, so its residual pass reads them there.
+pub fn contact_residual_of_rows<const R: usize>(
+    friction: FrictionModel,
+    mu: f64,
+    lambda: &SVector<f64, R>,
+    w: &SVector<f64, R>,
+    a: &SVector<f64, R>,
+    tangent_rho: f64,
+) -> f64 {
     // A row with a zero diagonal cannot be moved by its own impulse (both bodies pinned);
     // it counts only as far as it is violated.
     let normal = if a[0] > 0.0 {
@@ -131,7 +150,7 @@ pub fn contact_residual<const R: usize>(
             })
             .fold(0.0, f64::max),
         FrictionModel::Cone => {
-            let rho = scales.tangent_rho;
+            let rho = tangent_rho;
             if rho > 0.0 {
                 let mut trial = *lambda;
                 for r in 1..R {
