@@ -282,6 +282,34 @@ fn the_exact_local_solve_reports_its_fallbacks() {
     assert_eq!(report.local_fallbacks, 0, "{report:?}");
 }
 
+/// The local form's PGS (`solve_pgs_local`, Siconos' NSGS with exact visits) counts its
+/// fallbacks as the workspace's does: every visit of the contact that no exact case fits, and
+/// none of the well-posed one's. The two problems of
+/// [`the_exact_local_solve_reports_its_fallbacks`] in local form (`to_local`). Kills the mutant
+/// `pgs_delassus.rs:118:24` (the `!` before `visit_exactly` deleted: the exact visits counted
+/// instead of the fallbacks).
+#[test]
+fn the_local_forms_exact_solve_reports_its_fallbacks() {
+    use rigidref::solve::pgs_delassus::solve_pgs_local;
+    use rigidref::solve::{ContactOrder, PgsSettings};
+    let settings = PgsSettings {
+        max_iterations: 3,
+        tolerance: None,
+        order: ContactOrder::Sequential,
+        local: LocalSolve::Exact,
+    };
+    for (a, b, fallbacks) in [
+        (SMatrix::zeros(), SVector::from([-1.0, 0.0, 0.0]), 3),
+        (SMatrix::identity(), SVector::from([-1.0, 3.0, 4.0]), 0),
+    ] {
+        let problem = super::local_solve_problem(a, b, 0.5, FrictionModel::Cone).to_local();
+        let mut lambda = Vec::new();
+        let report = solve_pgs_local(&problem, &settings, 0, &mut lambda);
+        assert_eq!(report.iterations, 3, "{report:?}");
+        assert_eq!(report.local_fallbacks, fallbacks, "{report:?}");
+    }
+}
+
 /// The exact local solve of the disk (cone, R = 3) as it was before its grid of cos and sin was
 /// tabulated: separate, stick, then the sliding roots bracketed on 256 cells with `sin` and `cos`
 /// called at both ends of every cell and bisected to the last bit; the first candidate whose

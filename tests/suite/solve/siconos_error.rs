@@ -128,3 +128,34 @@ fn the_q_normalised_and_absolute_errors_are_siconos_error_times_its_denominator(
     // At least one case where ‖λ‖ or ‖w‖ exceeds ‖q‖, so that the two relative measures differ.
     assert!(larger_than_q >= 1, "no case tells the two measures apart");
 }
+
+/// Siconos' measures are divided by their denominator only above machine epsilon (Siconos'
+/// `if (norm > DBL_EPSILON) error /= norm`), at the boundary to the ulp: a denominator of
+/// exactly `f64::EPSILON` leaves the error as it is, the next double up divides it. Kills the
+/// mutant `residual.rs:314:11` (`>` → `>=`).
+#[test]
+fn siconos_measures_are_divided_only_above_machine_epsilon() {
+    use rigidref::solve::residual::SiconosErrorMeasures;
+    let above = f64::EPSILON.next_up();
+    let at = SiconosErrorMeasures {
+        absolute: 1e-20,
+        q_norm: f64::EPSILON,
+        scale: f64::EPSILON,
+    };
+    assert_eq!((at.relative(), at.q_normalised()), (1e-20, 1e-20));
+    let over = SiconosErrorMeasures {
+        absolute: 1e-20,
+        q_norm: above,
+        scale: above,
+    };
+    assert_eq!(
+        (over.relative(), over.q_normalised()),
+        (1e-20 / above, 1e-20 / above)
+    );
+    let below = SiconosErrorMeasures {
+        absolute: 1e-20,
+        q_norm: f64::EPSILON.next_down(),
+        scale: 0.0,
+    };
+    assert_eq!((below.relative(), below.q_normalised()), (1e-20, 1e-20));
+}
