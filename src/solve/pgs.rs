@@ -16,7 +16,6 @@
 use super::local::LocalSolve;
 pub use super::pgs_settings::{ContactOrder, Lanes, MIN_CONTACTS_PER_THREAD, PgsSettings};
 pub use super::pgs_workspace::PgsWorkspace;
-use super::projection::project_feasible;
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::SVector;
 
@@ -46,22 +45,9 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !self_contact
         && !joint
         && super::pgs_lanes::dimensions_fit::<D, R>();
-    workspace.prepare(problem, settings.order, lanes);
+    // The entries, and the warm start applied in problem order as they are built.
+    workspace.prepare(problem, settings.order, lanes, lambda);
     workspace.draw_sweep_colours(settings.order, settings.max_iterations);
-    lambda.clear();
-    for (k, c) in problem.contacts.iter().enumerate() {
-        let start = match c.bounds {
-            RowBounds::Contact => project_feasible(&c.lambda0, c.mu, problem.friction),
-            RowBounds::Free => c.lambda0,
-        };
-        lambda.push(start);
-        // A start that moves no Δu bit (zero, finite M⁻¹Jᵀ) is skipped: post-stabilisation's
-        // every contact, a new contact's in the velocity solve.
-        if !workspace.moves_nothing(k, &start) {
-            workspace.apply_rows(problem, k, &start);
-        }
-    }
-
     let mut iterations = 0;
     let mut converged = false;
     // Threads only where a colour gives each at least MIN_CONTACTS_PER_THREAD visits on

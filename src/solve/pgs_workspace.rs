@@ -8,11 +8,12 @@
 use super::pgs_lanes::{LANES, LaneGroup, grouped};
 use super::pgs_rows::{BodyRows, CachedRows, LaneRows, Slot, lane_copies, write_back};
 use super::pgs_settings::{ContactOrder, Lanes};
-use super::pgs_setup::{build_entry, inverse_mass_times};
+use super::pgs_setup::build_entry;
 use super::pgs_visit::ContactRows;
+use super::projection::project_feasible;
 use super::residual::RowScales;
 use super::sweep_entry::{Entry, RowLaw};
-use crate::problem::ContactProblem;
+use crate::problem::{ContactProblem, RowBounds};
 use nalgebra::{SMatrix, SVector};
 use rand::SeedableRng;
 use rand::seq::SliceRandom;
@@ -62,7 +63,7 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) shuffled: Vec<usize>,
     pub(super) sweep_colours: Vec<usize>,
     /// Per contact: whether both sides' M_s⁻¹ J_sᵀ, as the set-up built them, are finite (then
-    /// a zero warm start moves no Δu and is skipped: [`PgsWorkspace::moves_nothing`]).
+    /// a zero warm start moves no Δu and is skipped: [`moves_nothing`]).
     pub(super) finite_columns: Vec<bool>,
     /// Whether the warm start skips the contacts whose start moves nothing (on by default;
     /// [`PgsWorkspace::set_zero_starts_skipped`]).
@@ -148,21 +149,28 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         &self.delta_velocity[i]
     }
 
-    /// Builds the entries for `problem`, once, where the sweeps read them. With a coloured
-    /// order the contacts are coloured first and the entries laid out in visiting order: with
-    /// `lanes`, each colour's first ⌊n / 4⌋ × 4 contacts straight into its groups of four, lane
-    /// by lane, and the rest of the colour into `entries`; else all into `entries`. Otherwise
-    /// in problem order. `slot[k]` is contact k's place.
+    /// Builds the entries for `problem`, once, where the sweeps read them, and applies the warm
+    /// start. With a coloured order the contacts are coloured first and the entries laid out in
+    /// visiting order: with `lanes`, each colour's first ⌊n / 4⌋ × 4 contacts in its groups of
+    /// four, lane by lane, and the rest of the colour in `entries`; else all in `entries`.
+    /// Otherwise in problem order. `slot[k]` is contact k's place.
+    ///
+    /// The entries are then built in problem order, each written to its place (the problem is
+    /// read front to back), and each contact's start applied as its entry is built: λ₀
+    /// projected onto its feasible set into `lambda`, then Δu_s += (M_s⁻¹ J_sᵀ)_r λ₀,r row by row
+    /// with the entry's own M⁻¹Jᵀ (docs/contact.md §"Warm starting": problem order, so the same
+    /// sums as a warm start applied after the set-up), except a start that moves nothing
+    /// ([`moves_nothing`]).
     pub(super) fn prepare(
         &mut self,
         problem: &ContactProblem<D, R>,
         order: ContactOrder,
         lanes: bool,
+        lambda: &mut Vec<SVector<f64, R>>,
     ) {
         self.delta_velocity.clear();
         self.delta_velocity
             .resize(problem.bodies.len(), SVector::zeros());
-        self.entries.clear();
         self.entry_contact.clear();
         self.order.clear();
         self.colour_starts.clear();
@@ -182,64 +190,93 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             .resize(count, RowScales::of_block(SMatrix::zeros()));
         self.slot.resize(count, Slot::One(0));
         self.finite_columns.resize(count, false);
+        self.lay_out(lanes);
+        let skip_zero_starts = self.skip_zero_starts;
+        let PgsWorkspace {
+            entries,
+            scales,
+            slot,
+            moving,
+            groups,
+            finite_columns,
+            delta_velocity,
+            ..
+        } = self;
+        lambda.clear();
+        for (k, c) in problem.contacts.iter().enumerate() {
+            let entry = build_entry(problem, k, &mut scales[k]);
+            finite_columns[k] = columns_finite(&entry);
+            let start = match c.bounds {
+                RowBounds::Contact => project_feasible(&c.lambda0, c.mu, problem.friction),
+                RowBounds::Free => c.lambda0,
+            };
+            lambda.push(start);
+            if !moves_nothing(skip_zero_starts, finite_columns[k], &start) {
+                for r in 0..R {
+                    entry.apply(delta_velocity, r, start[r]);
+                }
+            }
+            match slot[k] {
+                Slot::One(i) => entries[i] = entry,
+                Slot::Lane(i) => groups[i / LANES].set_lane(i % LANES, k, &entry, moving),
+            }
+        }
+    }
+
+    /// Each contact's place in visiting order (`slot`, `entry_contact`, the groups' extent;
+    /// see [`Self::prepare`]), the entries not yet built. `entries` and `groups` keep the last
+    /// solve's where there are as many (each is written whole by `prepare`), so that a solve
+    /// neither clears nor zeroes them again: about 2.7 kB per group of four in 3D.
+    fn lay_out(&mut self, lanes: bool) {
         let PgsWorkspace {
             entries,
             entry_contact,
-            scales,
             order,
             slot,
             colour_starts,
-            moving,
             groups,
             group_starts,
-            finite_columns,
             ..
         } = self;
         if !lanes {
             groups.clear();
             for (position, &k) in order.iter().enumerate() {
-                prefetch_ahead(problem, order, position);
-                slot[k] = Slot::One(entries.len());
-                let entry = build_entry(problem, k, &mut scales[k]);
-                finite_columns[k] = columns_finite(&entry);
-                entries.push(entry);
+                slot[k] = Slot::One(position);
                 entry_contact.push(k);
             }
-            return;
-        }
-        // The groups of the last solve are reused where there are as many (each lane of each
-        // group is written whole by `set_lane`), so that a solve does not zero them again: about
-        // 2.7 kB per group of four in 3D.
-        let mut used = 0;
-        group_starts.push(0);
-        for colour in colour_starts.windows(2) {
-            let (a, b) = (colour[0], colour[1]);
-            let in_groups = a + grouped(b - a);
-            for position in a..b {
-                prefetch_ahead(problem, order, position);
-                let k = order[position];
-                let entry = build_entry(problem, k, &mut scales[k]);
-                finite_columns[k] = columns_finite(&entry);
-                if position < in_groups {
-                    let lane = (position - a) % LANES;
-                    if lane == 0 {
-                        if used == groups.len() {
-                            groups.push(LaneGroup::empty());
+        } else {
+            let mut used = 0;
+            group_starts.push(0);
+            for colour in colour_starts.windows(2) {
+                let (a, b) = (colour[0], colour[1]);
+                let in_groups = a + grouped(b - a);
+                for position in a..b {
+                    let k = order[position];
+                    if position < in_groups {
+                        let lane = (position - a) % LANES;
+                        if lane == 0 {
+                            if used == groups.len() {
+                                groups.push(LaneGroup::empty());
+                            }
+                            used += 1;
                         }
-                        used += 1;
+                        slot[k] = Slot::Lane((used - 1) * LANES + lane);
+                    } else {
+                        slot[k] = Slot::One(entry_contact.len());
+                        entry_contact.push(k);
                     }
-                    let g = used - 1;
-                    groups[g].set_lane(lane, k, &entry, moving);
-                    slot[k] = Slot::Lane(g * LANES + lane);
-                } else {
-                    slot[k] = Slot::One(entries.len());
-                    entries.push(entry);
-                    entry_contact.push(k);
                 }
+                group_starts.push(used);
             }
-            group_starts.push(used);
+            groups.truncate(used);
         }
-        groups.truncate(used);
+        // Places for the one-at-a-time entries; new ones hold a placeholder until `prepare`
+        // writes them.
+        let ones = entry_contact.len();
+        entries.truncate(ones);
+        if entries.len() < ones {
+            entries.resize(ones, Entry::placeholder());
+        }
     }
 
     /// Contact `k`'s constants as a visit reads them.
@@ -388,13 +425,6 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.skip_zero_starts = skip;
     }
 
-    /// Whether contact `k`'s warm start `start` moves no Δu bit and is skipped
-    /// ([`PgsWorkspace::set_zero_starts_skipped`]).
-    #[inline(always)]
-    pub(super) fn moves_nothing(&self, k: usize, start: &SVector<f64, R>) -> bool {
-        self.skip_zero_starts && self.finite_columns[k] && start.iter().all(|&x| x == 0.0)
-    }
-
     /// The groups of four the last solve's sweeps visited (0 when they went one at a time).
     pub fn last_groups(&self) -> usize {
         self.groups.len()
@@ -454,41 +484,18 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             }
         }
     }
+}
 
-    /// Changes λ of contact `k` by `delta`, row by row, and updates the bodies' Δu to match
-    /// (the warm start, in problem order). A contact kept in a one-contact record reads its
-    /// M_s⁻¹ J_sᵀ there; a contact kept in a lane has it formed again from the problem
-    /// ([`inverse_mass_times`], the same function of the same numbers as the set-up, so the
-    /// same bits), which reads the problem front to back instead of jumping between the groups
-    /// (where a lane's columns lie apart). Either way Δu_s += (M_s⁻¹ J_sᵀ)_r δ_r row by row, as
-    /// [`Entry::apply`] does.
-    pub(super) fn apply_rows(
-        &mut self,
-        problem: &ContactProblem<D, R>,
-        k: usize,
-        delta: &SVector<f64, R>,
-    ) {
-        match self.slot[k] {
-            Slot::One(i) => {
-                for r in 0..R {
-                    self.entries[i].apply(&mut self.delta_velocity, r, delta[r]);
-                }
-            }
-            Slot::Lane(_) => {
-                let c = &problem.contacts[k];
-                let sides: [Option<SMatrix<f64, D, R>>; 2] = std::array::from_fn(|s| {
-                    c.bodies[s].map(|b| inverse_mass_times(problem, k, s, b))
-                });
-                for r in 0..R {
-                    for s in 0..2 {
-                        if let (Some(b), Some(side)) = (c.bodies[s], &sides[s]) {
-                            self.delta_velocity[b].axpy(delta[r], &side.column(r), 1.0);
-                        }
-                    }
-                }
-            }
-        }
-    }
+/// Whether a contact's warm start `start` moves no Δu bit and is skipped: skipping on, its
+/// M⁻¹Jᵀ finite, every row of the start ±0 (docs/contact.md §"Warm starting", "Zero starts
+/// skipped").
+#[inline(always)]
+fn moves_nothing<const R: usize>(
+    skip: bool,
+    finite_columns: bool,
+    start: &SVector<f64, R>,
+) -> bool {
+    skip && finite_columns && start.iter().all(|&x| x == 0.0)
 }
 
 /// Whether both sides' M_s⁻¹ J_sᵀ of `entry` are finite (the static world's side is zero).
@@ -498,26 +505,6 @@ fn columns_finite<const D: usize, const R: usize>(entry: &Entry<D, R>) -> bool {
         .inverse_mass_jacobian_t
         .iter()
         .all(|m| m.iter().all(|x| x.is_finite()))
-}
-
-/// Asks the processor to start loading what the set-up reads a few positions ahead in
-/// `order` (a random order that its own prefetcher cannot guess): the contact eight ahead, and
-/// the inverse masses of the bodies of the contact four ahead (whose contact was asked for four
-/// positions before). Only a hint: it changes no value.
-#[inline(always)]
-fn prefetch_ahead<const D: usize, const R: usize>(
-    problem: &ContactProblem<D, R>,
-    order: &[usize],
-    position: usize,
-) {
-    if let Some(&k) = order.get(position + 8) {
-        prefetch_object(&problem.contacts[k]);
-    }
-    if let Some(&k) = order.get(position + 4) {
-        for &b in problem.contacts[k].bodies.iter().flatten() {
-            prefetch_object(&problem.bodies[b]);
-        }
-    }
 }
 
 /// Asks the processor to start loading `value`'s bytes, a cache line at a time (x86-64; elsewhere

@@ -43,6 +43,25 @@ pub(super) struct RowLaw<const R: usize> {
 }
 
 impl<const D: usize, const R: usize> Entry<D, R> {
+    /// An entry of zeros, no body on either side: a place in the workspace's entries until the
+    /// set-up writes the contact's entry there.
+    pub fn placeholder() -> Self {
+        Entry {
+            bodies: [None; 2],
+            jacobian_t: [SMatrix::zeros(); 2],
+            inverse_mass_jacobian_t: [SMatrix::zeros(); 2],
+            b: SVector::zeros(),
+            law: RowLaw {
+                diagonal: SVector::zeros(),
+                tangent_rho: 0.0,
+                mu: 0.0,
+                compliance: 0.0,
+            },
+            bounds: RowBounds::Contact,
+            lambda0: SVector::zeros(),
+        }
+    }
+
     /// w_r = b_r + J₁,r Δu₁ + J₂,r Δu₂ (without compliance).
     #[inline(always)]
     pub(super) fn velocity(&self, delta_velocity: &[SVector<f64, D>], r: usize) -> f64 {
