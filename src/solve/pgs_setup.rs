@@ -56,7 +56,7 @@ pub(super) fn build_entry<const D: usize, const R: usize>(
 /// diag(m⁻¹ I₃, J⁻¹) 36 products a column, of which 24 are by zero; summing the nonzero columns
 /// alone, as the set-up did for a while, gave the same bits but took about three times the
 /// instructions: docs/performance.md §"Issue 49: leading triangles and the full product").
-/// The set-up and the warm start of a grouped contact both take it from here, so the same bits.
+/// Formed once per solve by the set-up; the warm start applies the entry's copy (the same bits).
 #[inline(always)]
 pub(super) fn inverse_mass_times<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,

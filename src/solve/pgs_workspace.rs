@@ -1,6 +1,7 @@
 //! What a PGS solve keeps from solve to solve, and its set-up: each contact's entry (what a
-//! sweep reads) and row scales, built once in visiting order, as a lane of a group of four where
-//! a coloured sweep takes four at a time and as a one-contact entry elsewhere; the coloured
+//! sweep reads) and row scales, built once, in problem order, and written where the visiting
+//! order reads it: as a lane of a group of four where a coloured sweep takes four at a time and
+//! as a one-contact entry elsewhere; the warm start, applied as the entries are built; the coloured
 //! order's colours; the bodies' Δu; the seeded generator of the random orders.
 //! docs/contact.md §"PGS", §"Coloured order", §"Four contacts per lane". A contact's entry is
 //! built by `pgs_setup.rs`; the views a visit reads it through are in `pgs_rows.rs`.

@@ -164,6 +164,7 @@ impl Detector {
             return;
         }
         out.clear();
+        self.manifold.piece_boxes.begin();
         for (i, body) in bodies.iter().enumerate() {
             // `complete` takes vertices within the speculative margin above the plane too (a body
             // written exactly on the ground is held from the first step); the vertex rule only

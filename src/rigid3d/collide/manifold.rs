@@ -10,7 +10,6 @@ use super::separating_axes::{Placement, SatBuffers};
 use super::vertex_contact::{Contact, Feature};
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::frame::ContactFrame;
-use parry3d_f64::math::Pose;
 
 /// A manifold point whose witness lies within this fraction of the smaller body's bounding radius
 /// of a contact already found (a vertex contact, or an earlier manifold point) is that contact.
@@ -36,6 +35,64 @@ pub struct ManifoldBuffers {
     pub sat: SatBuffers,
     /// How often kept features served (persistent manifolds).
     pub kept: KeptCounts,
+    /// Each body's pieces' world boxes, formed once per detection.
+    pub piece_boxes: PieceBoxes,
+}
+
+/// Each body's convex pieces' world boxes ([`super::pieces::Piece::world_aabb`] at the body's
+/// pose), formed at the first piece pair of the body that a detection asks for and kept for the
+/// rest of that detection: a body meets several neighbours, and forming a box places every
+/// vertex of its piece. The boxes are the same numbers as formed afresh (the same function of
+/// the same pose); they are kept while the detection ([`PieceBoxes::begin`]) and the pose's
+/// bits are the same.
+#[derive(Clone, Debug, Default)]
+pub struct PieceBoxes {
+    detection: u64,
+    bodies: Vec<BodyPieceBoxes>,
+}
+
+#[derive(Clone, Debug, Default)]
+struct BodyPieceBoxes {
+    detection: u64,
+    /// The bits of the body's position and rotation the boxes were formed at.
+    pose: [u64; 12],
+    boxes: Vec<crate::common::broad::Aabb>,
+}
+
+impl PieceBoxes {
+    /// A new detection: every kept box is formed again when next asked for.
+    pub fn begin(&mut self) {
+        self.detection += 1;
+    }
+
+    /// Forms body `i`'s pieces' world boxes unless this detection already did at this pose.
+    fn ensure(&mut self, i: usize, body: &RigidBody, pieces: &ConvexPieces) {
+        if self.bodies.len() <= i {
+            self.bodies.resize_with(i + 1, BodyPieceBoxes::default);
+        }
+        // The position's and the rotation's bits, read from their contiguous storage.
+        let (x, rotation) = (body.x.as_slice(), body.rotation.as_slice());
+        let bits: [u64; 12] =
+            std::array::from_fn(|k| if k < 3 { x[k] } else { rotation[k - 3] }.to_bits());
+        let kept = &mut self.bodies[i];
+        if kept.detection == self.detection
+            && kept.pose == bits
+            && kept.boxes.len() == pieces.pieces.len()
+            && self.detection != 0
+        {
+            return;
+        }
+        let pose = pose(body);
+        kept.boxes.clear();
+        kept.boxes
+            .extend(pieces.pieces.iter().map(|p| p.world_aabb(&pose)));
+        (kept.detection, kept.pose) = (self.detection, bits);
+    }
+
+    /// Piece `a`'s world box of body `i` (after [`Self::ensure`]).
+    fn get(&self, i: usize, a: usize) -> crate::common::broad::Aabb {
+        self.bodies[i].boxes[a]
+    }
 }
 
 /// Appends the manifold contacts of bodies i < j that `out[pair_start..]` (the pair's vertex
@@ -55,10 +112,13 @@ pub fn manifold_contacts(
     out: &mut Vec<Contact>,
 ) {
     let pair = PairPoses::new((i, j), bodies, colliders);
-    for (a, piece_a) in pair.pieces_i.pieces.iter().enumerate() {
-        let box_a = piece_a.world_aabb(&pair.pose_i);
-        for (b, piece_b) in pair.pieces_j.pieces.iter().enumerate() {
-            if within(&box_a, &piece_b.world_aabb(&pair.pose_j), pair.margin) {
+    let boxes = &mut buffers.piece_boxes;
+    boxes.ensure(i, &bodies[i], pair.pieces_i);
+    boxes.ensure(j, &bodies[j], pair.pieces_j);
+    for a in 0..pair.pieces_i.pieces.len() {
+        for b in 0..pair.pieces_j.pieces.len() {
+            let boxes = &buffers.piece_boxes;
+            if within(&boxes.get(i, a), &boxes.get(j, b), pair.margin) {
                 piece_pair_contacts(&pair, (a, b), pair_start, buffers, None, out);
             }
         }
@@ -83,13 +143,12 @@ pub fn manifold_contacts_among<'k>(
     out: &mut Vec<Contact>,
 ) {
     let pair = PairPoses::new((i, j), bodies, colliders);
+    let boxes = &mut buffers.piece_boxes;
+    boxes.ensure(i, &bodies[i], pair.pieces_i);
+    boxes.ensure(j, &bodies[j], pair.pieces_j);
     for (a, b, kept) in candidates {
-        let (piece_a, piece_b) = (&pair.pieces_i.pieces[a], &pair.pieces_j.pieces[b]);
-        if within(
-            &piece_a.world_aabb(&pair.pose_i),
-            &piece_b.world_aabb(&pair.pose_j),
-            pair.margin,
-        ) {
+        let boxes = &buffers.piece_boxes;
+        if within(&boxes.get(i, a), &boxes.get(j, b), pair.margin) {
             let kept = kept.map(|kept| (kept, rule));
             piece_pair_contacts(&pair, (a, b), pair_start, buffers, kept, out);
         } else if let Some(kept) = kept {
@@ -115,9 +174,6 @@ struct PairPoses<'a> {
     x_i: nalgebra::Vector3<f64>,
     /// Body j's frame seen from body i's.
     placement: Placement,
-    /// The world poses, for the pieces' world boxes.
-    pose_i: Pose,
-    pose_j: Pose,
     tolerance: f64,
     /// The speculative margin, m.
     margin: f64,
@@ -140,8 +196,6 @@ impl<'a> PairPoses<'a> {
             rotation_i: bi.rotation,
             x_i: bi.x,
             placement: Placement::between((&bi.rotation, &bi.x), (&bj.rotation, &bj.x)),
-            pose_i: pose(bi),
-            pose_j: pose(bj),
             tolerance: SAME_POINT_TOLERANCE * colliders[i].radius().min(colliders[j].radius()),
             margin: speculative_margin(colliders[i].radius().min(colliders[j].radius())),
             radius: colliders[i].radius().max(colliders[j].radius()),

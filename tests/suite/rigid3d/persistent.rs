@@ -7,6 +7,8 @@ use crate::common;
 
 use rigidref::rigid3d::collide::audit::kept_manifolds_agree;
 use rigidref::rigid3d::collide::detect::{CollisionMethod, Detector, detect_contacts};
+use rigidref::rigid3d::collide::manifold::speculative_margin;
+use rigidref::rigid3d::collide::pieces::pose;
 use rigidref::rigid3d::collide::sat::OracleBuffers;
 use rigidref::rigid3d::collide::{Contact, Feature};
 use rigidref::rigid3d::frame::ContactFrame;
@@ -168,5 +170,53 @@ fn the_check_rejects_a_manifold_contact_along_a_wrong_axis() {
             &mut oracle
         )
         .is_err()
+    );
+}
+
+/// A detector keeps each body's pieces' world boxes for the rest of one detection only
+/// (`PieceBoxes`, docs/performance.md §"Issue 49: the set-up in problem order"): one detector
+/// asked at a pose where the upper bar of the edge-on-edge scene is lifted by 1.5 speculative
+/// margins (the bodies' grown boxes still pair, the pieces' boxes are apart by more than the
+/// margin), then at the pose where its edge rests across the lower bar's, gives fresh
+/// detection's contacts both times (boxes kept from the first pose would keep the pieces apart at
+/// the second and lose the crossing's manifold point, which no vertex gives), and so again
+/// lifted.
+#[test]
+fn a_detector_forms_the_piece_boxes_afresh_at_each_detection() {
+    let scene =
+        load_scene(&common::project_root().join("scenes/touching_edge_on_edge.json")).unwrap();
+    let mut world = World::new(&scene).unwrap();
+    common::run(&mut world, 20, |_, _| {});
+    let resting = world.bodies.clone();
+    let mut lifted = resting.clone();
+    let last = lifted.len() - 1;
+    let radius = |k: usize| world.colliders()[k].radius();
+    // Lifted so that the bars' pieces' world boxes are 1.5 margins apart in y.
+    let piece_box = |k: usize| world.colliders()[k].pieces.pieces[0].world_aabb(&pose(&resting[k]));
+    let overlap = piece_box(0).max.y - piece_box(last).min.y;
+    lifted[last].x.y += overlap + 1.5 * speculative_margin(radius(0).min(radius(last)));
+    let method = CollisionMethod::Complete;
+    let mut detector = Detector::cached(false);
+    for (name, bodies) in [
+        ("lifted", &lifted),
+        ("resting", &resting),
+        ("lifted again", &lifted),
+    ] {
+        let (mut kept, mut fresh) = (Vec::new(), Vec::new());
+        detector.detect(bodies, world.colliders(), method, &mut kept);
+        detect_contacts(bodies, world.colliders(), method, &mut fresh);
+        assert_eq!(
+            kept, fresh,
+            "{name}: the detector differs from fresh detection"
+        );
+    }
+    let mut fresh = Vec::new();
+    detect_contacts(&resting, world.colliders(), method, &mut fresh);
+    let manifold = |c: &&Contact| {
+        (c.body1 == last || c.body2 == Some(last)) && matches!(c.feature, Feature::Manifold { .. })
+    };
+    assert!(
+        fresh.iter().filter(manifold).count() > 0,
+        "the resting bar has a manifold contact: {fresh:?}"
     );
 }
