@@ -123,6 +123,7 @@ pub fn contact_residual<const R: usize>(
 
 /// [`contact_residual`] from what it reads of the row scales: the diagonal a (kg⁻¹) and ρ
 /// (kg⁻¹). PGS's groups keep these two per lane, so its residual pass reads them there.
+/// docs/contact.md §"Residual".
 pub fn contact_residual_of_rows<const R: usize>(
     friction: FrictionModel,
     mu: f64,
