@@ -240,6 +240,46 @@ impl Schedule {
     }
 }
 
+/// The proximal loop's parameter as the loop carries it from subproblem to subproblem: η for
+/// the next subproblem and the failed subproblems in a row (docs/contact.md §"Proximal-point
+/// globalisation").
+#[derive(Clone, Copy, Debug)]
+pub struct ProximalParameter {
+    schedule: Schedule,
+    /// η for the next subproblem (dimensionless, relative to diag(W)).
+    pub eta: f64,
+    /// Failed subproblems in a row.
+    pub failures: u32,
+}
+
+impl ProximalParameter {
+    /// The first subproblem's: [`Schedule::first_eta`], no failure yet.
+    pub fn new(schedule: Schedule, norm: f64, scale: f64) -> Self {
+        ProximalParameter {
+            schedule,
+            eta: schedule.first_eta(norm, scale),
+            failures: 0,
+        }
+    }
+
+    /// After a subproblem at η = `self.eta`, `solved` or not (the centre's law norm `norm`, the
+    /// velocity scale `scale`, m/s): `false` where the loop gives up, a subproblem failed at
+    /// η_max ([`ETA_MAX`]) being more than the third failure in a row; else the count and η
+    /// ([`Schedule::next_eta`]) for the next subproblem, and `true`.
+    pub fn after(&mut self, solved: bool, norm: f64, scale: f64) -> bool {
+        if solved {
+            self.failures = 0;
+        } else {
+            self.failures += 1;
+            if self.eta >= ETA_MAX && self.failures > 3 {
+                return false;
+            }
+        }
+        self.eta = self.schedule.next_eta(self.eta, solved, norm, scale);
+        true
+    }
+}
+
 /// How a run of Newton iterations ended.
 struct Run {
     iterations: u32,
@@ -610,7 +650,7 @@ fn proximal_point<const R: usize>(
     let mut centre = x.clone();
     let mut norm = original_norm(&centre);
     let adaptive = schedule == Schedule::Adaptive;
-    let mut eta = schedule.first_eta(norm, scale);
+    let mut parameter = ProximalParameter::new(schedule, norm, scale);
     let (inner_ratio, stall) = if adaptive {
         (PROXIMAL_INNER_RATIO, Stall::Short)
     } else {
@@ -620,10 +660,9 @@ fn proximal_point<const R: usize>(
     // nothing solves, and whether the loop improved on its entry at all.
     let entry_norm = norm;
     let mut best = (norm, centre.clone());
-    let mut failures = 0;
     for _ in 0..settings.proximal_iterations {
         let proximal = Proximal {
-            eta,
+            eta: parameter.eta,
             centre: &centre,
         };
         let mut inner = centre.clone();
@@ -652,15 +691,9 @@ fn proximal_point<const R: usize>(
                 return (iterations, true, true);
             }
         }
-        if run.reached {
-            failures = 0;
-        } else {
-            failures += 1;
-            if eta >= ETA_MAX && failures > 3 {
-                break;
-            }
+        if !parameter.after(run.reached, norm, scale) {
+            break;
         }
-        eta = schedule.next_eta(eta, run.reached, norm, scale);
     }
     // Not solved: finish with plain Newton from the best centre, and keep whichever is better.
     let mut last = best.1.clone();

@@ -440,3 +440,41 @@ fn the_proximal_parameter_follows_its_schedule() {
     assert_eq!(tenfold.next_eta(1e8, false, 0.3, 2.0), 1e8);
     assert_eq!(adaptive.next_eta(1e8, false, 0.3, 2.0), 1e8);
 }
+
+/// The proximal loop gives up only after a subproblem fails at the largest parameter (10⁸)
+/// being more than the third failure in a row, and a solved subproblem starts the count again
+/// (docs/contact.md §"Proximal-point globalisation": "fewer when one fails at η = 10⁸ after more
+/// than three failures in a row"). The tenfold loop from η = 1 reaches 10⁸ after eight failures
+/// and gives up at the ninth; the adaptive loop started at 10⁸ gives up at the fourth; after a
+/// solved subproblem, at the fourth failure again. Kills the mutant `newton/mod.rs:634:22`
+/// (`failures += 1` → `-=`: the loop never gave up).
+#[test]
+fn the_proximal_loop_gives_up_after_more_than_three_failures_at_the_largest_parameter() {
+    use rigidref::solve::newton::{ProximalParameter, Schedule};
+    let run = |parameter: &mut ProximalParameter, solved: &[bool], norm: f64| -> Vec<bool> {
+        solved
+            .iter()
+            .map(|&s| parameter.after(s, norm, 1.0))
+            .collect()
+    };
+    let mut tenfold = ProximalParameter::new(Schedule::Tenfold, 0.3, 1.0);
+    let goes_on = run(&mut tenfold, &[false; 9], 0.3);
+    assert_eq!(
+        goes_on,
+        [true, true, true, true, true, true, true, true, false]
+    );
+    assert_eq!((tenfold.eta, tenfold.failures), (1e8, 9));
+    // Adaptive, started at η_max (σ ‖F‖ / max|b| clamped).
+    let mut adaptive = ProximalParameter::new(Schedule::Adaptive, 1e10, 1.0);
+    assert_eq!(adaptive.eta, 1e8);
+    let goes_on = run(&mut adaptive, &[false; 4], 1e10);
+    assert_eq!(goes_on, [true, true, true, false]);
+    // A solved subproblem starts the count again.
+    let mut adaptive = ProximalParameter::new(Schedule::Adaptive, 1e10, 1.0);
+    let goes_on = run(
+        &mut adaptive,
+        &[false, false, false, true, false, false, false, false],
+        1e10,
+    );
+    assert_eq!(goes_on, [true, true, true, true, true, true, true, false]);
+}
