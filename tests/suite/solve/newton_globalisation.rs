@@ -478,3 +478,35 @@ fn the_proximal_loop_gives_up_after_more_than_three_failures_at_the_largest_para
     );
     assert_eq!(goes_on, [true, true, true, true, true, true, true, false]);
 }
+
+/// A warm start from which Newton does not converge within its iterations is retried from zero
+/// before the proximal loop (docs/contact.md §"Proximal-point globalisation", step (2)): one
+/// contact (W symmetric positive definite, approaching with a tangential velocity, μ = 0.3)
+/// warm started far outside its cone, 3 iterations per run. Measured: the warm run fails in 3,
+/// the run from zero solves in 3, so the report says `newton`, 6 iterations, and the answer is
+/// the cold start's to the bit. Kills the mutant `newton/mod.rs:553:5` (`x0_is_warm` → `false`:
+/// no retry from zero, the proximal loop answers instead).
+#[test]
+fn a_failed_warm_start_is_retried_from_zero_before_the_proximal_loop() {
+    let mut problem = super::local_solve_problem(
+        nalgebra::Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.0, 0.2, 0.1, 0.2, 1.5),
+        SVector::from([-1.0, 0.4, -0.2]),
+        0.3,
+        rigidref::problem::FrictionModel::Cone,
+    );
+    problem.contacts[0].lambda0 = SVector::from([0.0, 50.0, 50.0]);
+    let warm = problem.to_local();
+    problem.contacts[0].lambda0 = SVector::zeros();
+    let cold = problem.to_local();
+    let settings = NewtonSettings {
+        max_iterations: 3,
+        ..NewtonSettings::default()
+    };
+    let (mut from_warm, mut from_cold) = (Vec::new(), Vec::new());
+    let report = solve_newton_local(&warm, &settings, &mut from_warm);
+    let alone = solve_newton_local(&cold, &settings, &mut from_cold);
+    assert!(report.converged && alone.converged, "{report:?} {alone:?}");
+    assert_eq!(report.method, SolveMethod::Newton, "{report:?}");
+    assert_eq!((report.iterations, alone.iterations), (6, 3), "{report:?}");
+    assert_eq!(from_warm, from_cold);
+}
