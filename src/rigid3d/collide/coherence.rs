@@ -9,8 +9,7 @@
 use super::manifold::{ManifoldBuffers, manifold_contacts_among};
 use super::mesh_pair::{MeshCollider, NearestTriangle, VertexQuery, vertex_contact};
 use super::persistent::{KeepRule, KeptFeatures};
-use super::pieces::pose;
-use super::separating_axes::{Placement, SatBuffers};
+use super::separating_axes::Placement;
 use super::vertex_contact::Contact;
 use crate::common::pair_cache::PairCache;
 use crate::rigid3d::body::RigidBody;
@@ -101,7 +100,7 @@ fn find_candidates(
     bodies: &[RigidBody],
     colliders: &[MeshCollider],
     pieces: bool,
-    sat: &mut SatBuffers,
+    manifold: &mut ManifoldBuffers,
     out: &mut Vec<Candidate>,
 ) -> Anchor {
     let (bi, bj) = (&bodies[i], &bodies[j]);
@@ -123,12 +122,14 @@ fn find_candidates(
         }
     }
     if pieces {
-        let (pose_i, pose_j) = (pose(bi), pose(bj));
         let placement = Placement::between((&bi.rotation, &bi.x), (&bj.rotation, &bj.x));
+        // The pieces' world boxes of this detection (formed once for each body).
+        manifold.piece_boxes.ensure(i, bi, &ci.pieces);
+        manifold.piece_boxes.ensure(j, bj, &cj.pieces);
         for (a, piece_a) in ci.pieces.pieces.iter().enumerate() {
-            let box_a = piece_a.world_aabb(&pose_i);
+            let box_a = manifold.piece_boxes.get(i, a);
             for (b, piece_b) in cj.pieces.pieces.iter().enumerate() {
-                let box_b = piece_b.world_aabb(&pose_j);
+                let box_b = manifold.piece_boxes.get(j, b);
                 let near = (0..3).all(|k| {
                     box_a.min[k] - margin <= box_b.max[k] && box_b.min[k] - margin <= box_a.max[k]
                 });
@@ -137,7 +138,7 @@ fn find_candidates(
                 // manifold of theirs can have a point, so they are not candidates. The
                 // separating-axis query decides it once per list.
                 if near
-                    && !sat.apart_by_more_than(
+                    && !manifold.sat.apart_by_more_than(
                         &piece_a.polytope,
                         &piece_b.polytope,
                         &placement,
@@ -177,7 +178,7 @@ pub fn cached_pair_contacts(
         |a| crate::common::faults::fault!(stale_detection_cache) || a.holds(bi, bj, radii, pieces),
         |_, list| {
             found.set(true);
-            find_candidates((i, j), bodies, colliders, pieces, &mut manifold.sat, list)
+            find_candidates((i, j), bodies, colliders, pieces, manifold, list)
         },
     );
     let pair_start = out.len();

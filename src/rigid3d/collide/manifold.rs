@@ -66,7 +66,7 @@ impl PieceBoxes {
     }
 
     /// Forms body `i`'s pieces' world boxes unless this detection already did at this pose.
-    fn ensure(&mut self, i: usize, body: &RigidBody, pieces: &ConvexPieces) {
+    pub(super) fn ensure(&mut self, i: usize, body: &RigidBody, pieces: &ConvexPieces) {
         if self.bodies.len() <= i {
             self.bodies.resize_with(i + 1, BodyPieceBoxes::default);
         }
@@ -90,7 +90,7 @@ impl PieceBoxes {
     }
 
     /// Piece `a`'s world box of body `i` (after [`Self::ensure`]).
-    fn get(&self, i: usize, a: usize) -> crate::common::broad::Aabb {
+    pub(super) fn get(&self, i: usize, a: usize) -> crate::common::broad::Aabb {
         self.bodies[i].boxes[a]
     }
 }
