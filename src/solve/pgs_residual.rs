@@ -67,7 +67,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 /// groups lane by lane, then the one-at-a-time entries. So the pass reads the groups and
 /// entries front to back and, of what is kept in the problem's order, only λ: not the
 /// problem's contacts or the row scales, which a grouped contact would fetch from a place
-/// that jumps with the colouring (on the cube stack grid 16×16 this pass was a tenth of the
+/// that jumps with the colouring (on the cube stack grid 16×16 this pass was about 8 % of the
 /// step's time while it read them).
 fn for_each_velocity<const D: usize, const R: usize>(
     groups: &[LaneGroup<D, R>],
