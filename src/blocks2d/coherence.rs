@@ -3,7 +3,9 @@
 //! docs/blocks2d.md §"Temporal coherence".
 
 use super::body::Body2;
-use super::collide::{Contact2, Placed, descend, detect_contacts, root_boxes};
+use super::collide::{
+    Contact2, Placed, descend, detect_contacts, placed_root_box, placed_tree_contacts,
+};
 use crate::common::broad::{Aabb, KeptPairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use nalgebra::Vector2;
@@ -58,7 +60,16 @@ impl CachedDetector {
     /// any difference is counted in [`CacheStats::mismatches`].
     pub fn detect(&mut self, bodies: &[Body2], check: bool, out: &mut Vec<Contact2>) {
         out.clear();
-        root_boxes(bodies, &mut self.boxes);
+        self.rotations.clear();
+        self.rotations.extend(bodies.iter().map(Body2::rotation));
+        self.boxes.clear();
+        let rotations = &self.rotations;
+        self.boxes.extend(
+            bodies
+                .iter()
+                .zip(rotations)
+                .map(|(b, r)| placed_root_box(&Placed::with_rotation(b, *r))),
+        );
         self.kept_pairs.overlapping(
             &self.boxes,
             |_| MARGIN,
@@ -66,14 +77,16 @@ impl CachedDetector {
             |k, (x, theta)| moved(&bodies[k], x, *theta),
             &mut self.pairs,
         );
-        self.rotations.clear();
-        self.rotations.extend(bodies.iter().map(Body2::rotation));
         self.cache.begin();
         for &(i, j) in &self.pairs {
             if bodies[i].pinned && bodies[j].pinned {
                 continue;
             }
             let (bi, bj) = (&bodies[i], &bodies[j]);
+            let (pi, pj) = (
+                Placed::with_rotation(bi, self.rotations[i]),
+                Placed::with_rotation(bj, self.rotations[j]),
+            );
             let stack = &mut self.stack;
             let slow = |a: &Anchor| {
                 moved(bi, &a.x[0], a.theta[0]) + moved(bj, &a.x[1], a.theta[1]) <= MARGIN / 2.0
@@ -85,7 +98,7 @@ impl CachedDetector {
                 |last, out| {
                     listed = last.is_some_and(slow);
                     if listed {
-                        candidate_blocks(bi, bj, stack, out);
+                        candidate_blocks(&pi, &pj, stack, out);
                     }
                     Anchor {
                         x: [bi.x, bj.x],
@@ -95,13 +108,9 @@ impl CachedDetector {
                 },
             );
             if !listed {
-                super::collide::tree_contacts(bodies, i, j, &mut self.stack, out);
+                placed_tree_contacts((i, &pi), (j, &pj), &mut self.stack, out);
                 continue;
             }
-            let (pi, pj) = (
-                Placed::with_rotation(bi, self.rotations[i]),
-                Placed::with_rotation(bj, self.rotations[j]),
-            );
             for &(a, b) in candidates.iter() {
                 if let Some(c) =
                     super::collide::placed_block_contact((i, &pi), a as usize, (j, &pj), b as usize)
@@ -131,13 +140,10 @@ impl CachedDetector {
 /// reaches them: the same descent with every disc grown by the margin, which prunes a subset of
 /// what the plain descent prunes and so keeps its order.
 fn candidate_blocks(
-    bi: &Body2,
-    bj: &Body2,
+    pi: &Placed,
+    pj: &Placed,
     stack: &mut Vec<(usize, usize)>,
     out: &mut Vec<(u32, u32)>,
 ) {
-    let (pi, pj) = (Placed::new(bi), Placed::new(bj));
-    descend(&pi, &pj, MARGIN, stack, |a, b| {
-        out.push((a as u32, b as u32))
-    });
+    descend(pi, pj, MARGIN, stack, |a, b| out.push((a as u32, b as u32)));
 }

@@ -26,8 +26,8 @@ pub struct Contact2 {
 }
 
 /// The world box of a body's root disc (z = 0, for the shared sweep-and-prune).
-fn root_box(body: &Body2) -> Option<Aabb> {
-    let root = body.tree.root()?;
+fn root_box(body: &Placed) -> Option<Aabb> {
+    let root = body.body.tree.root()?;
     let c = body.to_world(&root.centre);
     let r = Vector3::new(root.radius, root.radius, 0.0);
     let c = Vector3::new(c.x, c.y, 0.0);
@@ -109,8 +109,18 @@ pub fn tree_contacts(
     out: &mut Vec<Contact2>,
 ) {
     let (bi, bj) = (Placed::new(&bodies[i]), Placed::new(&bodies[j]));
-    descend(&bi, &bj, PRUNE_SLACK, stack, |ba, bb| {
-        if let Some(c) = placed_block_contact((i, &bi), ba, (j, &bj), bb) {
+    placed_tree_contacts((i, &bi), (j, &bj), stack, out);
+}
+
+/// [`tree_contacts`] of two placed bodies (their rotations already formed).
+pub(super) fn placed_tree_contacts(
+    (i, bi): (usize, &Placed),
+    (j, bj): (usize, &Placed),
+    stack: &mut Vec<(usize, usize)>,
+    out: &mut Vec<Contact2>,
+) {
+    descend(bi, bj, PRUNE_SLACK, stack, |ba, bb| {
+        if let Some(c) = placed_block_contact((i, bi), ba, (j, bj), bb) {
             out.push(c);
         }
     });
@@ -194,12 +204,15 @@ pub fn overlapping_body_pairs(bodies: &[Body2], boxes: &mut Vec<Aabb>) -> Vec<(u
 /// without blocks).
 pub fn root_boxes(bodies: &[Body2], boxes: &mut Vec<Aabb>) {
     boxes.clear();
-    boxes.extend(bodies.iter().map(|b| {
-        root_box(b).unwrap_or(Aabb {
-            min: Vector3::repeat(f64::INFINITY),
-            max: Vector3::repeat(f64::NEG_INFINITY),
-        })
-    }));
+    boxes.extend(bodies.iter().map(|b| placed_root_box(&Placed::new(b))));
+}
+
+/// A placed body's root disc's world box (an empty box for a body without blocks).
+pub(super) fn placed_root_box(body: &Placed) -> Aabb {
+    root_box(body).unwrap_or(Aabb {
+        min: Vector3::repeat(f64::INFINITY),
+        max: Vector3::repeat(f64::NEG_INFINITY),
+    })
 }
 
 /// The same contacts by testing every boundary block of every body against every boundary block

@@ -44,7 +44,16 @@ impl Aabb {
 }
 
 /// Every pair (i, j), i < j, of `boxes` that overlap ([`Aabb::overlaps`]), sorted: the broad
-/// phase, on a uniform grid. docs/contact.md §"Broad phase".
+/// phase, on a uniform grid ([`BroadGrid`], with working memory of its own for this one call).
+/// docs/contact.md §"Broad phase".
+pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
+    let mut pairs = Vec::new();
+    BroadGrid::default().pairs_into(boxes, &mut pairs);
+    pairs
+}
+
+/// The broad phase on a uniform grid, with its working memory kept from call to call (no
+/// allocation once grown). docs/contact.md §"Broad phase".
 ///
 /// The cell side is the median of the boxes' largest sides. A box is entered in every cell it
 /// covers; two boxes in one cell are tested, and a pair that overlaps is reported by one cell
@@ -52,77 +61,151 @@ impl Aabb {
 /// A box covering more than [`MAX_CELLS`] cells (a container, the ground) is tested against every
 /// other box instead. Boxes that are empty (a smallest corner beyond the largest) or not a number
 /// overlap nothing. The same pairs as [`sweep_and_prune_pairs`] and as testing all pairs; the cost
-/// is O(n + k log k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays
-/// for every pair overlapping along that axis (a column of a grid of stacks, a strip of a pile).
-pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
-    // The grid's list numbers its entries in 32 bits (at most MAX_CELLS per box): beyond that
-    // many boxes, the sweep, which gives the same pairs.
-    if boxes.len() > u32::MAX as usize / MAX_CELLS {
-        return sweep_and_prune_pairs(boxes);
-    }
-    let sides: Vec<f64> = boxes
-        .iter()
-        .filter(|b| is_finite(b) && !is_empty(b))
-        .map(|b| (b.max - b.min).max())
-        .collect();
-    let cell = super::stats::median(sides)
-        .filter(|c| *c > 0.0)
-        .unwrap_or(1.0);
-    let cell_of = |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| floor(p[k] / cell) as i64) };
-    // Per entry: its cell's hash and the entry's index, sorted by the hash; the cells and the
-    // boxes beside them.
-    let (mut keys, mut cells, mut owners, mut wide) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    for (i, b) in boxes.iter().enumerate() {
-        if is_empty(b) {
-            continue;
+/// is O(n + k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays for
+/// every pair overlapping along that axis (a column of a grid of stacks, a strip of a pile).
+#[derive(Clone, Debug, Default)]
+pub struct BroadGrid {
+    sides: Vec<f64>,
+    entries: Vec<GridEntry>,
+    keys: Vec<(u32, u32)>,
+    scratch: Vec<(u32, u32)>,
+    sorted: Vec<GridEntry>,
+    wide: Vec<usize>,
+    found: Vec<(usize, usize)>,
+    /// Per box i, where its partners j begin in `partners` (the counting sort of the pairs).
+    starts: Vec<usize>,
+    partners: Vec<usize>,
+}
+
+/// A box entered in one cell of the grid: the cell, the cell of the box's smallest corner, the
+/// box and its index (laid out together so that a cell's run is read in one pass).
+#[derive(Clone, Copy, Debug)]
+struct GridEntry {
+    cell: [i64; 3],
+    lowest: [i64; 3],
+    owner: usize,
+    bounds: Aabb,
+}
+
+impl BroadGrid {
+    /// Every pair (i, j), i < j, of `boxes` that overlap, ascending, into `pairs` (replaced):
+    /// the same pairs as [`sweep_and_prune_pairs`] and as testing all pairs.
+    pub fn pairs_into(&mut self, boxes: &[Aabb], pairs: &mut Vec<(usize, usize)>) {
+        pairs.clear();
+        // The grid's list numbers its entries in 32 bits (at most MAX_CELLS per box): beyond
+        // that many boxes, the sweep, which gives the same pairs.
+        if boxes.len() > u32::MAX as usize / MAX_CELLS {
+            *pairs = sweep_and_prune_pairs(boxes);
+            return;
         }
-        let covered: f64 = (0..3)
-            .map(|k| floor(b.max[k] / cell) - floor(b.min[k] / cell) + 1.0)
-            .product();
-        if !is_finite(b) || covered > MAX_CELLS as f64 {
-            wide.push(i);
-            continue;
-        }
-        let (lo, hi) = (cell_of(&b.min), cell_of(&b.max));
-        for x in lo[0]..=hi[0] {
-            for y in lo[1]..=hi[1] {
-                for z in lo[2]..=hi[2] {
-                    keys.push((cell_key([x, y, z]), cells.len() as u32));
-                    cells.push([x, y, z]);
-                    owners.push(i);
+        self.sides.clear();
+        self.sides.extend(
+            boxes
+                .iter()
+                .filter(|b| is_finite(b) && !is_empty(b))
+                .map(|b| (b.max - b.min).max()),
+        );
+        let cell = super::stats::median_of(&mut self.sides)
+            .filter(|c| *c > 0.0)
+            .unwrap_or(1.0);
+        let cell_of =
+            |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| floor(p[k] / cell) as i64) };
+        // Per entry: its cell's hash and the entry's index, sorted by the hash; the entries
+        // then gathered in that order.
+        self.entries.clear();
+        self.keys.clear();
+        self.wide.clear();
+        for (i, b) in boxes.iter().enumerate() {
+            if is_empty(b) {
+                continue;
+            }
+            let covered: f64 = (0..3)
+                .map(|k| floor(b.max[k] / cell) - floor(b.min[k] / cell) + 1.0)
+                .product();
+            if !is_finite(b) || covered > MAX_CELLS as f64 {
+                self.wide.push(i);
+                continue;
+            }
+            let (lo, hi) = (cell_of(&b.min), cell_of(&b.max));
+            for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        let key = cell_key([x, y, z]);
+                        self.keys.push((key, self.entries.len() as u32));
+                        self.entries.push(GridEntry {
+                            cell: [x, y, z],
+                            lowest: lo,
+                            owner: i,
+                            bounds: *b,
+                        });
+                    }
                 }
             }
         }
-    }
-    // Sorted by a hash of the cell: two cells that share a hash share a run of the list, and
-    // the cell itself is compared before a pair is tested. Only the runs matter, not their
-    // order, so the pairs do not depend on the sort.
-    radix_sort_by_key(&mut keys);
-    let mut pairs = Vec::new();
-    for group in keys.chunk_by(|a, b| a.0 == b.0) {
-        for (n, &(_, e)) in group.iter().enumerate() {
-            let (home, i) = (cells[e as usize], owners[e as usize]);
-            for &(_, f) in &group[n + 1..] {
-                let (cell, j) = (cells[f as usize], owners[f as usize]);
-                let (a, b) = (&boxes[i], &boxes[j]);
-                if cell == home && a.overlaps(b) && cell_of(&a.min.sup(&b.min)) == home {
-                    pairs.push((i.min(j), i.max(j)));
+        // Sorted by a hash of the cell: two cells that share a hash share a run of the list, and
+        // the cell itself is compared before a pair is tested. Only the runs matter, not their
+        // order, so the pairs do not depend on the sort.
+        radix_sort_by_key(&mut self.keys, &mut self.scratch);
+        self.sorted.clear();
+        let entries = &self.entries;
+        self.sorted
+            .extend(self.keys.iter().map(|&(_, e)| entries[e as usize]));
+        self.found.clear();
+        let mut start = 0;
+        while start < self.keys.len() {
+            let key = self.keys[start].0;
+            let end = start + self.keys[start..].partition_point(|k| k.0 == key);
+            let group = &self.sorted[start..end];
+            for (n, a) in group.iter().enumerate() {
+                for b in &group[n + 1..] {
+                    // The smallest corner of the intersection, max(a.min, b.min), lies in the
+                    // cell max(⌊a.min / s⌋, ⌊b.min / s⌋) (⌊x / s⌋ does not decrease as x grows):
+                    // the cell that reports the pair.
+                    if b.cell == a.cell
+                        && a.bounds.overlaps(&b.bounds)
+                        && (0..3).all(|k| a.lowest[k].max(b.lowest[k]) == a.cell[k])
+                    {
+                        let (i, j) = (a.owner, b.owner);
+                        self.found.push((i.min(j), i.max(j)));
+                    }
+                }
+            }
+            start = end;
+        }
+        for (n, &i) in self.wide.iter().enumerate() {
+            for (j, b) in boxes.iter().enumerate() {
+                // Another wide box is tested once, from the first of the two.
+                let other_wide = self.wide.binary_search(&j).is_ok();
+                if j != i && !(other_wide && self.wide[..=n].contains(&j)) && boxes[i].overlaps(b) {
+                    self.found.push((i.min(j), i.max(j)));
                 }
             }
         }
-    }
-    for (n, &i) in wide.iter().enumerate() {
-        for (j, b) in boxes.iter().enumerate() {
-            // Another wide box is tested once, from the first of the two.
-            let other_wide = wide.binary_search(&j).is_ok();
-            if j != i && !(other_wide && wide[..=n].contains(&j)) && boxes[i].overlaps(b) {
-                pairs.push((i.min(j), i.max(j)));
-            }
+        // Ascending: counted by i, each box's partners then sorted (a few each). No pair is
+        // found twice, so this is the one sorted order.
+        self.starts.clear();
+        self.starts.resize(boxes.len() + 1, 0);
+        for &(i, _) in &self.found {
+            self.starts[i + 1] += 1;
+        }
+        for i in 0..boxes.len() {
+            self.starts[i + 1] += self.starts[i];
+        }
+        self.partners.clear();
+        self.partners.resize(self.found.len(), 0);
+        for &(i, j) in &self.found {
+            self.partners[self.starts[i]] = j;
+            self.starts[i] += 1;
+        }
+        let mut begin = 0;
+        for i in 0..boxes.len() {
+            let end = self.starts[i];
+            let partners = &mut self.partners[begin..end];
+            partners.sort_unstable();
+            pairs.extend(partners.iter().map(|&j| (i, j)));
+            begin = end;
         }
     }
-    pairs.sort_unstable();
-    pairs
 }
 
 /// ⌊x⌋: the value of [`f64::floor`] (signed zeros, NaN and infinities included) without the
@@ -144,8 +227,9 @@ pub fn floor(x: f64) -> f64 {
 
 /// Sorts `items` by their key, stably, by four counting passes over its bytes (least
 /// significant first): O(n) where a comparison sort is O(n log n).
-fn radix_sort_by_key(items: &mut Vec<(u32, u32)>) {
-    let mut scratch = vec![(0, 0); items.len()];
+fn radix_sort_by_key(items: &mut Vec<(u32, u32)>, scratch: &mut Vec<(u32, u32)>) {
+    scratch.clear();
+    scratch.resize(items.len(), (0, 0));
     for pass in 0..4 {
         let digit = |key: u32| ((key >> (8 * pass)) & 0xff) as usize;
         let mut starts = [0usize; 256];
@@ -161,7 +245,7 @@ fn radix_sort_by_key(items: &mut Vec<(u32, u32)>) {
             scratch[starts[d]] = item;
             starts[d] += 1;
         }
-        std::mem::swap(items, &mut scratch);
+        std::mem::swap(items, scratch);
     }
 }
 
@@ -230,6 +314,7 @@ pub struct KeptPairs<A> {
     movers: Vec<usize>,
     mover_pairs: Vec<(usize, usize)>,
     merged: Vec<(usize, usize)>,
+    grid: BroadGrid,
     /// Calls with no mover.
     pub kept: u64,
     /// Calls that updated the movers' pairs.
@@ -253,6 +338,7 @@ impl<A> Default for KeptPairs<A> {
             movers: Vec::new(),
             mover_pairs: Vec::new(),
             merged: Vec::new(),
+            grid: BroadGrid::default(),
             kept: 0,
             updated: 0,
             found: 0,
@@ -291,7 +377,7 @@ impl<A> KeptPairs<A> {
             self.found += 1;
             self.grown.clear();
             self.grown.extend((0..n).map(grow));
-            self.grown_pairs = overlapping_pairs(&self.grown);
+            self.grid.pairs_into(&self.grown, &mut self.grown_pairs);
             self.anchors.clear();
             self.anchors.extend((0..n).map(&anchor));
         } else if !self.movers.is_empty() {

@@ -8,7 +8,7 @@ use super::mesh_pair::{MeshCollider, vertex_contacts};
 use super::penetration::Penetration;
 use super::persistent::KeepRule;
 use super::vertex_contact::Contact;
-use crate::common::broad::{Aabb, KeptPairs, overlapping_pairs};
+use crate::common::broad::{Aabb, BroadGrid, KeptPairs};
 use crate::common::pair_cache::{CacheStats, PairCache};
 use crate::rigid3d::body::RigidBody;
 use nalgebra::{Matrix3, Vector3};
@@ -108,6 +108,8 @@ pub struct Detector {
     fresh: Vec<Contact>,
     /// The broad phase's grown pairs and each body's pose then (with the cache).
     kept_pairs: KeptPairs<(Vector3<f64>, Matrix3<f64>)>,
+    /// The broad phase's grid (without the cache).
+    grid: BroadGrid,
     pairs: Vec<(usize, usize)>,
     placed: super::penetration::PlacedBuffers,
 }
@@ -289,7 +291,7 @@ impl Detector {
     /// body's points have moved by at most |Δx| + ‖ΔR‖ ρ); the same pairs either way.
     fn find_pairs(&mut self, bodies: &[RigidBody], colliders: &[MeshCollider]) {
         if !self.use_cache {
-            self.pairs = overlapping_pairs(&self.boxes);
+            self.grid.pairs_into(&self.boxes, &mut self.pairs);
             return;
         }
         let margin = |k: usize| super::coherence::MARGIN_FRACTION * colliders[k].radius();
