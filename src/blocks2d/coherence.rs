@@ -33,9 +33,30 @@ pub struct Anchor {
 /// translation plus the turn times the farthest block centre's reach,
 /// |Δx| + |Δθ| · (|c| + r) of the root disc (a rotation by Δθ moves a point at distance ρ from
 /// the origin by 2ρ |sin(Δθ/2)| ≤ ρ |Δθ|). NaN when the state is.
-fn moved(body: &Body2, x: &Vector2<f64>, theta: f64) -> f64 {
-    let reach = body.tree.root().map_or(0.0, |r| r.centre.norm() + r.radius);
-    (body.x - x).norm() + (body.theta - theta).abs() * reach
+fn moved(body: &Pose, x: &Vector2<f64>, theta: f64) -> f64 {
+    (body.x - x).norm() + (body.theta - theta).abs() * body.reach
+}
+
+/// What [`moved`] reads of a body, gathered once per detection (one pass over the bodies,
+/// where each pair's visit would reach into both bodies' trees).
+#[derive(Clone, Copy, Debug)]
+struct Pose {
+    x: Vector2<f64>,
+    theta: f64,
+    /// The farthest block centre's reach, |c| + r of the root disc (0 without blocks), blocks.
+    reach: f64,
+    pinned: bool,
+}
+
+impl Pose {
+    fn of(body: &Body2) -> Pose {
+        Pose {
+            x: body.x,
+            theta: body.theta,
+            reach: body.tree.root().map_or(0.0, |r| r.centre.norm() + r.radius),
+            pinned: body.pinned,
+        }
+    }
 }
 
 /// 2D detection with kept candidate lists: the same contacts, in the same order, as
@@ -51,6 +72,8 @@ pub struct CachedDetector {
     pairs: Vec<(usize, usize)>,
     /// Each body's rotation matrix this call (one sine and cosine per body, not per pair).
     rotations: Vec<nalgebra::Matrix2<f64>>,
+    /// Each body's pose and reach this call.
+    poses: Vec<Pose>,
 }
 
 impl CachedDetector {
@@ -62,6 +85,9 @@ impl CachedDetector {
         out.clear();
         self.rotations.clear();
         self.rotations.extend(bodies.iter().map(Body2::rotation));
+        self.poses.clear();
+        self.poses.extend(bodies.iter().map(Pose::of));
+        let poses = &self.poses;
         self.boxes.clear();
         let rotations = &self.rotations;
         self.boxes.extend(
@@ -74,12 +100,13 @@ impl CachedDetector {
             &self.boxes,
             |_| MARGIN,
             |k| (bodies[k].x, bodies[k].theta),
-            |k, (x, theta)| moved(&bodies[k], x, *theta),
+            |k, (x, theta)| moved(&poses[k], x, *theta),
             &mut self.pairs,
         );
         self.cache.begin();
         for &(i, j) in &self.pairs {
-            if bodies[i].pinned && bodies[j].pinned {
+            let (qi, qj) = (&poses[i], &poses[j]);
+            if qi.pinned && qj.pinned {
                 continue;
             }
             let (bi, bj) = (&bodies[i], &bodies[j]);
@@ -89,7 +116,7 @@ impl CachedDetector {
             );
             let stack = &mut self.stack;
             let slow = |a: &Anchor| {
-                moved(bi, &a.x[0], a.theta[0]) + moved(bj, &a.x[1], a.theta[1]) <= MARGIN / 2.0
+                moved(qi, &a.x[0], a.theta[0]) + moved(qj, &a.x[1], a.theta[1]) <= MARGIN / 2.0
             };
             let mut listed = true;
             let candidates = self.cache.candidates(
@@ -101,8 +128,8 @@ impl CachedDetector {
                         candidate_blocks(&pi, &pj, stack, out);
                     }
                     Anchor {
-                        x: [bi.x, bj.x],
-                        theta: [bi.theta, bj.theta],
+                        x: [qi.x, qj.x],
+                        theta: [qi.theta, qj.theta],
                         listed,
                     }
                 },

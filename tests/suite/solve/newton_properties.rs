@@ -1042,9 +1042,13 @@ fn the_first_step_lowers_theta_even_where_the_full_step_raises_it_by_less_than_t
 fn the_round_off_floor_scales_with_the_largest_diagonal_and_impulse_below_its_cap() {
     use rigidref::solve::newton::{ROUND_OFF_CAP, ROUND_OFF_FACTOR};
     let w = Matrix3::new(1000.0, 10.0, 0.0, 10.0, 2000.0, 5.0, 0.0, 5.0, 500.0);
-    let problem =
-        super::local_solve_problem(w, SVector::from([-1.0, 0.4, -0.2]), 0.5, FrictionModel::Cone)
-            .to_local();
+    let problem = super::local_solve_problem(
+        w,
+        SVector::from([-1.0, 0.4, -0.2]),
+        0.5,
+        FrictionModel::Cone,
+    )
+    .to_local();
     let lambda = [SVector::from([3.0, -5.0, 1.0])];
     let expected = ROUND_OFF_FACTOR * f64::EPSILON * 2000.0 * 5.0;
     let floor = round_off_floor(&problem, &lambda);
@@ -1055,5 +1059,8 @@ fn the_round_off_floor_scales_with_the_largest_diagonal_and_impulse_below_its_ca
     // Above the cap (1e-6 × max |q| = 1e-6 m/s): impulses of 1e7 N·s give 64 ε · 2000 · 1e7
     // ≈ 2.8e-4 m/s, which is the size of λ going wrong, not rounding: no floor.
     assert!(ROUND_OFF_FACTOR * f64::EPSILON * 2000.0 * 1e7 > ROUND_OFF_CAP);
-    assert_eq!(round_off_floor(&problem, &[SVector::from([1e7, 0.0, 0.0])]), 0.0);
+    assert_eq!(
+        round_off_floor(&problem, &[SVector::from([1e7, 0.0, 0.0])]),
+        0.0
+    );
 }
