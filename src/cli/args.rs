@@ -15,8 +15,14 @@ pub const REST_THRESHOLD: f64 = 1e-3;
 /// How long to run.
 #[derive(Args, Clone, Debug)]
 pub struct RunLength {
-    /// Simulated time to run, s (2D: time units) [default: 10].
-    #[arg(long, conflicts_with = "steps", allow_negative_numbers = true)]
+    /// Simulated time to run, s (2D: time units) [default: 10]. `--duration` is taken as the
+    /// same option (the name users reach for first).
+    #[arg(
+        long,
+        alias = "duration",
+        conflicts_with = "steps",
+        allow_negative_numbers = true
+    )]
     pub time: Option<f64>,
     /// Number of frames (steps of dt) to run.
     #[arg(long)]

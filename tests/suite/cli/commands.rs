@@ -1456,3 +1456,30 @@ fn a_time_that_is_not_whole_steps_says_where_the_run_ends() {
     );
     assert!(!run("0.02").contains("note: --time"));
 }
+
+/// `--duration` is `--time` by another name: the same trace to the byte (a user's first guess
+/// was answered with clap's suggestion of `--iterations`, an unrelated option).
+#[test]
+fn duration_is_time_by_another_name() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (a, b) = (
+        tmp.path().join("time.jsonl"),
+        tmp.path().join("duration.jsonl"),
+    );
+    for (flag, path) in [("--time", &a), ("--duration", &b)] {
+        let out = rigidref(
+            &[
+                "run",
+                "sphere_drop.json",
+                flag,
+                "0.5",
+                "--quiet",
+                "--out",
+                path.to_str().unwrap(),
+            ],
+            &scenes_dir(),
+        );
+        assert!(out.status.success(), "{flag}: {}", common::stderr(&out));
+    }
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
