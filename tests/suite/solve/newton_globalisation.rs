@@ -510,3 +510,40 @@ fn a_failed_warm_start_is_retried_from_zero_before_the_proximal_loop() {
     assert_eq!((report.iterations, alone.iterations), (6, 3), "{report:?}");
     assert_eq!(from_warm, from_cold);
 }
+
+/// Where neither the warm-started run nor the retry from zero converges, the proximal loop
+/// starts from the better of their two ends (docs/contact.md §"Newton solver", "Cold
+/// restart"): the one contact of the test above, warm started far outside its cone, 1 iteration
+/// per run. The run from zero ends nearer the solution than the warm one, so the warm-started
+/// solve goes on exactly as a solve started from zero does, one warm iteration ahead: the same
+/// answer to the bit, the same method, one iteration more. Kills the mutant `newton/mod.rs:550:26`
+/// (`||` → `&&`: the retry's end kept only if it also converged, so the proximal loop started
+/// from the warm run's end).
+#[test]
+fn after_two_failed_runs_the_proximal_loop_starts_from_the_better_end() {
+    let mut problem = super::local_solve_problem(
+        nalgebra::Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.0, 0.2, 0.1, 0.2, 1.5),
+        SVector::from([-1.0, 0.4, -0.2]),
+        0.3,
+        rigidref::problem::FrictionModel::Cone,
+    );
+    problem.contacts[0].lambda0 = SVector::from([0.0, 50.0, 50.0]);
+    let warm = problem.to_local();
+    problem.contacts[0].lambda0 = SVector::zeros();
+    let cold = problem.to_local();
+    let settings = NewtonSettings {
+        max_iterations: 1,
+        ..NewtonSettings::default()
+    };
+    let (mut from_warm, mut from_cold) = (Vec::new(), Vec::new());
+    let report = solve_newton_local(&warm, &settings, &mut from_warm);
+    let alone = solve_newton_local(&cold, &settings, &mut from_cold);
+    assert_eq!(report.method, alone.method, "{report:?} {alone:?}");
+    assert_ne!(alone.method, SolveMethod::Newton, "{alone:?}");
+    assert_eq!(
+        report.iterations,
+        alone.iterations + 1,
+        "{report:?} {alone:?}"
+    );
+    assert_eq!(from_warm, from_cold);
+}
