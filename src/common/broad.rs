@@ -61,7 +61,8 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
 /// A box covering more than [`MAX_CELLS`] cells (a container, the ground) is tested against every
 /// other box instead. Boxes that are empty (a smallest corner beyond the largest) or not a number
 /// overlap nothing. The same pairs as [`sweep_and_prune_pairs`] and as testing all pairs; the cost
-/// is O(n + k) for n boxes and k pairs sharing a cell, where a sweep along one axis pays for
+/// is O(n + k) for n boxes and k pairs sharing a cell (while each box has a bounded number of
+/// partners, whose short lists are sorted), where a sweep along one axis pays for
 /// every pair overlapping along that axis (a column of a grid of stacks, a strip of a pile).
 #[derive(Clone, Debug, Default)]
 pub struct BroadGrid {

@@ -8,7 +8,7 @@ use crate::common;
 
 use nalgebra::SVector;
 use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
-use rigidref::problem::{LocalProblem, SolveMethod};
+use rigidref::problem::{LocalProblem, SolveMethod, SolveReport};
 use rigidref::solve::auto::{AutoPath, AutoSettings, solve_auto_local_until};
 use rigidref::solve::pgs_delassus::solve_pgs_local_until;
 use rigidref::solve::residual::siconos_error;
@@ -480,31 +480,14 @@ fn the_proximal_loop_gives_up_after_more_than_three_failures_at_the_largest_para
 }
 
 /// A warm start from which Newton does not converge within its iterations is retried from zero
-/// before the proximal loop (docs/contact.md §"Proximal-point globalisation", step (2)): one
-/// contact (W symmetric positive definite, approaching with a tangential velocity, μ = 0.3)
-/// warm started far outside its cone, 3 iterations per run. Measured: the warm run fails in 3,
+/// before the proximal loop (docs/contact.md §"Newton solver", "Cold restart"): the contact of
+/// `warm_and_cold_solves`, warm started far outside its cone, 3 iterations per run. Measured: the warm run fails in 3,
 /// the run from zero solves in 3, so the report says `newton`, 6 iterations, and the answer is
 /// the cold start's to the bit. Kills the mutant `newton/mod.rs:553:5` (`x0_is_warm` → `false`:
 /// no retry from zero, the proximal loop answers instead).
 #[test]
 fn a_failed_warm_start_is_retried_from_zero_before_the_proximal_loop() {
-    let mut problem = super::local_solve_problem(
-        nalgebra::Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.0, 0.2, 0.1, 0.2, 1.5),
-        SVector::from([-1.0, 0.4, -0.2]),
-        0.3,
-        rigidref::problem::FrictionModel::Cone,
-    );
-    problem.contacts[0].lambda0 = SVector::from([0.0, 50.0, 50.0]);
-    let warm = problem.to_local();
-    problem.contacts[0].lambda0 = SVector::zeros();
-    let cold = problem.to_local();
-    let settings = NewtonSettings {
-        max_iterations: 3,
-        ..NewtonSettings::default()
-    };
-    let (mut from_warm, mut from_cold) = (Vec::new(), Vec::new());
-    let report = solve_newton_local(&warm, &settings, &mut from_warm);
-    let alone = solve_newton_local(&cold, &settings, &mut from_cold);
+    let (report, alone, from_warm, from_cold) = warm_and_cold_solves(3);
     assert!(report.converged && alone.converged, "{report:?} {alone:?}");
     assert_eq!(report.method, SolveMethod::Newton, "{report:?}");
     assert_eq!((report.iterations, alone.iterations), (6, 3), "{report:?}");
@@ -513,14 +496,35 @@ fn a_failed_warm_start_is_retried_from_zero_before_the_proximal_loop() {
 
 /// Where neither the warm-started run nor the retry from zero converges, the proximal loop
 /// starts from the better of their two ends (docs/contact.md §"Newton solver", "Cold
-/// restart"): the one contact of the test above, warm started far outside its cone, 1 iteration
-/// per run. The run from zero ends nearer the solution than the warm one, so the warm-started
+/// restart"): the contact of `warm_and_cold_solves`, 1 iteration per run. The run from zero ends nearer the solution than the warm one, so the warm-started
 /// solve goes on exactly as a solve started from zero does, one warm iteration ahead: the same
 /// answer to the bit, the same method, one iteration more. Kills the mutant `newton/mod.rs:550:26`
 /// (`||` → `&&`: the retry's end kept only if it also converged, so the proximal loop started
 /// from the warm run's end).
 #[test]
 fn after_two_failed_runs_the_proximal_loop_starts_from_the_better_end() {
+    let (report, alone, from_warm, from_cold) = warm_and_cold_solves(1);
+    assert_eq!(report.method, alone.method, "{report:?} {alone:?}");
+    assert_ne!(alone.method, SolveMethod::Newton, "{alone:?}");
+    assert_eq!(
+        report.iterations,
+        alone.iterations + 1,
+        "{report:?} {alone:?}"
+    );
+    assert_eq!(from_warm, from_cold);
+}
+
+/// The retry tests' contact (W symmetric positive definite, approaching with a tangential
+/// velocity, μ = 0.3) solved with `max_iterations` per run twice: warm started at (0, 50, 50),
+/// far outside its cone, and from zero. The two reports and answers.
+fn warm_and_cold_solves(
+    max_iterations: u32,
+) -> (
+    SolveReport,
+    SolveReport,
+    Vec<SVector<f64, 3>>,
+    Vec<SVector<f64, 3>>,
+) {
     let mut problem = super::local_solve_problem(
         nalgebra::Matrix3::new(2.0, 0.3, 0.1, 0.3, 1.0, 0.2, 0.1, 0.2, 1.5),
         SVector::from([-1.0, 0.4, -0.2]),
@@ -532,18 +536,11 @@ fn after_two_failed_runs_the_proximal_loop_starts_from_the_better_end() {
     problem.contacts[0].lambda0 = SVector::zeros();
     let cold = problem.to_local();
     let settings = NewtonSettings {
-        max_iterations: 1,
+        max_iterations: max_iterations,
         ..NewtonSettings::default()
     };
     let (mut from_warm, mut from_cold) = (Vec::new(), Vec::new());
     let report = solve_newton_local(&warm, &settings, &mut from_warm);
     let alone = solve_newton_local(&cold, &settings, &mut from_cold);
-    assert_eq!(report.method, alone.method, "{report:?} {alone:?}");
-    assert_ne!(alone.method, SolveMethod::Newton, "{alone:?}");
-    assert_eq!(
-        report.iterations,
-        alone.iterations + 1,
-        "{report:?} {alone:?}"
-    );
-    assert_eq!(from_warm, from_cold);
+    (report, alone, from_warm, from_cold)
 }
