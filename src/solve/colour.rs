@@ -28,9 +28,11 @@ pub fn colour_contacts(
 
 /// [`colour_contacts`] with the contacts taken in the sequence `contact_at(0)`, …,
 /// `contact_at(count - 1)` (a permutation of the contacts) instead of problem order: each
-/// given the smallest colour its moving bodies do not have yet, and each colour's contacts in
-/// that sequence. With a random permutation this is the random coloured order's colouring
-/// (docs/contact.md §"Random coloured order").
+/// given the smallest colour its moving bodies do not have yet. Each colour's contacts are then
+/// laid out in problem order, whatever the sequence: a colour's contacts are independent, so
+/// their order changes no bit, and problem order reads the problem and the bodies front to
+/// back. With a random permutation this is the random coloured order's colouring
+/// (docs/contact.md §"Random coloured order", "Problem order within a colour").
 #[allow(clippy::too_many_arguments)]
 pub fn colour_contacts_in(
     count: usize,
@@ -48,10 +50,13 @@ pub fn colour_contacts_in(
     let mut words = 1;
     masks.clear();
     masks.resize(moving.len() * words, 0);
+    // Per contact (problem index), its colour.
     colour_of.clear();
+    colour_of.resize(count, 0);
     let mut colours = 0;
     for i in 0..count {
-        let sides = moving_sides(contact_at(i));
+        let k = contact_at(i);
+        let sides = moving_sides(k);
         let taken = |w: usize, masks: &[u64]| {
             sides
                 .iter()
@@ -81,9 +86,9 @@ pub fn colour_contacts_in(
             masks[b * words + colour / 64] |= 1 << (colour % 64);
         }
         colours = colours.max(colour + 1);
-        colour_of.push(colour);
+        colour_of[k] = colour;
     }
-    // Counting sort by colour, stable: the sequence's order within a colour.
+    // Counting sort by colour, stable: problem order within a colour.
     starts.clear();
     starts.resize(colours + 1, 0);
     for &c in colour_of.iter() {
@@ -96,8 +101,8 @@ pub fn colour_contacts_in(
     // is then moved back by one colour.
     order.clear();
     order.resize(colour_of.len(), 0);
-    for (i, &c) in colour_of.iter().enumerate() {
-        order[starts[c]] = contact_at(i);
+    for (k, &c) in colour_of.iter().enumerate() {
+        order[starts[c]] = k;
         starts[c] += 1;
     }
     for c in (1..=colours).rev() {

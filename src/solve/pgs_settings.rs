@@ -34,10 +34,11 @@ pub enum ContactOrder {
     Coloured,
     /// The coloured order made random from the workspace's seeded generator (ChaCha8): each
     /// solve colours the contacts taken in a fresh random permutation (so which contacts share
-    /// a colour, and their order within it, change from solve to solve) and each sweep visits
-    /// the colours in a fresh random order. A colour's contacts are independent, so they are
-    /// visited four at a time as in `coloured`, and the bits are the same on any number of
-    /// threads. The 2D factory's default (docs/contact.md §"Random coloured order").
+    /// a colour changes from solve to solve) and each sweep visits the colours in a fresh
+    /// random order. A colour's contacts are independent, so their order within it changes no
+    /// bit: they are visited in problem order, four at a time as in `coloured`, and the bits
+    /// are the same on any number of threads. The 2D factory's default (docs/contact.md
+    /// §"Random coloured order").
     #[serde(alias = "random-coloured")]
     #[value(alias = "random_coloured")]
     RandomColoured,
