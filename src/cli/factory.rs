@@ -85,7 +85,10 @@ pub struct FactoryArgs {
     /// sequential, or coloured (docs/contact.md §"Coloured order").
     #[arg(long, value_enum, default_value_t = FACTORY_ORDER)]
     pub order: rigidref::solve::ContactOrder,
-    /// Threads of the coloured order's sweeps (the same bits on any number; at least 1).
+    /// Threads of the coloured order's sweeps (the same bits on any number; at least 1). Two
+    /// pay where the second core is free (the 10 000-brick factory: 19.8 → 22.3 steps per
+    /// second at the end, docs/performance.md §"Issue 49: problem order within a colour"); on a
+    /// busy machine each colour's barrier waits for the other thread, which can be slower.
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub threads: u32,
     /// Shock propagation after each velocity solve: the pile solved again layer by layer from

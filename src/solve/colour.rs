@@ -115,19 +115,22 @@ pub fn colour_contacts_in(
 mod tests {
     use super::*;
 
+    /// A chain 0–1–2–3 with the ground (None) and a pinned body 4 under everything: the
+    /// contacts' bodies, and which bodies move.
+    const CHAIN: [[Option<usize>; 2]; 7] = [
+        [Some(0), None],
+        [Some(0), Some(1)],
+        [Some(1), Some(2)],
+        [Some(2), Some(3)],
+        [Some(0), Some(4)],
+        [Some(1), Some(4)],
+        [Some(0), Some(1)],
+    ];
+    const CHAIN_MOVING: [bool; 5] = [true, true, true, true, false];
+
     #[test]
     fn contacts_of_one_colour_share_no_moving_body_and_every_contact_is_visited_once() {
-        // A chain 0–1–2–3 with the ground (None) and a pinned body 4 under everything.
-        let contacts = [
-            [Some(0), None],
-            [Some(0), Some(1)],
-            [Some(1), Some(2)],
-            [Some(2), Some(3)],
-            [Some(0), Some(4)],
-            [Some(1), Some(4)],
-            [Some(0), Some(1)],
-        ];
-        let moving = [true, true, true, true, false];
+        let (contacts, moving) = (CHAIN, CHAIN_MOVING);
         let (mut masks, mut scratch, mut order, mut starts) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         colour_contacts(
@@ -158,6 +161,31 @@ mod tests {
         }
         // Body 0 has four contacts, so at least four colours.
         assert!(starts.len() > 4);
+    }
+
+    /// The colouring takes the contacts in the given sequence (greedy first fit: which contacts
+    /// share a colour is the sequence's) and lays each colour's contacts out in problem order
+    /// (docs/contact.md §"Random coloured order", "Problem order within a colour"). The chain
+    /// taken in reverse: contact 6 (0–1) takes colour 0 first, so the colours are {6, 3},
+    /// {5, 4}, {2, 0}, {1}, each laid out ascending (the sequence's own order would give 6, 3,
+    /// 5, 4, 2, 0, 1).
+    #[test]
+    fn a_colouring_in_a_sequence_lays_each_colour_out_in_problem_order() {
+        let n = CHAIN.len();
+        let (mut masks, mut scratch, mut order, mut starts) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        colour_contacts_in(
+            n,
+            |i| n - 1 - i,
+            |k| CHAIN[k],
+            &CHAIN_MOVING,
+            &mut masks,
+            &mut scratch,
+            &mut order,
+            &mut starts,
+        );
+        assert_eq!(order, [3, 6, 4, 5, 0, 2, 1]);
+        assert_eq!(starts, [0, 2, 4, 6, 7]);
     }
 
     #[test]

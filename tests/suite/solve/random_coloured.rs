@@ -145,41 +145,6 @@ fn random_coloured_sweeps_converge_to_the_problem_orders_solution() {
     });
 }
 
-/// The colouring takes the contacts in the given sequence (greedy first fit: which contacts
-/// share a colour is the sequence's) and lays each colour's contacts out in problem order, as
-/// docs/contact.md §"Random coloured order", "Problem order within a colour" says. A chain
-/// 0–1–2–3 with the ground and a pinned body 4, taken in reverse: contact 6 (0–1) takes colour
-/// 0 first, so the colours are {6, 3}, {5, 4}, {2, 0}, {1}, each laid out ascending (the
-/// sequence's own order would give 6, 3, 5, 4, 2, 0, 1).
-#[test]
-fn a_colouring_in_a_sequence_lays_each_colour_out_in_problem_order() {
-    let contacts = [
-        [Some(0), None],
-        [Some(0), Some(1)],
-        [Some(1), Some(2)],
-        [Some(2), Some(3)],
-        [Some(0), Some(4)],
-        [Some(1), Some(4)],
-        [Some(0), Some(1)],
-    ];
-    let moving = [true, true, true, true, false];
-    let n = contacts.len();
-    let (mut masks, mut scratch, mut order, mut starts) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    rigidref::solve::colour::colour_contacts_in(
-        n,
-        |i| n - 1 - i,
-        |k| contacts[k],
-        &moving,
-        &mut masks,
-        &mut scratch,
-        &mut order,
-        &mut starts,
-    );
-    assert_eq!(order, [3, 6, 4, 5, 0, 2, 1]);
-    assert_eq!(starts, [0, 2, 4, 6, 7]);
-}
-
 /// In a solve, every colour of every sweep lists its contacts in problem order (ascending), on
 /// one and two threads.
 #[test]
