@@ -5,12 +5,9 @@
 use super::body::{Body2, cross};
 use super::collide::Contact2;
 use super::params::Params2;
-use crate::common::hash::FastMap;
+use super::warm_start::{WarmCursor, WarmStore2};
 use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector2, Vector3};
-
-/// Warm-start impulses by contact: (body 1, body 2, block 1, block 2) → world impulse.
-pub type WarmStart2 = FastMap<(usize, usize, usize, usize), Vector2<f64>>;
 
 /// The 2D problem: 3 degrees of freedom per body (vx, vy, ω), 2 rows per contact (n, t).
 pub type ContactProblem2 = ContactProblem<3, 2>;
@@ -45,9 +42,10 @@ pub fn assemble_problem2(
     before_kick: &[Vector3<f64>],
     contacts: &[Contact2],
     params: &Params2,
-    warm: Option<&WarmStart2>,
+    warm: Option<&WarmStore2>,
     problem: &mut ContactProblem2,
 ) {
+    let mut cursor = WarmCursor::default();
     problem.friction = FrictionModel::Box;
     problem.bodies.clear();
     problem.bodies.extend(bodies.iter().map(|b| ProblemBody {
@@ -69,7 +67,7 @@ pub fn assemble_problem2(
             b[0] += params.restitution * approach;
         }
         let lambda0 = warm
-            .and_then(|w| w.get(&(c.body1, c.body2, c.block1, c.block2)))
+            .and_then(|w| w.find(&(c.body1, c.body2, c.block1, c.block2), &mut cursor))
             .map_or(SVector::<f64, 2>::zeros(), |p| {
                 SVector::<f64, 2>::new(p.dot(&c.normal), p.dot(&t))
             });

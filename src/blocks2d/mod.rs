@@ -28,4 +28,5 @@ pub mod params;
 pub mod scene;
 pub mod starter_image;
 pub mod trace;
+pub mod warm_start;
 pub mod world;

@@ -22,7 +22,8 @@
 
 mod solve;
 
-use super::assemble::{ContactProblem2, WarmStart2, assemble_problem2, empty_problem2, tangent};
+use super::assemble::{ContactProblem2, assemble_problem2, empty_problem2};
+use super::warm_start::WarmStore2;
 use super::body::{Body2, cross};
 use super::coherence::CachedDetector;
 use super::collide::{Contact2, detect_contacts};
@@ -132,7 +133,7 @@ pub struct World2 {
     normal_rows_post_stabilization: bool,
     /// Each body's (vx, vy, ω) before the current substep's forces: restitution's approach speed.
     before_kick: Vec<Vector3<f64>>,
-    warm: WarmStart2,
+    warm: WarmStore2,
     /// Shock propagation's impulses, a scratch copy of the solve's.
     shock_lambda: Vec<SVector<f64, 2>>,
     /// Wall time spent in each phase of the step since the world was made (`rigidref bench`;
@@ -179,7 +180,7 @@ impl World2 {
             stabilised_normal_rows: false,
             normal_rows_post_stabilization: true,
             before_kick: Vec::new(),
-            warm: WarmStart2::default(),
+            warm: WarmStore2::default(),
             shock_lambda: Vec::new(),
             phase_times: PhaseTimes::default(),
             detector: CachedDetector::default(),

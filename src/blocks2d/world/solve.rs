@@ -67,11 +67,7 @@ impl World2 {
             b.v += Vector2::new(du[0], du[1]);
             b.omega += du[2];
         }
-        self.warm.clear();
-        for (c, l) in contacts.iter().zip(&solve.lambda) {
-            let p = c.normal * l[0] + tangent(&c.normal) * l[1];
-            self.warm.insert((c.body1, c.body2, c.block1, c.block2), p);
-        }
+        self.warm.store(contacts, &solve.lambda);
         self.pin_warm.clear();
         self.pin_warm
             .extend_from_slice(&solve.lambda[contacts.len()..]);

@@ -12,3 +12,4 @@ mod options;
 mod physics;
 mod properties;
 mod student;
+mod warm_start;
