@@ -3,7 +3,7 @@
 //! problem".
 
 use super::body::{Body2, cross};
-use super::collide::Contact2;
+use super::collide::{Contact2, tangent};
 use super::params::Params2;
 use super::warm_start::{WarmCursor, WarmStore2};
 use crate::problem::{ContactProblem, FrictionModel, ProblemBody, ProblemContact, RowBounds};
@@ -24,11 +24,6 @@ pub fn empty_problem2() -> ContactProblem2 {
 /// The Jacobian block of a body at lever arm r for direction rows (n, t): [d_x, d_y, r × d].
 fn jacobian_block2(n: &Vector2<f64>, t: &Vector2<f64>, r: &Vector2<f64>) -> SMatrix<f64, 2, 3> {
     SMatrix::<f64, 2, 3>::new(n.x, n.y, cross(r, n), t.x, t.y, cross(r, t))
-}
-
-/// The tangent of a 2D contact: n turned by +90°, t = (−n_y, n_x).
-pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
-    Vector2::new(-n.y, n.x)
 }
 
 /// The 2D contact problem of `contacts`, assembled into `problem` (its buffers reused, so that a

@@ -25,6 +25,11 @@ pub struct Contact2 {
     pub depth: f64,
 }
 
+/// The tangent of a 2D contact: n turned by +90°, t = (−n_y, n_x).
+pub fn tangent(n: &Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-n.y, n.x)
+}
+
 /// The world box of a body's root disc (z = 0, for the shared sweep-and-prune).
 fn root_box(body: &Placed) -> Option<Aabb> {
     let root = body.body.tree.root()?;

@@ -10,8 +10,7 @@
 //! key gives the impulse stored last, as a map would. Where the stored contacts are not in
 //! pair order (a caller's own list), the store keeps a map instead.
 
-use super::assemble::tangent;
-use super::collide::Contact2;
+use super::collide::{Contact2, tangent};
 use crate::common::hash::FastMap;
 use nalgebra::{SVector, Vector2};
 

@@ -49,7 +49,7 @@ pub fn contacts(path: &std::path::Path, args: &ContactsArgs) -> anyhow::Result<(
             let mut j = SMatrix::<f64, 2, 6>::zeros();
             j.fixed_view_mut::<2, 3>(0, 0).copy_from(&pc.jacobian[0]);
             j.fixed_view_mut::<2, 3>(0, 3).copy_from(&pc.jacobian[1]);
-            let t = rigidref::blocks2d::assemble::tangent(&c.normal);
+            let t = rigidref::blocks2d::collide::tangent(&c.normal);
             Contact2Json {
                 bodies: [c.body1, c.body2],
                 blocks: [c.block1, c.block2],
