@@ -31,6 +31,11 @@ pub struct WarmStore2 {
     map: FastMap<ContactKey2, Vector2<f64>>,
 }
 
+/// A key's body pair (body 1, body 2), the order the store's list is kept in.
+fn pair(k: &ContactKey2) -> (usize, usize) {
+    (k.0, k.1)
+}
+
 /// Where the next look-up starts: the index of the stored contacts at which the last found
 /// pair began. Start each assembly at `WarmCursor::default()`.
 #[derive(Clone, Copy, Debug, Default)]
@@ -51,7 +56,7 @@ impl WarmStore2 {
         for (c, l) in contacts.iter().zip(lambda) {
             let key = (c.body1, c.body2, c.block1, c.block2);
             if let Some(last) = self.keys.last() {
-                self.pair_order &= (last.0, last.1) <= (key.0, key.1);
+                self.pair_order &= pair(last) <= pair(&key);
             }
             self.keys.push(key);
             self.impulses.push(c.normal * l[0] + tangent(&c.normal) * l[1]);
@@ -77,26 +82,26 @@ impl WarmStore2 {
         if !self.pair_order {
             return self.map.get(key).copied();
         }
-        let pair = (key.0, key.1);
-        let pair_at = |i: usize| (self.keys[i].0, self.keys[i].1);
+        let wanted = pair(key);
+        let below = |k: &ContactKey2| pair(k) < wanted;
         let n = self.keys.len();
         // The first stored contact whose pair is not below the key's: from the cursor a few
         // steps forward (the usual case), else by bisection on the side the key lies.
         let mut start = cursor.0.min(n);
-        if start > 0 && pair_at(start - 1) >= pair {
-            start = self.keys[..start].partition_point(|k| (k.0, k.1) < pair);
+        if start > 0 && !below(&self.keys[start - 1]) {
+            start = self.keys[..start].partition_point(below);
         } else {
             let mut steps = 0;
-            while start < n && pair_at(start) < pair && steps < 8 {
+            while start < n && below(&self.keys[start]) && steps < 8 {
                 start += 1;
                 steps += 1;
             }
-            if start < n && pair_at(start) < pair {
-                start += self.keys[start..].partition_point(|k| (k.0, k.1) < pair);
+            if start < n && below(&self.keys[start]) {
+                start += self.keys[start..].partition_point(below);
             }
         }
         cursor.0 = start;
-        let end = start + self.keys[start..].iter().take_while(|k| (k.0, k.1) == pair).count();
+        let end = start + (self.keys[start..].iter()).take_while(|k| pair(k) == wanted).count();
         (start..end)
             .rev()
             .find(|&i| self.keys[i] == *key)
