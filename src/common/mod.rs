@@ -11,6 +11,7 @@
 //! - [`preset`]: the named starting points of a scene's parameters (`--preset starter`);
 //! - [`stats`]: the median;
 //! - [`timing`]: wall and thread CPU time of a piece of work;
+//! - [`warm_store`]: the warm start's store of last solve's impulses, by contact key (both systems);
 //! - [`writer`]: a writer thread, so that formatting a trace is not in the simulation loop;
 //! - [`trace`]: the trace format's name and version, for both systems' traces.
 
@@ -25,4 +26,5 @@ pub mod stats;
 pub mod timing;
 pub mod trace;
 pub mod values;
+pub mod warm_store;
 pub mod writer;

@@ -5,7 +5,7 @@ use crate::problem::{ContactProblem3, FrictionModel, ProblemBody, ProblemContact
 use crate::rigid3d::body::RigidBody;
 use crate::rigid3d::collide::Contact;
 use crate::rigid3d::contact::{generalized_velocity, inverse_mass_matrix, jacobian_block};
-use crate::rigid3d::warm_start::WarmStart;
+use crate::rigid3d::warm_start::{WarmCursor, WarmStart};
 use nalgebra::SMatrix;
 
 /// The scene parameters that shape the problem.
@@ -64,37 +64,37 @@ pub fn assemble_problem_into(
     }));
     let problem_bodies = &problem.bodies;
     problem.contacts.clear();
-    problem
-        .contacts
-        .extend(contacts.iter().enumerate().map(|(index, c)| {
-            let body1 = &bodies[c.body1];
-            let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
-            if crate::common::faults::fault!(jacobian_sign_flip) {
-                j1.column_mut(3).neg_mut();
-            }
-            let j2 = match c.body2 {
-                Some(b) => -jacobian_block(&c.frame, &(c.point - bodies[b].x)),
-                None => SMatrix::zeros(),
-            };
-            let mut b = j1 * problem_bodies[c.body1].velocity;
-            if let Some(body2) = c.body2 {
-                b += j2 * problem_bodies[body2].velocity;
-            }
-            let push = settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
-            b[0] -= push.min(settings.max_push_speed);
-            // A speculative contact (`collision: complete`, a gap of −depth): the bodies may
-            // close the gap within the step, no more (docs/contact.md §"Speculative contacts").
-            if c.depth < 0.0 {
-                b[0] -= c.depth / settings.h;
-            }
-            ProblemContact {
-                bodies: [Some(c.body1), c.body2],
-                jacobian: [j1, j2],
-                b,
-                mu: settings.mu,
-                compliance: settings.compliance,
-                lambda0: warm.initial_impulse_at(index, c),
-                bounds: RowBounds::Contact,
-            }
-        }));
+    // The contacts come in detection's order, which the warm start's cursor walks forward.
+    let mut cursor = WarmCursor::default();
+    problem.contacts.extend(contacts.iter().map(|c| {
+        let body1 = &bodies[c.body1];
+        let mut j1 = jacobian_block(&c.frame, &(c.point - body1.x));
+        if crate::common::faults::fault!(jacobian_sign_flip) {
+            j1.column_mut(3).neg_mut();
+        }
+        let j2 = match c.body2 {
+            Some(b) => -jacobian_block(&c.frame, &(c.point - bodies[b].x)),
+            None => SMatrix::zeros(),
+        };
+        let mut b = j1 * problem_bodies[c.body1].velocity;
+        if let Some(body2) = c.body2 {
+            b += j2 * problem_bodies[body2].velocity;
+        }
+        let push = settings.stabilization / settings.h * (c.depth - settings.slop).max(0.0);
+        b[0] -= push.min(settings.max_push_speed);
+        // A speculative contact (`collision: complete`, a gap of −depth): the bodies may
+        // close the gap within the step, no more (docs/contact.md §"Speculative contacts").
+        if c.depth < 0.0 {
+            b[0] -= c.depth / settings.h;
+        }
+        ProblemContact {
+            bodies: [Some(c.body1), c.body2],
+            jacobian: [j1, j2],
+            b,
+            mu: settings.mu,
+            compliance: settings.compliance,
+            lambda0: warm.initial_impulse(c, &mut cursor),
+            bounds: RowBounds::Contact,
+        }
+    }));
 }

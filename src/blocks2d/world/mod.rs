@@ -23,7 +23,6 @@
 mod solve;
 
 use super::assemble::{ContactProblem2, assemble_problem2, empty_problem2};
-use super::warm_start::WarmStore2;
 use super::body::{Body2, cross};
 use super::coherence::CachedDetector;
 use super::collide::{Contact2, detect_contacts};
@@ -31,6 +30,7 @@ use super::diagnostics::{Energy2, Momentum2};
 use super::image::BlockGroup;
 use super::joints::{Pin2, Spring2};
 use super::params::{ContactModel, MAX_ADAPTIVE_SUBSTEPS, Params2};
+use super::warm_start::WarmStore2;
 use crate::problem::ContactProblem;
 use crate::sim::{
     BodyId, ContactGeometry, NonFinite, PhaseTimes, Simulation, SubstepSolve, readable,

@@ -18,3 +18,4 @@ mod rattleback;
 mod rotation;
 mod sphere_tree;
 mod starter_collision;
+mod warm_start;

@@ -1,0 +1,124 @@
+//! The warm start's store, for both systems: the last solve's impulse of each contact, found
+//! again by the contact's key. docs/contact.md §"Warm starting", "Finding the key".
+//!
+//! The answer is a map's: the impulse stored last under the key, or none. Detection lists a
+//! substep's contacts group by group in increasing order of a group the key names (2D: the body
+//! pair; 3D: the ground contacts body by body, then the body pairs), so the store keeps the last
+//! solve's contacts in that order and finds a key by walking a cursor forward with the contacts
+//! being assembled (which come in the same order): the key's group is at or just after the
+//! cursor, and its few contacts are searched from the last one back, so that a repeated key gives
+//! the impulse stored last, as a map would. Where the stored contacts are not in group order (a
+//! caller's own list, the starter's detection), the store keeps a map instead.
+
+use crate::common::hash::FastMap;
+use std::hash::Hash;
+
+/// A contact's key as the store files it: the whole key, compared for equality, and the group
+/// it belongs to, which detection lists in increasing order.
+pub trait WarmKey: Copy + Eq + Hash {
+    /// The group: the contacts of one group are listed together, the groups in increasing
+    /// order.
+    type Group: Ord + Copy;
+    /// This key's group.
+    fn group(&self) -> Self::Group;
+}
+
+/// The last solve's contacts' values (world impulses), by contact key.
+#[derive(Clone, Debug)]
+pub struct WarmStore<K: WarmKey, V: Copy> {
+    /// The stored contacts' keys, in the order stored.
+    keys: Vec<K>,
+    /// Their values, in the same order.
+    values: Vec<V>,
+    /// Whether `keys` is in non-decreasing group order; if not, `map` holds the values.
+    in_order: bool,
+    /// Key → value stored last under it; filled only where `keys` is not in group order.
+    map: FastMap<K, V>,
+}
+
+impl<K: WarmKey, V: Copy> Default for WarmStore<K, V> {
+    fn default() -> Self {
+        WarmStore {
+            keys: Vec::new(),
+            values: Vec::new(),
+            in_order: true,
+            map: FastMap::default(),
+        }
+    }
+}
+
+/// Where the next look-up starts: the index of the stored contacts at which the last found
+/// group began. Start each assembly at `WarmCursor::default()`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WarmCursor(usize);
+
+impl<K: WarmKey, V: Copy> WarmStore<K, V> {
+    /// Empties the store.
+    pub fn clear(&mut self) {
+        self.keys.clear();
+        self.values.clear();
+        self.map.clear();
+        self.in_order = true;
+    }
+
+    /// Replaces the store with `items` (key, value), in the order given.
+    pub fn fill(&mut self, items: impl IntoIterator<Item = (K, V)>) {
+        self.clear();
+        for (key, value) in items {
+            if let Some(last) = self.keys.last() {
+                self.in_order &= last.group() <= key.group();
+            }
+            self.keys.push(key);
+            self.values.push(value);
+        }
+        if !self.in_order {
+            self.map
+                .extend(self.keys.iter().copied().zip(self.values.iter().copied()));
+        }
+    }
+
+    /// The number of stored contacts.
+    pub fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// Whether the store is empty.
+    pub fn is_empty(&self) -> bool {
+        self.keys.is_empty()
+    }
+
+    /// The value stored last under `key`, or `None`: the map's answer. `cursor` carries where
+    /// the last look-up's group began; look-ups in group order walk it forward.
+    pub fn find(&self, key: &K, cursor: &mut WarmCursor) -> Option<V> {
+        if !self.in_order {
+            return self.map.get(key).copied();
+        }
+        let wanted = key.group();
+        let below = |k: &K| k.group() < wanted;
+        let n = self.keys.len();
+        // The first stored contact whose group is not below the key's: from the cursor a few
+        // steps forward (the usual case), else by bisection on the side the key lies.
+        let mut start = cursor.0.min(n);
+        if start > 0 && !below(&self.keys[start - 1]) {
+            start = self.keys[..start].partition_point(below);
+        } else {
+            let mut steps = 0;
+            while start < n && below(&self.keys[start]) && steps < 8 {
+                start += 1;
+                steps += 1;
+            }
+            if start < n && below(&self.keys[start]) {
+                start += self.keys[start..].partition_point(below);
+            }
+        }
+        cursor.0 = start;
+        let end = start
+            + (self.keys[start..].iter())
+                .take_while(|k| k.group() == wanted)
+                .count();
+        (start..end)
+            .rev()
+            .find(|&i| self.keys[i] == *key)
+            .map(|i| self.values[i])
+    }
+}
