@@ -47,10 +47,13 @@ impl<K: WarmKey, V: Copy> Default for WarmStore<K, V> {
     }
 }
 
-/// Where the next look-up starts: the index of the stored contacts at which the last found
-/// group began. Start each assembly at `WarmCursor::default()`.
+/// Where the next look-up starts: the stored contacts of the last look-up's group,
+/// `start..end` (empty where none was stored). Start each assembly at `WarmCursor::default()`.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct WarmCursor(usize);
+pub struct WarmCursor {
+    start: usize,
+    end: usize,
+}
 
 impl<K: WarmKey, V: Copy> WarmStore<K, V> {
     /// Empties the store.
@@ -87,18 +90,33 @@ impl<K: WarmKey, V: Copy> WarmStore<K, V> {
         self.keys.is_empty()
     }
 
-    /// The value stored last under `key`, or `None`: the map's answer. `cursor` carries where
-    /// the last look-up's group began; look-ups in group order walk it forward.
+    /// The value stored last under `key`, or `None`: the map's answer. `cursor` carries the
+    /// last look-up's group; look-ups in group order walk it forward.
     pub fn find(&self, key: &K, cursor: &mut WarmCursor) -> Option<V> {
         if !self.in_order {
             return self.map.get(key).copied();
         }
         let wanted = key.group();
+        // The last look-up's group again (a group's contacts come together): its stored
+        // contacts are known.
+        let same = cursor.start < cursor.end && self.keys[cursor.start].group() == wanted;
+        if !same {
+            *cursor = self.group_at(wanted, cursor.start);
+        }
+        // Searched from the last back, so that a repeated key gives the value stored last.
+        (cursor.start..cursor.end)
+            .rev()
+            .find(|&i| self.keys[i] == *key)
+            .map(|i| self.values[i])
+    }
+
+    /// The stored contacts of group `wanted` (an empty range where it has none), looked for
+    /// from index `from`: a few steps forward (the usual case), else by bisection on the side
+    /// the group lies.
+    fn group_at(&self, wanted: K::Group, from: usize) -> WarmCursor {
         let below = |k: &K| k.group() < wanted;
         let n = self.keys.len();
-        // The first stored contact whose group is not below the key's: from the cursor a few
-        // steps forward (the usual case), else by bisection on the side the key lies.
-        let mut start = cursor.0.min(n);
+        let mut start = from.min(n);
         if start > 0 && !below(&self.keys[start - 1]) {
             start = self.keys[..start].partition_point(below);
         } else {
@@ -111,14 +129,10 @@ impl<K: WarmKey, V: Copy> WarmStore<K, V> {
                 start += self.keys[start..].partition_point(below);
             }
         }
-        cursor.0 = start;
         let end = start
             + (self.keys[start..].iter())
                 .take_while(|k| k.group() == wanted)
                 .count();
-        (start..end)
-            .rev()
-            .find(|&i| self.keys[i] == *key)
-            .map(|i| self.values[i])
+        WarmCursor { start, end }
     }
 }
