@@ -1483,3 +1483,36 @@ fn duration_is_time_by_another_name() {
     }
     assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
 }
+
+/// The bench times every size of a family in the same phase of its motion
+/// (docs/performance.md §"How to reproduce"): the warm-up is the same above 2 000 bodies as
+/// below (only the rounds are shorter there), so that the fitted exponents compare like with
+/// like; and the table's header says so.
+#[test]
+fn the_bench_warms_up_every_size_alike() {
+    use rigidref::tools::experiments::bench::{BenchSettings, markdown};
+    let s = BenchSettings {
+        warmup: 100,
+        steps: 30,
+        rounds: 5,
+        iterations: 20,
+        contact_order: rigidref::solve::ContactOrder::Coloured,
+        threads: 1,
+        persistent_manifolds: false,
+    };
+    for bodies in [5, 2000, 2001, 10_140, usize::MAX] {
+        let at = s.for_bodies(bodies);
+        assert_eq!(at.warmup, s.warmup, "{bodies} bodies");
+        assert_eq!((at.rounds, at.iterations), (s.rounds, s.iterations));
+        assert_eq!(
+            at.steps,
+            if bodies > 2000 { 10 } else { 30 },
+            "{bodies} bodies"
+        );
+    }
+    let header = markdown(&[], &s);
+    assert!(
+        header.contains("medians of 5 rounds of 30 steps (10 above 2 000 bodies) after 100 warm-up steps at every size"),
+        "{header}"
+    );
+}
