@@ -136,17 +136,24 @@ pub struct ContactProblem<const D: usize, const R: usize> {
 /// The 3D problem: 6 degrees of freedom per body, 3 rows per contact.
 pub type ContactProblem3 = ContactProblem<6, 3>;
 
+/// The (side, side) pairs of a contact's Delassus block, in the order they are summed: a
+/// contact's two sides with themselves first, as every contact between two bodies (or a body
+/// and the static world) has them, then the cross terms, which count only where both sides are
+/// the same body.
+pub const SIDE_PAIRS: [(usize, usize); 4] = [(0, 0), (1, 1), (0, 1), (1, 0)];
+
 impl<const D: usize, const R: usize> ContactProblem<D, R> {
     /// The contact's R × R Delassus block A_kk = J₁ M₁⁻¹ J₁ᵀ + J₂ M₂⁻¹ J₂ᵀ (kg⁻¹), without
     /// compliance, averaged with its transpose so that it is symmetric to the bit (the product
-    /// alone is symmetric only to round-off). docs/contact.md §"Delassus operator".
+    /// alone is symmetric only to round-off). A contact of a body with itself adds the cross
+    /// terms J₁ M⁻¹ J₂ᵀ + J₂ M⁻¹ J₁ᵀ: its block is (J₁ + J₂) M⁻¹ (J₁ + J₂)ᵀ.
+    /// docs/contact.md §"Delassus operator".
     pub fn delassus_block(&self, k: usize) -> SMatrix<f64, R, R> {
         let c = &self.contacts[k];
         let mut a = SMatrix::<f64, R, R>::zeros();
-        for side in 0..2 {
-            if let Some(body) = c.bodies[side] {
-                let j = &c.jacobian[side];
-                a += j * self.bodies[body].inverse_mass * j.transpose();
+        for (s, t) in SIDE_PAIRS {
+            if let Some(body) = c.bodies[s].filter(|_| c.bodies[s] == c.bodies[t]) {
+                a += c.jacobian[s] * self.bodies[body].inverse_mass * c.jacobian[t].transpose();
             }
         }
         (a + a.transpose()) * 0.5

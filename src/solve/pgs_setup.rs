@@ -24,10 +24,11 @@ pub(super) fn build_entry<const D: usize, const R: usize>(
     // A_kk = Σ_s J_s (M_s⁻¹ J_sᵀ), symmetrised, plus compliance on its rows
     // (docs/contact.md §"Delassus operator"; `ContactProblem::delassus_block` forms
     // J M⁻¹ first, the same to round-off).
+    // A contact of a body with itself adds the cross terms J₁ (M⁻¹ J₂ᵀ) + J₂ (M⁻¹ J₁ᵀ).
     let mut a = SMatrix::<f64, R, R>::zeros();
-    for ((body, jacobian), side) in c.bodies.iter().zip(&c.jacobian).zip(&sides) {
-        if body.is_some() {
-            a += jacobian * side;
+    for (s, t) in crate::problem::SIDE_PAIRS {
+        if c.bodies[s].is_some() && c.bodies[s] == c.bodies[t] {
+            a += c.jacobian[s] * sides[t];
         }
     }
     let mut block = (a + a.transpose()) * 0.5;

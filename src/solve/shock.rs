@@ -136,13 +136,20 @@ fn hold_lower_sides_fixed<const D: usize, const R: usize>(
     current: u32,
 ) {
     let c = &problem.contacts[k];
-    let mut block = SMatrix::<f64, R, R>::zeros();
+    let mut held = [false; 2];
     for s in 0..2 {
         let Some(b) = c.bodies[s] else { continue };
         if layer[b].is_some_and(|l| l < current) {
             workspace.hold_side_fixed(k, s);
-        } else {
-            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t(k, s);
+            held[s] = true;
+        }
+    }
+    // The free sides' block, with a contact of a body with itself's cross terms
+    // (`ContactProblem::delassus_block`).
+    let mut block = SMatrix::<f64, R, R>::zeros();
+    for (s, t) in crate::problem::SIDE_PAIRS {
+        if c.bodies[s].is_some() && c.bodies[s] == c.bodies[t] && !held[s] {
+            block += c.jacobian[s] * workspace.inverse_mass_jacobian_t(k, t);
         }
     }
     let mut block = (block + block.transpose()) * 0.5;

@@ -100,6 +100,98 @@ fn solvers_give_the_same_answer_on_both_forms() {
     });
 }
 
+/// The local form's coloured order is the body form's (docs/contact.md §"Coloured order"): W's
+/// couplings stand for the shared bodies, the same greedy colouring in problem order, so one
+/// coloured sweep, and thirty, on either form agree to round-off, as the problem order's do.
+/// And it is an order of its own: on a chain of three contacts (the first and last sharing no
+/// body) one coloured sweep visits the last before the middle, and so differs from one sweep in
+/// problem order.
+#[test]
+fn the_local_forms_coloured_order_is_the_body_forms() {
+    proptest!(common::seeded(60), |(s in physical_spec(2..5, 2..8), mu in 0.0..1.0f64, cone: bool)| {
+        let friction = if cone { FrictionModel::Cone } else { FrictionModel::Box };
+        let problem = build(&s, mu, 1e-3, friction);
+        let local = problem.to_local();
+        for (visit, sweeps) in [(LocalSolve::Rows, 1), (LocalSolve::Rows, 30), (LocalSolve::Exact, 1)] {
+            let settings = PgsSettings {
+                order: ContactOrder::Coloured,
+                ..pgs_settings(visit, sweeps, None)
+            };
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            problem.pgs(&settings, &mut a);
+            local.pgs(&settings, &mut b);
+            let scale = a.iter().map(|l| l.amax()).fold(1e-3, f64::max);
+            for (x, y) in a.iter().zip(&b) {
+                // As in `solvers_give_the_same_answer_on_both_forms`: round-off from two ways
+                // of computing w; a different visiting order moves λ by far more.
+                prop_assert!((x - y).amax() <= 1e-9 * scale, "{visit:?}, {sweeps}: body {x} local {y}");
+            }
+        }
+    });
+    // Two bodies: contact 0 of body 0 on the ground, contact 1 between the bodies, contact 2
+    // of body 1 on the ground. Contacts 0 and 2 share no body, 1 touches both: colours {0, 2}
+    // then {1}.
+    let body = |x: f64| {
+        (
+            10.0,
+            [1.0, 1.2, 1.5],
+            nalgebra::Vector3::zeros(),
+            nalgebra::Vector3::new(x, 0.5, 0.0),
+        )
+    };
+    let up = nalgebra::Vector3::y();
+    let approach = SVector::<f64, 3>::new(-1.0, 0.3, -0.2);
+    let spec = common::problems::ProblemSpec {
+        bodies: vec![body(0.0), body(1.0)],
+        contacts: vec![
+            (0, 2, nalgebra::Vector3::new(0.1, -0.5, 0.1), up, approach),
+            (
+                0,
+                1,
+                nalgebra::Vector3::new(0.5, 0.0, 0.0),
+                nalgebra::Vector3::x(),
+                approach,
+            ),
+            (1, 2, nalgebra::Vector3::new(-0.1, -0.5, -0.1), up, approach),
+        ],
+    };
+    let chain = build(&spec, 0.5, 1e-3, FrictionModel::Cone);
+    assert_eq!(
+        chain.contacts.iter().map(|c| c.bodies).collect::<Vec<_>>(),
+        [[Some(0), None], [Some(0), Some(1)], [Some(1), None]]
+    );
+    let local = chain.to_local();
+    let one_sweep = |order| {
+        let mut lambda = Vec::new();
+        let settings = PgsSettings {
+            order,
+            ..pgs_settings(LocalSolve::Rows, 1, None)
+        };
+        local.pgs(&settings, &mut lambda);
+        lambda
+    };
+    let (coloured, found) = (
+        one_sweep(ContactOrder::Coloured),
+        one_sweep(ContactOrder::Sequential),
+    );
+    let mut body_coloured = Vec::new();
+    let settings = PgsSettings {
+        order: ContactOrder::Coloured,
+        ..pgs_settings(LocalSolve::Rows, 1, None)
+    };
+    chain.pgs(&settings, &mut body_coloured);
+    for (x, y) in coloured.iter().zip(&body_coloured) {
+        assert!((x - y).amax() <= 1e-12, "local {x} body {y}");
+    }
+    assert!(
+        coloured
+            .iter()
+            .zip(&found)
+            .any(|(x, y)| (x - y).amax() > 1e-6),
+        "one coloured sweep gave the problem order's λ: {coloured:?}"
+    );
+}
+
 #[test]
 fn a_local_problem_file_round_trips_bit_for_bit() {
     proptest!(common::seeded(40), |(s in physical_spec(1..4, 1..7), mu in 0.0..1.0f64)| {

@@ -246,6 +246,68 @@ fn the_residuals_are_velocities_on_the_contacts_own_scale() {
     assert_eq!(coulomb_scale(&pinned), 1.0);
 }
 
+/// A free row whose diagonal is zero moves nothing (here a joint on a pinned body, without
+/// compliance): PGS leaves its λ at the start, as it leaves a contact row's (docs/contact.md
+/// §"Row bounds": the update is taken only where a_r > 0), instead of dividing by zero; the
+/// joint on the moving body beside it is still solved, in both orders and both local solves.
+#[test]
+fn a_free_row_that_moves_nothing_keeps_its_start() {
+    use nalgebra::{Matrix3, SMatrix, Vector3};
+    use rigidref::problem::{ContactProblem, ProblemBody, ProblemContact, RowBounds};
+    use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace, solve_pgs};
+    let arm = |rx: f64, ry: f64| SMatrix::<f64, 2, 3>::new(1.0, 0.0, -ry, 0.0, 1.0, rx);
+    let joint = |body: usize, start: [f64; 2]| ProblemContact {
+        bodies: [Some(body), None],
+        jacobian: [arm(0.4, -0.2), SMatrix::zeros()],
+        b: nalgebra::Vector2::new(0.5, -0.3),
+        mu: 0.0,
+        compliance: 0.0,
+        lambda0: SVector::<f64, 2>::from(start),
+        bounds: RowBounds::Free,
+    };
+    let problem = ContactProblem::<3, 2> {
+        friction: FrictionModel::Box,
+        bodies: vec![
+            ProblemBody {
+                inverse_mass: Matrix3::zeros(),
+                velocity: Vector3::zeros(),
+            },
+            ProblemBody {
+                inverse_mass: Matrix3::from_diagonal(&Vector3::new(0.5, 0.5, 2.0)),
+                velocity: Vector3::new(0.1, -0.4, 0.3),
+            },
+        ],
+        contacts: vec![joint(0, [0.3, -0.2]), joint(1, [0.0, 0.0])],
+    };
+    problem.validate().unwrap();
+    for order in [ContactOrder::Sequential, ContactOrder::Coloured] {
+        for local in [LocalSolve::Rows, LocalSolve::Exact] {
+            let settings = PgsSettings {
+                max_iterations: 20,
+                tolerance: None,
+                order,
+                local,
+            };
+            let mut lambda = Vec::new();
+            let mut workspace = PgsWorkspace::new(0);
+            solve_pgs(&problem, &settings, &mut workspace, &mut lambda);
+            assert_eq!(
+                lambda[0],
+                SVector::<f64, 2>::new(0.3, -0.2),
+                "{order:?} {local:?}"
+            );
+            // The moving body's joint holds: w = b + J Δu = 0 on both rows (to round-off of a
+            // converged one-body solve). The pinned one cannot: its w stays b.
+            let c = &problem.contacts[1];
+            let w = c.b + c.jacobian[0] * workspace.delta_velocity(1);
+            assert!(
+                w.amax() < 1e-12,
+                "{order:?} {local:?}: w = {w}, λ = {lambda:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn free_rows_are_solved_to_their_linear_system_and_round_trip() {
     // Two 2D bodies (D = 3, R = 2): body 0 pinned to the world by a compliant free entry (the

@@ -10,6 +10,7 @@ use common::problems::{build, spec, tiled};
 use proptest::prelude::*;
 use rigidref::problem::{ContactProblem3, FrictionModel};
 use rigidref::solve::ContactOrder;
+use rigidref::solve::pgs::Lanes;
 
 use super::solve_seeded as solve;
 
@@ -100,10 +101,12 @@ fn random_coloured_order_is_the_seeds_and_differs_between_seeds() {
     assert!(differing > 0, "no seed changed λ on any problem");
 }
 
-/// The random coloured order's colours go four at a time, and two threads give the one
-/// thread's bits (the orders are drawn before the sweeps, whatever the threads).
+/// The random coloured order's colours go four at a time, to the bits of visiting them one
+/// contact at a time (the groups switched off: each colour's contacts visited in turn), and two
+/// threads give the one thread's bits (the orders are drawn before the sweeps, whatever the
+/// threads).
 #[test]
-fn random_coloured_order_uses_the_groups_and_the_same_bits_on_two_threads() {
+fn random_coloured_order_gives_the_same_bits_in_groups_one_at_a_time_and_on_two_threads() {
     let problem = large_problem(2);
     for sweeps in [3, 50] {
         let (one, one_report, w1) =
@@ -117,6 +120,22 @@ fn random_coloured_order_uses_the_groups_and_the_same_bits_on_two_threads() {
             "{sweeps} sweeps: λ differs between 1 and 2 threads"
         );
         assert_eq!(one_report.residual.to_bits(), two_report.residual.to_bits());
+        let mut workspace = rigidref::solve::PgsWorkspace::new(5);
+        workspace.set_lanes(Lanes::Off);
+        let settings = rigidref::solve::PgsSettings {
+            max_iterations: sweeps,
+            tolerance: None,
+            order: ContactOrder::RandomColoured,
+            local: rigidref::solve::LocalSolve::Rows,
+        };
+        let mut alone = Vec::new();
+        let report = rigidref::solve::solve_pgs(&problem, &settings, &mut workspace, &mut alone);
+        assert_eq!(workspace.last_groups(), 0);
+        assert!(
+            one == alone,
+            "{sweeps} sweeps: λ differs between the groups and one contact at a time"
+        );
+        assert_eq!(one_report.residual.to_bits(), report.residual.to_bits());
     }
 }
 
