@@ -368,35 +368,33 @@ fn iterate<const R: usize>(
             _ => EPS_FLOOR,
         };
         let mut stepped = false;
-        // A failed line search retries with more regularisation (a shorter, better-conditioned
-        // step), three times.
+        // A failed factorisation or a failed line search retries with more regularisation (a
+        // shorter, better-conditioned step), three times: one schedule for both.
         for _ in 0..4 {
             let prox = proximal.map_or(0.0, |p| p.eta);
             let h = system.scales.map(|a| (epsilon + prox) * a);
-            let Some(delta) = solve_newton_system(system, &blocks, &h, &(-&f)) else {
-                epsilon *= 1e4;
-                continue;
-            };
-            let mut t = 1.0;
-            for _ in 0..=LINE_SEARCH_HALVINGS {
-                let trial = &*lambda + &delta * t;
-                evaluate(
-                    system,
-                    &trial,
-                    proximal,
-                    &mut trial_w,
-                    &mut trial_f,
-                    &mut trial_blocks,
-                );
-                if 0.5 * trial_f.norm_squared() <= reference - 2.0 * ARMIJO * t * theta {
-                    *lambda = trial;
-                    std::mem::swap(&mut w, &mut trial_w);
-                    std::mem::swap(&mut f, &mut trial_f);
-                    std::mem::swap(&mut blocks, &mut trial_blocks);
-                    stepped = true;
-                    break;
+            if let Some(delta) = solve_newton_system(system, &blocks, &h, &(-&f)) {
+                let mut t = 1.0;
+                for _ in 0..=LINE_SEARCH_HALVINGS {
+                    let trial = &*lambda + &delta * t;
+                    evaluate(
+                        system,
+                        &trial,
+                        proximal,
+                        &mut trial_w,
+                        &mut trial_f,
+                        &mut trial_blocks,
+                    );
+                    if 0.5 * trial_f.norm_squared() <= reference - 2.0 * ARMIJO * t * theta {
+                        *lambda = trial;
+                        std::mem::swap(&mut w, &mut trial_w);
+                        std::mem::swap(&mut f, &mut trial_f);
+                        std::mem::swap(&mut blocks, &mut trial_blocks);
+                        stepped = true;
+                        break;
+                    }
+                    t *= 0.5;
                 }
-                t *= 0.5;
             }
             if stepped {
                 break;
