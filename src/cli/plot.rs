@@ -3,7 +3,7 @@
 
 use anyhow::bail;
 use clap::Args;
-use rigidref::tools::viewing::plot::{PlottedRun, plot_runs};
+use rigidref::tools::viewing::plot::{PlottedRun, TIME_UNIT_2D, TIME_UNIT_3D, plot_runs};
 use rigidref::tools::viewing::series::{QUANTITIES, plots_2d, plots_3d};
 use rigidref::tools::viewing::view::RunTrace;
 use std::path::PathBuf;
@@ -83,6 +83,7 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
                     PlottedRun {
                         label,
                         t,
+                        time_unit: TIME_UNIT_3D,
                         plots: plots_3d(header, records, &omega),
                     },
                 )
@@ -94,6 +95,7 @@ pub fn plot(args: PlotArgs) -> anyhow::Result<()> {
                     PlottedRun {
                         label,
                         t,
+                        time_unit: TIME_UNIT_2D,
                         plots: plots_2d(records, &omega),
                     },
                 )

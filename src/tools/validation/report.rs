@@ -5,7 +5,7 @@
 
 use super::{RunStatus, SceneResult, Validation};
 use crate::rigid3d::trace::Trace;
-use crate::tools::viewing::plot::{PlottedRun, plot_runs};
+use crate::tools::viewing::plot::{PlottedRun, TIME_UNIT_3D, plot_runs};
 use crate::tools::viewing::series::{Plot, Series};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -272,6 +272,7 @@ pub fn plotted_3d(
     PlottedRun {
         label,
         t: records.iter().map(|r| r.t).collect(),
+        time_unit: TIME_UNIT_3D,
         plots,
     }
 }

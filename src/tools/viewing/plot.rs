@@ -15,9 +15,16 @@ pub struct PlottedRun {
     pub label: String,
     /// Time of each record (s in 3D, time units in 2D).
     pub t: Vec<f64>,
+    /// The unit of [`Self::t`], for the time axis: [`TIME_UNIT_3D`] or [`TIME_UNIT_2D`].
+    pub time_unit: &'static str,
     /// The plots, as [`super::series::plots_3d`] or [`super::series::plots_2d`] made them.
     pub plots: Vec<Plot>,
 }
+
+/// The 3D system's time unit (SI).
+pub const TIME_UNIT_3D: &str = "s";
+/// The 2D system's time unit (its gravity is 1 block per time unit², docs/blocks2d.md).
+pub const TIME_UNIT_2D: &str = "time units";
 
 /// Pixels per panel.
 const PANEL: (u32, u32) = (1000, 300);
@@ -118,6 +125,7 @@ fn draw<DB: DrawingBackend>(
     root.fill(&WHITE)?;
     let (top, body) = root.split_vertically(40);
     top.titled(title, ("sans-serif", 20))?;
+    let time_unit = runs.first().map_or(TIME_UNIT_3D, |r| r.time_unit);
     let areas = body.split_evenly((panels.len(), 1));
     for (area, panel) in areas.iter().zip(panels) {
         // Every run's version of this panel (matched by key), with its series' points.
@@ -163,8 +171,12 @@ fn draw<DB: DrawingBackend>(
         } else {
             format!(" ({})", panel.unit)
         };
-        let y_desc = if panel.log {
-            format!("log10 {}{unit}", panel.title.to_lowercase())
+        // A log panel's axis names only the unit (its caption names the quantity), so that the
+        // criteria's three units fit beside it.
+        let y_desc = if panel.log && !panel.unit.is_empty() {
+            format!("log10{unit}")
+        } else if panel.log {
+            format!("log10 {}", panel.title.to_lowercase())
         } else {
             format!("{}{unit}", panel.title)
         };
@@ -174,7 +186,11 @@ fn draw<DB: DrawingBackend>(
             .x_label_area_size(30)
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, y0..y1)?;
-        chart.configure_mesh().x_desc("t").y_desc(y_desc).draw()?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("t ({time_unit})"))
+            .y_desc(y_desc)
+            .draw()?;
         for (name, colour, run, segments) in &lines {
             let width = if *run == 0 { 2 } else { 1 };
             for (k, segment) in segments.iter().enumerate() {

@@ -65,9 +65,10 @@ fn plot(key: &'static str, title: &str, unit: &str, log: bool, series: Vec<Serie
     }
 }
 
-/// The solver's plots (sweeps; residual and exact Coulomb residual) from each record's
-/// `solver` key, `velocity` naming the residual's unit.
-fn solver_plots(solver: &[Option<SolverRecord>], velocity: &str) -> Vec<Plot> {
+/// The solver's plots (sweeps; residual and exact Coulomb residual; the physical criteria) from
+/// each record's `solver` key, `velocity` naming the residual's unit and `criteria` the
+/// criteria's (impulse, velocity, energy).
+fn solver_plots(solver: &[Option<SolverRecord>], velocity: &str, criteria: &str) -> Vec<Plot> {
     let sweeps = solver.iter().map(|s| s.map(|s| s.sweeps as f64)).collect();
     let residual = solver.iter().map(|s| s.map(|s| s.residual)).collect();
     let mut residuals = vec![series("worst residual", residual)];
@@ -105,7 +106,7 @@ fn solver_plots(solver: &[Option<SolverRecord>], velocity: &str) -> Vec<Plot> {
         plots.push(plot(
             "criteria",
             "physical criteria (largest over the contacts)",
-            "N·s, m/s, J",
+            criteria,
             true,
             vec![
                 criterion("primal", |c| c.primal),
@@ -202,7 +203,7 @@ pub fn plots_3d(
         vec![series("contacts", each(&|r| Some(r.contacts.len() as f64)))],
     ));
     let solver: Vec<_> = records.iter().map(|r| r.solver).collect();
-    plots.extend(solver_plots(&solver, "m/s"));
+    plots.extend(solver_plots(&solver, "m/s", "N·s, m/s, J"));
     plots.push(plot(
         "penetration",
         "Penetration",
@@ -266,7 +267,11 @@ pub fn plots_2d(records: &[Record2], omega_bodies: &[usize]) -> Vec<Plot> {
         vec![series("contacts", each(&|r| Some(r.contact_count as f64)))],
     ));
     let solver: Vec<_> = records.iter().map(|r| r.solver).collect();
-    plots.extend(solver_plots(&solver, "block/time"));
+    plots.extend(solver_plots(
+        &solver,
+        "block/time",
+        "mass·block/time, block/time, mass·block²/time²",
+    ));
     plots.push(plot(
         "penetration",
         "Deepest overlap",

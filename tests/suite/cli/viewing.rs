@@ -268,6 +268,50 @@ fn view_and_plot_refuse_what_is_not_a_trace_in_one_line() {
 }
 
 #[test]
+fn plot_of_a_2d_run_labels_its_axes_in_the_2d_units() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scene = common::project_root().join("scenes/blocks/stack.json");
+    let out = rigidref(
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--time",
+            "2",
+            "--out",
+            "s.jsonl",
+            "-q",
+        ],
+        tmp.path(),
+    );
+    common::assert_success(&out);
+    let out = rigidref(
+        &[
+            "plot",
+            "s.jsonl",
+            "--out",
+            "s.svg",
+            "--quantities",
+            "criteria,residual",
+        ],
+        tmp.path(),
+    );
+    common::assert_success(&out);
+    let svg = std::fs::read_to_string(tmp.path().join("s.svg")).unwrap();
+    // The 2D system's units are blocks, its own mass and time units (docs/blocks2d.md): no SI
+    // unit may label its axes.
+    for label in [
+        "t (time units)",
+        "log10 (block/time)",
+        "log10 (mass·block/time, block/time, mass·block²/time²)",
+    ] {
+        assert!(svg.contains(label), "the 2D plot lacks the label {label:?}");
+    }
+    for si in ["N·s", "m/s", "t (s)"] {
+        assert!(!svg.contains(si), "the 2D plot names the SI unit {si:?}");
+    }
+}
+
+#[test]
 fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
     let tmp = tempfile::tempdir().unwrap();
     // The built-in default scene is the project's Dzhanibekov scene.
@@ -317,6 +361,10 @@ fn plot_of_the_dzhanibekov_run_names_the_angular_velocity_and_energy_series() {
     assert!(out.status.success());
     let svg = std::fs::read_to_string(tmp.path().join("both.svg")).unwrap();
     assert!(svg.contains("dz.jsonl: total") && svg.contains("again.jsonl: total"));
+    assert!(
+        svg.contains("t (s)"),
+        "the 3D time axis does not name seconds"
+    );
 
     // The same plot as PNG: two panels of 1000 × 300 pixels under a 40-pixel title, the first
     // series in the first colour of the palette, and text (dark pixels) in the title strip.

@@ -5,7 +5,7 @@ use super::*;
 use crate::blocks2d::trace::Record2;
 use crate::tools::validation::engines::{Engine, Settings};
 use crate::tools::validation::{RunResult, RunStatus, SceneResult};
-use crate::tools::viewing::plot::PlottedRun;
+use crate::tools::viewing::plot::{PlottedRun, TIME_UNIT_2D};
 use crate::tools::viewing::series::{Plot, Series};
 use std::path::Path;
 
@@ -119,6 +119,7 @@ pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun
         return PlottedRun {
             label,
             t: Vec::new(),
+            time_unit: TIME_UNIT_2D,
             plots: Vec::new(),
         };
     };
@@ -172,6 +173,7 @@ pub fn plotted_2d(label: String, records: &[Record2], l: &Loaded2) -> PlottedRun
     PlottedRun {
         label,
         t: records.iter().map(|r| r.t).collect(),
+        time_unit: TIME_UNIT_2D,
         plots,
     }
 }
