@@ -141,7 +141,9 @@ fn draw<DB: DrawingBackend>(
                     series.name.clone()
                 };
                 let colour = COLOURS[(s + r * p.series.len()) % COLOURS.len()];
-                lines.push((name, colour, r, points(&run.t, &series.values, panel.log)));
+                let recorded = series.values.iter().any(Option::is_some);
+                let segments = points(&run.t, &series.values, panel.log);
+                lines.push((name, colour, r, segments, recorded));
             }
         }
         let all = || lines.iter().flat_map(|l| l.3.iter().flatten());
@@ -191,8 +193,24 @@ fn draw<DB: DrawingBackend>(
             .x_desc(format!("t ({time_unit})"))
             .y_desc(y_desc)
             .draw()?;
-        for (name, colour, run, segments) in &lines {
+        for (name, colour, run, segments, recorded) in &lines {
             let width = if *run == 0 { 2 } else { 1 };
+            // A recorded series with nothing to draw (zero throughout on a log axis) still gets
+            // its legend entry, saying why it has no line.
+            if segments.is_empty() && *recorded {
+                let why = if panel.log {
+                    "never above 0: no line on a log axis"
+                } else {
+                    "no finite value"
+                };
+                let c = *colour;
+                chart
+                    .draw_series(LineSeries::new(std::iter::empty(), c.stroke_width(width)))?
+                    .label(format!("{name} ({why})"))
+                    .legend(move |(x, y)| {
+                        PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2))
+                    });
+            }
             for (k, segment) in segments.iter().enumerate() {
                 let drawn = chart.draw_series(LineSeries::new(
                     segment.iter().copied(),

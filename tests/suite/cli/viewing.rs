@@ -309,6 +309,12 @@ fn plot_of_a_2d_run_labels_its_axes_in_the_2d_units() {
     for si in ["N·s", "m/s", "t (s)"] {
         assert!(!svg.contains(si), "the 2D plot names the SI unit {si:?}");
     }
+    // PGS's impulses lie in the cone, so the primal criterion is 0 at every step: on the log
+    // axis it has no line, and its legend entry says so instead of leaving it out.
+    assert!(
+        svg.contains("primal (never above 0: no line on a log axis)"),
+        "the legend leaves out the criterion that is zero throughout"
+    );
 }
 
 #[test]
