@@ -55,8 +55,8 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
 /// The broad phase on a uniform grid, with its working memory kept from call to call (no
 /// allocation once grown). docs/contact.md §"Broad phase".
 ///
-/// The cell side is the median of the boxes' largest sides. A box is entered in every cell it
-/// covers; two boxes in one cell are tested, and a pair that overlaps is reported by one cell
+/// The cell side is the median of the boxes' largest sides, and the cells are counted from the
+/// smallest corner of the finite boxes. A box is entered in every cell it covers; two boxes in one cell are tested, and a pair that overlaps is reported by one cell
 /// only, the cell holding the smallest corner of their intersection (so no pair is found twice).
 /// A box covering more than [`MAX_CELLS`] cells (a container, the ground) is tested against every
 /// other box instead. Boxes that are empty (a smallest corner beyond the largest) or not a number
@@ -89,6 +89,12 @@ struct GridEntry {
 }
 
 impl BroadGrid {
+    /// The (box, cell) entries the last [`Self::pairs_into`] made: each box entered in the grid
+    /// once per cell it covers (the grid's work grows with them).
+    pub fn entered(&self) -> usize {
+        self.entries.len()
+    }
+
     /// Every pair (i, j), i < j, of `boxes` that overlap, ascending, into `pairs` (replaced):
     /// the same pairs as [`sweep_and_prune_pairs`] and as testing all pairs.
     pub fn pairs_into(&mut self, boxes: &[Aabb], pairs: &mut Vec<(usize, usize)>) {
@@ -100,17 +106,19 @@ impl BroadGrid {
             return;
         }
         self.sides.clear();
-        self.sides.extend(
-            boxes
-                .iter()
-                .filter(|b| is_finite(b) && !is_empty(b))
-                .map(|b| (b.max - b.min).max()),
-        );
+        // The grid's origin: the smallest corner of the finite boxes, so that an axis along
+        // which every box lies within one cell's side of the lowest (a 2D scene's z, its boxes
+        // grown by a margin about z = 0) has one cell, not two.
+        let mut origin = Vector3::repeat(f64::INFINITY);
+        for b in boxes.iter().filter(|b| is_finite(b) && !is_empty(b)) {
+            self.sides.push((b.max - b.min).max());
+            origin = origin.inf(&b.min);
+        }
         let cell = super::stats::median_of(&mut self.sides)
             .filter(|c| *c > 0.0)
             .unwrap_or(1.0);
-        let cell_of =
-            |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| floor(p[k] / cell) as i64) };
+        let index = |x: f64, k: usize| floor((x - origin[k]) / cell);
+        let cell_of = |p: &Vector3<f64>| -> [i64; 3] { [0, 1, 2].map(|k| index(p[k], k) as i64) };
         // Per entry: its cell's hash and the entry's index, sorted by the hash; the entries
         // then gathered in that order.
         self.entries.clear();
@@ -121,9 +129,10 @@ impl BroadGrid {
                 continue;
             }
             let covered: f64 = (0..3)
-                .map(|k| floor(b.max[k] / cell) - floor(b.min[k] / cell) + 1.0)
+                .map(|k| index(b.max[k], k) - index(b.min[k], k) + 1.0)
                 .product();
-            if !is_finite(b) || covered > MAX_CELLS as f64 {
+            // (Not a number where both ends lie beyond f64's range from the origin: wide too.)
+            if !is_finite(b) || !(covered <= MAX_CELLS as f64) {
                 self.wide.push(i);
                 continue;
             }
@@ -155,7 +164,12 @@ impl BroadGrid {
         let mut start = 0;
         while start < self.keys.len() {
             let key = self.keys[start].0;
-            let end = start + self.keys[start..].partition_point(|k| k.0 == key);
+            // A run is a few entries: found by walking it, not by a search of the whole list.
+            let end = start
+                + self.keys[start..]
+                    .iter()
+                    .take_while(|k| k.0 == key)
+                    .count();
             let group = &self.sorted[start..end];
             for (n, a) in group.iter().enumerate() {
                 for b in &group[n + 1..] {

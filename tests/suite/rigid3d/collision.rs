@@ -317,6 +317,39 @@ fn broad_phase_finds_touching_neighbours_once_on_a_regular_grid() {
     assert_eq!(grid.len(), 900 + 2 * 30 * 29 + 2 * 29 * 29);
 }
 
+/// A 2D scene's boxes as its detector grows them (z from −0.25 to 0.25 about the plane z = 0,
+/// the 2D margin): thickened along z by less than a cell's side, each is entered in as many
+/// cells as the same box flat (z = 0), not twice as many (the grid's cells are counted from the
+/// boxes' smallest corner, not from 0, which splits z = −0.25 … 0.25 in two), and the pairs are
+/// the same. 20 × 10 boxes of 1.5 × 1 blocks, 0.25 apart, in a running bond.
+#[test]
+fn a_flat_scene_s_boxes_thickened_by_the_margin_fill_one_layer_of_cells() {
+    let layout = |z: f64| -> Vec<Aabb> {
+        let mut boxes = Vec::new();
+        for row in 0..10 {
+            for k in 0..20 {
+                let x = 1.75 * k as f64 + if row % 2 == 1 { 0.875 } else { 0.0 };
+                let min = Vector3::new(x, 1.25 * row as f64, -z);
+                boxes.push(Aabb {
+                    min,
+                    max: min + Vector3::new(1.5 + 0.25, 1.0 + 0.25, 2.0 * z),
+                });
+            }
+        }
+        boxes
+    };
+    let (flat, thick) = (layout(0.0), layout(0.25));
+    let mut grid = BroadGrid::default();
+    let mut pairs = Vec::new();
+    grid.pairs_into(&flat, &mut pairs);
+    let (flat_entries, flat_pairs) = (grid.entered(), pairs.clone());
+    grid.pairs_into(&thick, &mut pairs);
+    assert_eq!(pairs, flat_pairs);
+    assert_eq!(pairs, sweep_and_prune_pairs(&thick));
+    assert!(flat_entries >= 200, "{flat_entries}");
+    assert_eq!(grid.entered(), flat_entries);
+}
+
 #[test]
 fn mesh_contacts_come_from_both_bodies_with_normals_out_of_body_2() {
     // Two boxes overlapping along x by 1 cm, the second turned 30° about y and raised 5 cm so
