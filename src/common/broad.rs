@@ -165,11 +165,7 @@ impl BroadGrid {
         while start < self.keys.len() {
             let key = self.keys[start].0;
             // A run is a few entries: found by walking it, not by a search of the whole list.
-            let end = start
-                + self.keys[start..]
-                    .iter()
-                    .take_while(|k| k.0 == key)
-                    .count();
+            let end = start + self.keys[start..].iter().take_while(|k| k.0 == key).count();
             let group = &self.sorted[start..end];
             for (n, a) in group.iter().enumerate() {
                 for b in &group[n + 1..] {
