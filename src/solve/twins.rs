@@ -119,12 +119,7 @@ pub fn solve_twins_local_until<const R: usize>(
     *lambda = best_answer;
     if best_error > tolerance {
         pairs = twin_pairs(problem, lambda, settings.share, settings.cosine);
-        let w = problem.velocity(lambda);
-        // Of each pair, leave out the contact moving apart faster (ties: the later one).
-        let choice: Vec<usize> = pairs
-            .iter()
-            .map(|&(a, b)| if w[a][0] > w[b][0] { a } else { b })
-            .collect();
+        let choice = first_choice(&pairs, &problem.velocity(lambda));
         let base = lambda.clone();
         let reduced = solve_without_twins(problem, settings, &pairs, choice, &base, error, lambda);
         iterations += reduced.iterations();
@@ -153,6 +148,17 @@ pub fn solve_twins_local_until<const R: usize>(
         iterations,
         report,
     }
+}
+
+/// The first choice of the contacts left out, one per pair (in the pairs' order): the contact
+/// moving apart faster at the velocities `w` (the larger w_n, m/s; ties: the later one, b of
+/// (a, b)). Its twin is the one pressed into contact, so the one that should carry the load.
+/// docs/contact.md §"Near-duplicate contacts left out", step 3.
+pub fn first_choice<const R: usize>(pairs: &[(usize, usize)], w: &[SVector<f64, R>]) -> Vec<usize> {
+    pairs
+        .iter()
+        .map(|&(a, b)| if w[a][0] > w[b][0] { a } else { b })
+        .collect()
 }
 
 /// What [`solve_without_twins`] did.

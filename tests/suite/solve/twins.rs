@@ -8,10 +8,11 @@ use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use proptest::prelude::*;
 use rigidref::problem::siconos::{AnyLocalProblem, read_dat};
 use rigidref::problem::{FrictionModel, LocalProblem, ProblemView, RowBounds};
+use rigidref::solve::residual::{coulomb_residual, residual};
 use rigidref::solve::residual::{siconos_error, siconos_error_measures, siconos_share};
 use rigidref::solve::solve_newton_local_until;
 use rigidref::solve::twins::{
-    TwinSettings, solve_twins_local_until, solve_without_twins, twin_pairs,
+    TwinSettings, first_choice, solve_twins_local_until, solve_without_twins, twin_pairs,
 };
 use rigidref::tools::experiments::problem_library::{
     LibrarySettings, LibrarySolver, attempt, library_error,
@@ -263,9 +264,52 @@ fn an_improving_restart_is_kept_and_restarted_from() {
         let report = solve_twins_local_until(&problem, settings, &mut error, &mut lambda);
         (report, lambda)
     };
-    let (once, _) = run(&held(1));
+    let (once, once_lambda) = run(&held(1));
     assert_eq!(once.whole_runs, 2, "{once:?}");
-    assert_eq!((once.pairs.clone(), once.left_out), (vec![(0, 1)], vec![1]));
+    assert_eq!(
+        (once.pairs.clone(), once.left_out.clone(), once.rounds),
+        (vec![(0, 1)], vec![1], 1),
+        "the first choice (contact 1, moving apart faster) is right: one round"
+    );
+    // The report after a reduction: every stage's iterations together (the two whole runs, as
+    // Newton alone reports them, and the reduction's), and the residuals and `converged` of
+    // the whole problem at the answer returned, not the reduced run's.
+    let settings = held(1);
+    let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+    let (mut first, mut second, mut reduced) = (Vec::new(), Vec::new(), Vec::new());
+    let mut stop = |l: &[SVector<f64, 3>]| siconos_error(&problem, l) <= 1e-8;
+    let r1 = solve_newton_local_until(&problem, &settings.newton, &mut stop, &mut first);
+    let from_first = problem.without(&[false; 2], &first).0;
+    let r2 = solve_newton_local_until(&from_first, &settings.newton, &mut stop, &mut second);
+    assert!(siconos_error(&problem, &second) < siconos_error(&problem, &first));
+    let reduction = solve_without_twins(
+        &problem,
+        &settings,
+        &[(0, 1)],
+        vec![1],
+        &second,
+        &mut error,
+        &mut reduced,
+    );
+    assert_eq!(reduced, once_lambda);
+    let expected = r1.iterations + r2.iterations + reduction.iterations();
+    println!(
+        "iterations: {} + {} + {} = {expected}, reported {}",
+        r1.iterations,
+        r2.iterations,
+        reduction.iterations(),
+        once.iterations
+    );
+    assert_eq!(once.iterations, expected);
+    assert_eq!(once.report.iterations, expected);
+    let whole = residual(&problem, &once_lambda);
+    assert_eq!(once.report.residual, whole);
+    assert!(whole <= settings.newton.tolerance, "{whole:e}");
+    assert!(once.report.converged);
+    assert_eq!(
+        once.report.coulomb_residual,
+        Some(coulomb_residual(&problem, &once_lambda))
+    );
     let (twice, lambda) = run(&held(2));
     assert_eq!(twice.whole_runs, 3, "{twice:?}");
     assert!(
@@ -273,6 +317,46 @@ fn an_improving_restart_is_kept_and_restarted_from() {
         "{twice:?}"
     );
     assert!(siconos_error(&problem, &lambda) <= 1e-8);
+}
+
+/// The first choice leaves out, of each pair, the contact moving apart faster (the larger
+/// w_n), and on an exact tie the later one: pairs with w_n (1, 0), (0, 1), (0.5, 0.5) and
+/// (−0, +0) (equal: a tie).
+#[test]
+fn the_first_choice_leaves_out_the_twin_moving_apart_faster_and_the_later_on_a_tie() {
+    let w: Vec<SVector<f64, 3>> = [1.0, 0.0, 0.0, 1.0, 0.5, 0.5, -0.0, 0.0]
+        .iter()
+        .map(|&n| nalgebra::Vector3::new(n, 0.3, -0.1))
+        .collect();
+    let pairs = [(0, 1), (2, 3), (4, 5), (6, 7)];
+    assert_eq!(first_choice(&pairs, &w), vec![0, 3, 5, 7]);
+}
+
+/// Every stage is judged by the caller's error, and only by it: an error of exactly the
+/// tolerance everywhere is solved at the first run (no restart, no pairs, no round); an error
+/// that never changes (1 everywhere) makes the first restart no better, which ends the
+/// restarts (2 whole runs of the 6 allowed), and no reduced answer is better, so nothing is
+/// left out and the first run's answer is returned.
+#[test]
+fn the_caller_s_error_decides_every_stage() {
+    let problem = twin_point();
+    let settings = TwinSettings {
+        restarts: 5,
+        ..TwinSettings::default()
+    };
+    let mut at_tolerance = |_: &[SVector<f64, 3>]| settings.tolerance;
+    let mut lambda = Vec::new();
+    let solved = solve_twins_local_until(&problem, &settings, &mut at_tolerance, &mut lambda);
+    assert_eq!((solved.whole_runs, solved.rounds), (1, 0), "{solved:?}");
+    assert!(solved.pairs.is_empty() && solved.left_out.is_empty());
+    let mut constant = |_: &[SVector<f64, 3>]| 1.0;
+    let stalled = solve_twins_local_until(&problem, &settings, &mut constant, &mut lambda);
+    assert_eq!(stalled.whole_runs, 2, "{stalled:?}");
+    assert!(stalled.left_out.is_empty());
+    let mut never = |_: &[SVector<f64, 3>]| false;
+    let mut first = Vec::new();
+    solve_newton_local_until(&problem, &settings.newton, &mut never, &mut first);
+    assert_eq!(lambda, first);
 }
 
 /// RockPile_tob1 (463 contacts, μ = 1), which no other solver of rigidref's or Siconos' solves
