@@ -180,6 +180,32 @@ fn a_twin_left_out_that_would_penetrate_swaps_with_its_twin() {
     assert!((lambda[0] - nalgebra::Vector3::new(1.0, -0.2, 0.0)).norm() <= 1e-7);
     let w = problem.velocity(&lambda);
     assert!(w[1][0] > 0.0, "contact 1 separates: w_n = {}", w[1][0]);
+    // Every round's iterations together (each round at least one).
+    assert_eq!(done.iterations(), done.report.iterations);
+    assert!(done.report.iterations >= 2, "{done:?}");
+    // Held to one round, the wrong choice is all there is: contact 0 left out, the answer
+    // better than the start (zero) but not solved (contact 0 approaches at −δ).
+    let one_round = TwinSettings {
+        rounds: 1,
+        ..TwinSettings::default()
+    };
+    let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
+    let held = solve_without_twins(
+        &problem,
+        &one_round,
+        &[(0, 1)],
+        vec![0],
+        &zero,
+        &mut error,
+        &mut lambda,
+    );
+    assert_eq!(
+        (held.rounds, held.left_out.clone()),
+        (1, vec![0]),
+        "{held:?}"
+    );
+    assert!(held.error > one_round.tolerance && held.error < siconos_error(&problem, &zero));
+    assert!(problem.velocity(&lambda)[0][0] < 0.0);
     // Starting from the right choice takes one round.
     let mut error = |l: &[SVector<f64, 3>]| siconos_error(&problem, l);
     let once = solve_without_twins(
@@ -292,13 +318,10 @@ fn an_improving_restart_is_kept_and_restarted_from() {
         &mut reduced,
     );
     assert_eq!(reduced, once_lambda);
-    let expected = r1.iterations + r2.iterations + reduction.iterations();
+    let expected = r1.iterations + r2.iterations + reduction.report.iterations;
     println!(
         "iterations: {} + {} + {} = {expected}, reported {}",
-        r1.iterations,
-        r2.iterations,
-        reduction.iterations(),
-        once.iterations
+        r1.iterations, r2.iterations, reduction.report.iterations, once.iterations
     );
     assert_eq!(once.iterations, expected);
     assert_eq!(once.report.iterations, expected);
