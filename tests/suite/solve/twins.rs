@@ -391,9 +391,8 @@ fn the_caller_s_error_decides_every_stage() {
 ///   the contact left out ends with w_n = 0 exactly: not approaching, so it does not swap (one
 ///   round, where a swap would try the other choice);
 /// - sliding on a coupled body (q_t = 2 m/s, μ = 0.3: the reduced problem takes several Newton
-///   iterations), an
-///   error that reaches the tolerance once contact 0 carries anything stops the round after its
-///   first iteration, before the reduced problem is solved.
+///   iterations), an error that reaches the tolerance once contact 0 carries anything stops
+///   the round after its first iteration, before the reduced problem is solved.
 #[test]
 fn the_rounds_are_judged_by_the_caller_s_error() {
     // W = [[A, A], [A, A]]: the point's (A = I), or a body whose contact couples its normal
