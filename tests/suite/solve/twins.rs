@@ -152,6 +152,39 @@ fn twin_pairs_are_the_contacts_carrying_the_error_with_a_parallel_normal_row() {
     assert!(twin_pairs(&random, &zero, 1.0, 1e-8).is_empty());
 }
 
+/// The pairs are looked for among the largest terms of the error until they make up `share`
+/// of it, and each contact is paired once: two point masses at rest, the first touched three
+/// times at one point (contacts 0–2, q_n = −0.3 m/s, the second and third 1 and 2 µm/s slower),
+/// the second twice (contacts 3–4, q_n = −0.1 m/s); at λ = 0 the terms are q_n², 0.29 in all.
+/// - share 1: (0, 1) and (3, 4); contact 1, paired, is not paired again with 2, and 2 has no
+///   unpaired twin left;
+/// - share 0.3: contact 0's term (0.09) is already 0.3 of the total, so only (0, 1);
+/// - contact 3 a joint (its term ‖w‖² is not zero): it is never paired, with share 1.
+#[test]
+fn twin_pairs_take_the_largest_terms_up_to_the_share_and_pair_each_contact_once() {
+    let mut w = DMatrix::zeros(15, 15);
+    for (lo, hi) in [(0, 2), (3, 4)] {
+        for a in lo..=hi {
+            for b in lo..=hi {
+                w.fixed_view_mut::<3, 3>(3 * a, 3 * b)
+                    .copy_from(&SMatrix::<f64, 3, 3>::identity());
+            }
+        }
+    }
+    let qn = [-0.3, -0.3 + 1e-6, -0.3 + 2e-6, -0.1, -0.1 + 1e-6];
+    let q = DVector::from_iterator(15, qn.iter().flat_map(|&n| [n, 0.0, 0.0]));
+    let problem = LocalProblem::from_dense(FrictionModel::Cone, &w, &q, &[0.5; 5]).unwrap();
+    let zero = vec![SVector::<f64, 3>::zeros(); 5];
+    let total: f64 = qn.iter().map(|n| n * n).sum();
+    assert!((total - 0.29).abs() < 1e-5);
+    assert_eq!(twin_pairs(&problem, &zero, 1.0, 1e-8), vec![(0, 1), (3, 4)]);
+    assert_eq!(twin_pairs(&problem, &zero, 0.3, 1e-8), vec![(0, 1)]);
+    let mut joint = problem.clone();
+    joint.contacts[3].bounds = RowBounds::Free;
+    assert!(siconos_share(RowBounds::Free, 0.5, &zero[3], &joint.velocity(&zero)[3]) > 0.0);
+    assert_eq!(twin_pairs(&joint, &zero, 1.0, 1e-8), vec![(0, 1)]);
+}
+
 /// A wrong first choice is corrected: leaving out the loaded twin (contact 0), the reduced
 /// answer loads contact 1 and contact 0 ends approaching (w_n = −δ < 0), so the pair swaps and
 /// the second round leaves out contact 1: solved on the whole problem (each round stops where
