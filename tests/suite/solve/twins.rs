@@ -538,6 +538,19 @@ fn newton_twins_solves_rockpile_from_zero_leaving_out_one_contact_of_each_stalle
     assert!(measures.absolute <= 1e-8 * 399.6);
     assert_eq!(report.whole_runs, 2, "the first run and one restart");
     assert_eq!(report.left_out.len(), 3, "one of each of three pairs");
+    // The report's residuals are the whole problem's at the answer, the contacts left out
+    // included, not the reduced run's.
+    let whole = residual(&problem, &lambda);
+    println!(
+        "rigidref's residual: whole problem {whole:.3e} m/s, reported {:.3e}",
+        report.report.residual
+    );
+    assert_eq!(report.report.residual, whole);
+    assert_eq!(report.report.converged, whole <= settings.newton.tolerance);
+    assert_eq!(
+        report.report.coulomb_residual,
+        Some(coulomb_residual(&problem, &lambda))
+    );
     let w = problem.constraint_velocity(&lambda);
     let big_w = problem.dense_w();
     for &k in &report.left_out {
