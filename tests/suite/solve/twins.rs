@@ -189,8 +189,9 @@ fn twin_pairs_take_the_largest_terms_up_to_the_share_and_pair_each_contact_once(
 /// of them has: twins 1 and 2 (the same normal row of W) where only contact 2's block row holds
 /// a block with contact 0 (W₂₀ couples contact 0's normal impulse to contact 2's first
 /// tangent, 0.1 kg⁻¹; W₁₀ = 0, so contact 1's row has no such block). W is symmetric positive
-/// semi-definite (eigenvalues 0 to 2.1). Either twin may carry the larger term, so the sparse
-/// rows are walked both ways (one starts before the other); both find the pair (1, 2).
+/// semi-definite (eigenvalues 0 to 2.1). With share ½ only the twin with the larger term looks
+/// for its pair; each twin in turn carries it, so the sparse rows are walked both ways (one
+/// starts before the other); both find the pair (1, 2).
 #[test]
 fn twin_rows_are_compared_over_their_common_blocks_whatever_blocks_only_one_has() {
     let identity = SMatrix::<f64, 3, 3>::identity();
@@ -211,7 +212,7 @@ fn twin_rows_are_compared_over_their_common_blocks_whatever_blocks_only_one_has(
     ] {
         w.fixed_view_mut::<3, 3>(3 * r, 3 * c).copy_from(&block);
     }
-    for (first, second) in [(-1.0, -1.0 + 1e-6), (-1.0 - 1e-6, -1.0)] {
+    for (first, second) in [(-1.0, -1.0 + 1e-6), (-1.0, -1.0 - 1e-6)] {
         // Contact 0 separates (its term is zero); the twins approach.
         let q = DVector::from_vec(vec![1.0, 0.0, 0.0, first, 0.0, 0.0, second, 0.0, 0.0]);
         let problem = LocalProblem::from_dense(FrictionModel::Cone, &w, &q, &[0.5; 3]).unwrap();
@@ -223,7 +224,7 @@ fn twin_rows_are_compared_over_their_common_blocks_whatever_blocks_only_one_has(
         assert_eq!(rows, vec![vec![0, 2], vec![1, 2], vec![0, 1, 2]]);
         let zero = vec![SVector::<f64, 3>::zeros(); 3];
         assert_eq!(
-            twin_pairs(&problem, &zero, 1.0, 1e-8),
+            twin_pairs(&problem, &zero, 0.5, 1e-8),
             vec![(1, 2)],
             "q {q:?}"
         );
