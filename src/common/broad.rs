@@ -56,8 +56,9 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(usize, usize)> {
 /// allocation once grown). docs/contact.md §"Broad phase".
 ///
 /// The cell side is the median of the boxes' largest sides, and the cells are counted from the
-/// smallest corner of the finite boxes. A box is entered in every cell it covers; two boxes in one cell are tested, and a pair that overlaps is reported by one cell
-/// only, the cell holding the smallest corner of their intersection (so no pair is found twice).
+/// smallest corner of the finite boxes. A box is entered in every cell it covers; two boxes in
+/// one cell are tested, and a pair that overlaps is reported by one cell only, the cell holding
+/// the smallest corner of their intersection (so no pair is found twice).
 /// A box covering more than [`MAX_CELLS`] cells (a container, the ground) is tested against every
 /// other box instead. Boxes that are empty (a smallest corner beyond the largest) or not a number
 /// overlap nothing. The same pairs as [`sweep_and_prune_pairs`] and as testing all pairs; the cost
