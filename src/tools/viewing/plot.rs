@@ -203,13 +203,13 @@ fn draw<DB: DrawingBackend>(
                 } else {
                     "no finite value"
                 };
-                let c = *colour;
                 chart
-                    .draw_series(LineSeries::new(std::iter::empty(), c.stroke_width(width)))?
+                    .draw_series(LineSeries::new(
+                        std::iter::empty(),
+                        colour.stroke_width(width),
+                    ))?
                     .label(format!("{name} ({why})"))
-                    .legend(move |(x, y)| {
-                        PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2))
-                    });
+                    .legend(legend_mark(*colour));
             }
             for (k, segment) in segments.iter().enumerate() {
                 let drawn = chart.draw_series(LineSeries::new(
@@ -217,10 +217,7 @@ fn draw<DB: DrawingBackend>(
                     colour.stroke_width(width),
                 ))?;
                 if k == 0 {
-                    let c = *colour;
-                    drawn.label(name.as_str()).legend(move |(x, y)| {
-                        PathElement::new([(x, y), (x + 18, y)], c.stroke_width(2))
-                    });
+                    drawn.label(name.as_str()).legend(legend_mark(*colour));
                 }
             }
         }
@@ -232,4 +229,9 @@ fn draw<DB: DrawingBackend>(
             .draw()?;
     }
     Ok(())
+}
+
+/// A series' mark in the legend: a short line in its colour.
+fn legend_mark(colour: RGBColor) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new([(x, y), (x + 18, y)], colour.stroke_width(2))
 }
