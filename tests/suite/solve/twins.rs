@@ -540,6 +540,63 @@ fn the_rounds_are_judged_by_the_caller_s_error() {
     assert!(residual(&sliding, &lambda) > settings.newton.tolerance);
 }
 
+/// The report after a reduction is the whole problem's, the contacts left out included: twins
+/// whose normal rows are parallel but of different lengths (W = v vᵀ ⊗ I, v = (1, 2)), each
+/// Newton run held to its start (no iteration), both contacts loaded at the start (contact 0
+/// with 1 N·s, which alone solves the problem without contact 1; contact 1 with 0.3), and a
+/// caller's error met only where contact 1 carries nothing and contact 0 does. Contact 1 (w_n
+/// 0.7 against 0.6 m/s at the start) is left out; the round stops at once and its answer is
+/// kept: contact 0 exactly at rest (w_n = 0: the reduced problem solved, its own residual 0),
+/// contact 1, left out, approaching at 0.5 m/s: the whole problem's residual 0.5, not converged.
+#[test]
+fn the_report_after_a_reduction_counts_the_contacts_left_out() {
+    let mut w = DMatrix::zeros(6, 6);
+    let v = [1.0, 2.0];
+    for a in 0..2 {
+        for b in 0..2 {
+            w.fixed_view_mut::<3, 3>(3 * a, 3 * b)
+                .copy_from(&(SMatrix::<f64, 3, 3>::identity() * (v[a] * v[b])));
+        }
+    }
+    let q = DVector::from_vec(vec![-1.0, 0.0, 0.0, -2.5, 0.0, 0.0]);
+    let mut problem = LocalProblem::from_dense(FrictionModel::Cone, &w, &q, &[0.5, 0.5]).unwrap();
+    problem.contacts[0].lambda0 = nalgebra::Vector3::new(1.0, 0.0, 0.0);
+    problem.contacts[1].lambda0 = nalgebra::Vector3::new(0.3, 0.0, 0.0);
+    let settings = TwinSettings {
+        newton: rigidref::solve::NewtonSettings {
+            max_iterations: 0,
+            proximal_iterations: 0,
+            ..Default::default()
+        },
+        restarts: 0,
+        ..TwinSettings::default()
+    };
+    let zero = SVector::<f64, 3>::zeros();
+    let mut error = |l: &[SVector<f64, 3>]| {
+        if l[1] == zero && l[0] != zero {
+            settings.tolerance
+        } else {
+            1.0
+        }
+    };
+    let mut lambda = Vec::new();
+    let report = solve_twins_local_until(&problem, &settings, &mut error, &mut lambda);
+    assert_eq!(
+        (report.pairs.clone(), report.left_out.clone()),
+        (vec![(0, 1)], vec![1])
+    );
+    let wv = problem.velocity(&lambda);
+    assert_eq!((wv[0][0], wv[1][0]), (0.0, -0.5));
+    let whole = residual(&problem, &lambda);
+    assert_eq!(whole, 0.5);
+    assert_eq!(report.report.residual, whole);
+    assert!(!report.report.converged);
+    assert_eq!(
+        report.report.coulomb_residual,
+        Some(coulomb_residual(&problem, &lambda))
+    );
+}
+
 /// RockPile_tob1 (463 contacts, μ = 1), which no other solver of rigidref's or Siconos' solves
 /// (docs/problem-library.md §"RockPile_tob1"), solved from λ = 0 by `solve-problems`'
 /// newton-twins as `rigidref solve-problems --solver newton-twins` runs it: to 1e-8 in
