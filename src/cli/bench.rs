@@ -27,7 +27,8 @@ rapier3d-f64 mirror of the same scene (same bodies, dt, gravity, μ; rapier's so
 the PGS sweeps; sleeping off; one thread), interleaved so that both see the machine's slow and
 fast spells; the medians are reported. rigidref's step is split into detection, assembly, PGS,
 applying, integration and the penetration measure (2D: post-stabilisation), rapier's by its own
-timers (collision detection, constraint setup, velocity iterations), and PGS's cost per contact
+timers (collision detection, the solver's serial set-up, velocity iterations: rapier 0.36 generates
+its contact constraints inside the iterations' timer), and PGS's cost per contact
 per sweep is given. Fitted exponents say how the cost grows with the bodies, and the speed
 targets of docs/performance.md are read off the table. Timings are this machine's: compare
 ratios from one run.

@@ -36,9 +36,14 @@ pub struct RapierPhases {
     pub collision: f64,
     /// Of which the narrow phase.
     pub narrow_phase: f64,
-    /// Constraint setup: the solver's velocity assembly.
+    /// The solver's serial set-up before its workers start (its "velocity assembly" timer). In
+    /// rapier 0.36's staged island solver this is not the constraint set-up: the workers
+    /// generate the contact constraints (and write the impulses back) inside the iterations'
+    /// timer, 5–9 % of it on the pyramids (docs/performance.md §"Issue 49: what rapier's set-up
+    /// timer holds").
     pub setup: f64,
-    /// The velocity iterations (its substepped solve).
+    /// The velocity iterations (its substepped solve), with the workers' constraint generation,
+    /// impulse write-back and position integration.
     pub iterations: f64,
     /// The whole step.
     pub step: f64,

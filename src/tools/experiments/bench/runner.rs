@@ -65,7 +65,8 @@ pub struct BenchRow {
     /// integrate, measure (3D: the penetration measure; 2D: post-stabilisation) ([`PhaseTimes`]).
     pub phases_ms: [f64; 6],
     /// rapier's own phase timers, ms per step (median round): collision detection (broad and
-    /// narrow phase), constraint setup, velocity iterations
+    /// narrow phase), the solver's serial set-up, velocity iterations (with the constraint
+    /// generation)
     /// ([`crate::verify::references::rapier::RapierPhases`]).
     pub rapier_phases_ms: Option<[f64; 3]>,
     /// PGS ns per contact per sweep.
@@ -90,7 +91,8 @@ impl BenchRow {
         self.phases_ms[0] + self.phases_ms[1] + self.phases_ms[3]
     }
 
-    /// That over rapier's collision detection and constraint setup.
+    /// That over rapier's collision detection and serial set-up (its timers give its constraint
+    /// generation no timer of its own: [`crate::verify::references::rapier::RapierPhases::setup`]).
     pub fn around_solve_ratio(&self) -> Option<f64> {
         self.rapier_phases_ms
             .map(|r| self.around_solve_ms() / (r[0] + r[1]))
