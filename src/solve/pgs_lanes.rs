@@ -388,41 +388,10 @@ pub(super) unsafe fn visit_groups<const D: usize, const R: usize>(
         unsafe { visit_groups_avx2(friction, groups, shared) };
         return;
     }
-    for (i, g) in groups.iter().enumerate() {
-        prefetch_bodies(groups, i + AHEAD, shared);
+    for g in groups {
         // SAFETY: the caller's contract.
         unsafe { visit_group(friction, g, shared) };
     }
-}
-
-/// Groups ahead whose bodies' Δu and contacts' λ a visit asks the processor to start loading.
-const AHEAD: usize = 2;
-
-/// Asks the processor to start loading the Δu of group `i`'s bodies and its contacts' λ (they
-/// are scattered over the bodies and contacts, where the groups themselves are read in order).
-/// Only a hint: it reads nothing into the program and changes no value. Measured in
-/// docs/performance.md §"Issue 49: what rapier's set-up timer holds".
-#[inline(always)]
-fn prefetch_bodies<const D: usize, const R: usize>(
-    groups: &[LaneGroup<D, R>],
-    i: usize,
-    shared: &Shared<D, R>,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(g) = groups.get(i) {
-        let hint = |p: *const i8| {
-            // SAFETY: a prefetch never faults and reads nothing into the program.
-            unsafe { std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(p) }
-        };
-        for l in 0..LANES {
-            for s in 0..2 {
-                hint(shared.delta_velocity.wrapping_add(g.body[s][l]) as *const i8);
-            }
-            hint(shared.lambda.wrapping_add(g.contact[l]) as *const i8);
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = (groups, i, shared);
 }
 
 /// [`visit_groups`] compiled for AVX2 (four f64 lanes per instruction).
@@ -436,8 +405,7 @@ unsafe fn visit_groups_avx2<const D: usize, const R: usize>(
     groups: &[LaneGroup<D, R>],
     shared: &Shared<D, R>,
 ) {
-    for (i, g) in groups.iter().enumerate() {
-        prefetch_bodies(groups, i + AHEAD, shared);
+    for g in groups {
         // SAFETY: the caller's contract.
         unsafe { visit_group(friction, g, shared) };
     }
