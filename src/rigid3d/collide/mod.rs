@@ -37,6 +37,7 @@ pub mod closest_point;
 pub mod coherence;
 pub mod detect;
 pub mod ellipsoid;
+pub mod gjk;
 pub mod ground;
 pub mod manifold;
 pub mod mesh_pair;

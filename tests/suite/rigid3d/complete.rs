@@ -561,6 +561,139 @@ fn box_pieces_are_recognised_and_their_depth_matches_the_oracle() {
     );
 }
 
+/// The pruned oracle behind the penetration measure (docs/contact.md §"Penetration measure"):
+/// on random poses of pieces of the project's ball, box, slab, rattleback and tee, apart or
+/// overlapping, the GJK verdict it starts from is a certificate — "apart" only where the
+/// brute-force separating-axis oracle finds a separating axis, "overlap" only where it finds none
+/// — and "undecided" is rare; and the pruned depth, called directly (no box shortcut), is the
+/// brute force's to round-off (the same minimum over a subset of the axes that holds the
+/// minimising one; 1e-12 m on these half-metre pieces).
+#[test]
+fn gjk_verdicts_are_certificates_and_the_pruned_oracle_matches_brute_force() {
+    use rigidref::rigid3d::collide::gjk::{Verdict, hulls_overlap};
+    use rigidref::rigid3d::collide::sat::OracleBuffers;
+    let meshes = ["ball", "box", "slab", "rattleback", "tee"].map(project_mesh);
+    let pieces: Vec<_> = meshes
+        .iter()
+        .flat_map(|m| ConvexPieces::of_mesh(m).unwrap().pieces)
+        .collect();
+    let v3 = |r: f64| (-r..r, -r..r, -r..r).prop_map(|(a, b, c)| Vector3::new(a, b, c));
+    let counts = std::cell::RefCell::new([0usize; 3]);
+    let oracle = std::cell::RefCell::new(OracleBuffers::default());
+    proptest!(common::seeded(600), |(
+        a in 0..pieces.len(),
+        b in 0..pieces.len(),
+        offset in v3(0.8),
+        turn_a in v3(3.0),
+        turn_b in v3(3.0),
+    )| {
+        let (ra, rb) = (*Rotation3::new(turn_a).matrix(), *Rotation3::new(turn_b).matrix());
+        let (xa, xb) = (Vector3::zeros(), offset);
+        let mut oracle = oracle.borrow_mut();
+        let brute = oracle.depth((&pieces[a], &ra, &xa), (&pieces[b], &rb, &xb), false);
+        let pruned = oracle.depth((&pieces[a], &ra, &xa), (&pieces[b], &rb, &xb), true);
+        prop_assert!((pruned - brute).abs() <= 1e-12, "pruned {pruned}, brute force {brute}");
+        let world = |p: &rigidref::rigid3d::collide::pieces::Piece, r: &Matrix3<f64>, x: &Vector3<f64>| {
+            p.vertices.iter().map(|v| r * v + x).collect::<Vec<_>>()
+        };
+        let (va, vb) = (world(&pieces[a], &ra, &xa), world(&pieces[b], &rb, &xb));
+        let verdict = hulls_overlap(&va, &vb, &-offset);
+        match verdict {
+            Verdict::Apart => prop_assert_eq!(brute, 0.0),
+            Verdict::Overlap => prop_assert!(brute > 0.0, "overlap certified, yet an axis separates"),
+            Verdict::Undecided => {}
+        }
+        counts.borrow_mut()[verdict as usize] += 1;
+    });
+    let [overlap, apart, undecided] = *counts.borrow();
+    println!("verdicts: {overlap} overlap, {apart} apart, {undecided} undecided");
+    // Both verdicts must be exercised; undecided is for the origin on the boundary of A − B,
+    // which random poses almost never give.
+    assert!(
+        overlap > 100 && apart > 100,
+        "{overlap} overlap, {apart} apart"
+    );
+    assert!(undecided <= 6, "{undecided} undecided of 600");
+}
+
+/// The GJK certificate on the degenerate poses users write: a piece against itself (overlap),
+/// boxes face to face with no gap or 1 ulp apart, and a ball resting on a box with its lowest
+/// vertex exactly on the face. Touching may be called either "overlap" (they share a point) or
+/// "undecided", never "apart"; 1 ulp apart may be "apart" or "undecided". The pruned oracle's
+/// depth is the brute force's to round-off: a piece against itself ties many axes (the ball's
+/// depth came 1 ulp apart), so 1e-12 m as in the random campaign, and 0 exactly where the brute
+/// force's is 0.
+#[test]
+fn gjk_verdicts_on_touching_and_identical_pieces() {
+    use rigidref::rigid3d::collide::gjk::{Verdict, hulls_overlap};
+    use rigidref::rigid3d::collide::sat::OracleBuffers;
+    let piece = |name: &str| {
+        ConvexPieces::of_mesh(&project_mesh(name))
+            .unwrap()
+            .pieces
+            .remove(0)
+    };
+    let (cube, ball) = (piece("box"), piece("ball"));
+    let lowest = ball
+        .vertices
+        .iter()
+        .map(|v| v.y)
+        .fold(f64::INFINITY, f64::min);
+    let top = cube
+        .vertices
+        .iter()
+        .map(|v| v.y)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let one = Matrix3::identity();
+    let mut oracle = OracleBuffers::default();
+    for (name, a, b, dy, touching) in [
+        ("the box against itself", &cube, &cube, 0.0, false),
+        ("the ball against itself", &ball, &ball, 0.0, false),
+        ("box on box, no gap", &cube, &cube, 2.0 * top, true),
+        (
+            "box on box, 1 ulp apart",
+            &cube,
+            &cube,
+            (2.0 * top).next_up(),
+            true,
+        ),
+        (
+            "ball on box, lowest vertex on the face",
+            &cube,
+            &ball,
+            top - lowest,
+            true,
+        ),
+    ] {
+        let x_b = Vector3::new(0.0, dy, 0.0);
+        let vb: Vec<_> = b.vertices.iter().map(|v| v + x_b).collect();
+        let verdict = hulls_overlap(&a.vertices, &vb, &-x_b);
+        let brute = oracle.depth((a, &one, &Vector3::zeros()), (b, &one, &x_b), false);
+        let pruned = oracle.depth((a, &one, &Vector3::zeros()), (b, &one, &x_b), true);
+        println!("{name}: {verdict:?}, depth {pruned} (brute force {brute})");
+        assert!(
+            (pruned - brute).abs() <= 1e-12,
+            "{name}: {pruned} against {brute}"
+        );
+        assert_eq!(
+            pruned == 0.0,
+            brute == 0.0,
+            "{name}: {pruned} against {brute}"
+        );
+        if touching {
+            assert!(brute <= 1e-15, "{name}: {brute}");
+            if name.contains("ulp") {
+                assert_ne!(verdict, Verdict::Overlap, "{name}");
+            } else {
+                assert_ne!(verdict, Verdict::Apart, "{name}");
+            }
+        } else {
+            assert_eq!(verdict, Verdict::Overlap, "{name}");
+            assert!(brute > 0.1, "{name}: {brute}");
+        }
+    }
+}
+
 #[test]
 fn penetration_measure_is_zero_for_separated_bodies() {
     let meshes = [
