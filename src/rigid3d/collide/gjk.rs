@@ -194,3 +194,66 @@ impl Simplex {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tetrahedron(points: [[f64; 3]; 4]) -> Simplex {
+        let mut simplex = Simplex::default();
+        for p in points {
+            simplex.push(Vector3::from(p));
+        }
+        simplex
+    }
+
+    /// The overlap certificate's own sign tests, apart from the steps that lead to them: a
+    /// tetrahedron about the origin holds it, also with the origin on a face; one beside the
+    /// origin (by 1e-9 m) or flat does not.
+    #[test]
+    fn the_overlap_certificate_holds_the_origin_only_inside_or_on_the_tetrahedron() {
+        let about = [
+            [1.0, 0.0, -1.0],
+            [-1.0, 0.0, -1.0],
+            [0.0, 1.0, 1.0],
+            [0.0, -1.0, 1.0],
+        ];
+        assert!(tetrahedron(about).contains_origin());
+        let on_a_face = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, -1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        assert!(tetrahedron(on_a_face).contains_origin());
+        let beside = on_a_face.map(|[x, y, z]| [x, y, z + 1e-9]);
+        assert!(!tetrahedron(beside).contains_origin());
+        let flat = [
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [-1.0, -1.0, 0.0],
+            [1.0, 1.0, 0.0],
+        ];
+        assert!(!tetrahedron(flat).contains_origin());
+    }
+
+    /// The apart certificate: two unit cubes 1e-9 m apart are apart, and GJK says so; the same
+    /// cubes overlapping by 1e-9 m are not.
+    #[test]
+    fn cubes_a_nanometre_apart_are_apart_and_a_nanometre_into_each_other_overlap() {
+        let cube = |dx: f64| -> Vec<Vector3<f64>> {
+            (0..8)
+                .map(|k| Vector3::new((k & 1) as f64 + dx, ((k >> 1) & 1) as f64, (k >> 2) as f64))
+                .collect()
+        };
+        let first = Vector3::new(-1.0, 0.0, 0.0);
+        assert_eq!(
+            hulls_overlap(&cube(0.0), &cube(1.0 + 1e-9), &first),
+            Verdict::Apart
+        );
+        assert_eq!(
+            hulls_overlap(&cube(0.0), &cube(1.0 - 1e-9), &first),
+            Verdict::Overlap
+        );
+    }
+}
