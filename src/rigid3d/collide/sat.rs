@@ -241,7 +241,7 @@ impl OracleBuffers {
                 // With the prune: the pair carries the MTD only along its own axis, where p − q
                 // = ±d n makes the distance of the edges' lines, |(ma − mb)·n|, exactly d (module
                 // docs). Only where the axis is well conditioned: the line distance's relative
-                // round-off is about 1e-16 over the sine of the edges' angle.
+                // round-off is roughly 1e-16 over the sine of the edges' angle (an estimate).
                 if prune
                     && c.norm() >= 1e-3 * da.norm() * db.norm()
                     && ((ma - mb).dot(&axis).abs() > depth + slack
