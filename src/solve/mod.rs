@@ -35,6 +35,7 @@ mod pgs_sweep;
 mod pgs_threads;
 mod pgs_visit;
 mod pgs_workspace;
+mod prefetch;
 pub mod projection;
 pub mod qp;
 pub mod residual;

@@ -11,6 +11,7 @@ use super::pgs_rows::{BodyRows, CachedRows, LaneRows, Slot, lane_copies, write_b
 use super::pgs_settings::{ContactOrder, Lanes};
 use super::pgs_setup::build_entry;
 use super::pgs_visit::ContactRows;
+use super::prefetch::prefetch_object;
 use super::projection::project_feasible;
 use super::residual::RowScales;
 use super::sweep_entry::{Entry, RowLaw};
@@ -506,27 +507,6 @@ fn columns_finite<const D: usize, const R: usize>(entry: &Entry<D, R>) -> bool {
         .inverse_mass_jacobian_t
         .iter()
         .all(|m| m.iter().all(|x| x.is_finite()))
-}
-
-/// Asks the processor to start loading `value`'s bytes, a cache line at a time (x86-64; elsewhere
-/// nothing). Only a hint: it reads nothing into the program and changes no value.
-#[inline(always)]
-fn prefetch_object<T>(value: &T) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        let p = value as *const T as *const i8;
-        for offset in (0..std::mem::size_of::<T>()).step_by(64) {
-            // SAFETY: a prefetch never faults and reads nothing into the program; the
-            // addresses are inside `value`.
-            unsafe {
-                std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-                    p.wrapping_add(offset),
-                )
-            };
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
 }
 
 /// The `i`-th of `colours` colours sweep `sweep` visits: `sweep_colours`' entry, or `i` where
