@@ -250,6 +250,12 @@ pub fn svg(rows: &[BenchRow], path: &std::path::Path, title: &str) -> Result<(),
     if !y_min.is_finite() {
         (y_min, y_max) = (0.01, 1.0);
     }
+    // Whole decades on the time axis, so that every point lies between two labelled powers of
+    // ten (with a range inside one decade the axis labelled only the upper decade's ticks).
+    let (y_low, y_high) = (
+        decade_below((y_min * 0.7).max(1e-6)),
+        decade_above((y_max * 1.5).max(1e-6)),
+    );
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
     let mut chart = ChartBuilder::on(&root)
@@ -257,10 +263,7 @@ pub fn svg(rows: &[BenchRow], path: &std::path::Path, title: &str) -> Result<(),
         .margin(20)
         .x_label_area_size(45)
         .y_label_area_size(65)
-        .build_cartesian_2d(
-            (1.0..x_max * 1.5).log_scale(),
-            (y_min * 0.7..y_max * 1.5).log_scale(),
-        )
+        .build_cartesian_2d((1.0..x_max * 1.5).log_scale(), (y_low..y_high).log_scale())
         .map_err(|e| err(&e))?;
     chart
         .configure_mesh()
@@ -323,6 +326,16 @@ pub fn svg(rows: &[BenchRow], path: &std::path::Path, title: &str) -> Result<(),
     Ok(())
 }
 
+/// The largest power of ten at or below `y` (> 0), ms.
+fn decade_below(y: f64) -> f64 {
+    10f64.powf(y.log10().floor())
+}
+
+/// The smallest power of ten at or above `y` (> 0), ms.
+fn decade_above(y: f64) -> f64 {
+    10f64.powf(y.log10().ceil())
+}
+
 /// The solver rows as a Markdown table.
 pub fn solver_markdown(rows: &[SolverRow]) -> String {
     let mut out = String::from(
@@ -343,4 +356,21 @@ pub fn solver_markdown(rows: &[SolverRow]) -> String {
         ));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{decade_above, decade_below};
+
+    #[test]
+    fn the_time_axis_spans_whole_decades_around_the_points() {
+        // A range inside one decade (1.23 to 49 ms) becomes 1 to 100 ms, so that both ends are
+        // labelled powers of ten; a power of ten is its own decade, exactly.
+        assert_eq!(decade_below(1.23), 1.0);
+        assert_eq!(decade_above(49.0), 100.0);
+        assert_eq!(decade_below(10.0), 10.0);
+        assert_eq!(decade_above(10.0), 10.0);
+        assert!(decade_below(0.0147) <= 0.0147 && decade_below(0.0147) > 0.00147);
+        assert!(decade_above(0.0147) >= 0.0147 && decade_above(0.0147) < 0.147);
+    }
 }
