@@ -46,7 +46,7 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !joint
         && super::pgs_lanes::dimensions_fit::<D, R>();
     // The entries, and the warm start applied in problem order as they are built.
-    workspace.prepare(problem, settings.order, lanes, lambda);
+    let lanes = workspace.prepare(problem, settings.order, lanes, lambda);
     workspace.draw_sweep_colours(settings.order, settings.max_iterations);
     let mut iterations = 0;
     let mut converged = false;

@@ -37,8 +37,13 @@ pub(super) struct LaneGroup<const D: usize, const R: usize> {
     moving: [[bool; LANES]; 2],
     /// J_sᵀ: [side][row][component], lane by lane.
     jacobian_t: [[[Wide; D]; R]; 2],
-    /// M_s⁻¹ J_sᵀ: [side][row][component], lane by lane.
-    inverse_mass_jacobian_t: [[[Wide; D]; R]; 2],
+    /// m_s⁻¹ per side, kg⁻¹: M_s⁻¹ J_sᵀ's linear rows (the first [`linear_components`]) are
+    /// m_s⁻¹ J_sᵀ's, to the bit (`set_lane` checks it); 0 for the static world and a side held
+    /// fixed.
+    inverse_mass: [Wide; 2],
+    /// M_s⁻¹ J_sᵀ's angular rows, both sides in one row of D: [row][s · A + a] is component
+    /// L + a of side s (L = [`linear_components`], A = D − L, and 2A ≤ D), lane by lane.
+    angular_inverse_mass_jacobian_t: [[Wide; D]; R],
     /// b per row, m/s.
     b: [Wide; R],
     /// a_r per row.
@@ -58,6 +63,15 @@ pub(super) const fn dimensions_fit<const D: usize, const R: usize>() -> bool {
     D < 8 && R >= 1
 }
 
+/// L, the leading components of a body's velocity that are linear, ⌈D / 2⌉: (v, ω) in 3D (3 of
+/// 6), (v_x, v_y, ω) in 2D (2 of 3). Where a body's M⁻¹ is m⁻¹ on them and couples them to
+/// nothing else (a rigid body's, about its centre of mass), M⁻¹ J_sᵀ's linear rows are m⁻¹ J_sᵀ's,
+/// and a group keeps m⁻¹ instead of them (docs/contact.md §"Four contacts per lane", "One
+/// inverse mass a side").
+pub(super) const fn linear_components(d: usize) -> usize {
+    d.div_ceil(2)
+}
+
 impl<const D: usize, const R: usize> LaneGroup<D, R> {
     /// A group with every lane empty (all zero; no side a body), to be filled lane by lane with
     /// [`LaneGroup::set_lane`] where it is stored: made only when the groups grow, since
@@ -70,7 +84,8 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
             present: [Mask::NONE; 2],
             moving: [[false; LANES]; 2],
             jacobian_t: [[[zero; D]; R]; 2],
-            inverse_mass_jacobian_t: [[[zero; D]; R]; 2],
+            inverse_mass: [zero; 2],
+            angular_inverse_mass_jacobian_t: [[zero; D]; R],
             b: [zero; R],
             diagonal: [zero; R],
             tangent_rho: zero,
@@ -80,10 +95,27 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
     }
 
     /// Puts contact `k`'s entry `e` in lane `l`: every quantity of the lane written, each from
-    /// the entry (nothing computed), the static world's side as zeros, so that a group reused
-    /// from an earlier solve keeps nothing of it once its four lanes are set. `moving[b]`:
-    /// whether body b's inverse mass is not zero.
-    pub(super) fn set_lane(&mut self, l: usize, k: usize, e: &Entry<D, R>, moving: &[bool]) {
+    /// the entry, the static world's side as zeros, so that a group reused from an earlier
+    /// solve keeps nothing of it once its four lanes are set. `moving[b]`: whether body b's
+    /// inverse mass is not zero; `inverse_mass[s]`: side s's body's m⁻¹ (M⁻¹'s first diagonal
+    /// entry; anything for the static world).
+    ///
+    /// Returns whether the lane holds the entry whole: whether m_s⁻¹ (J_sᵀ)_dr equals the
+    /// entry's (M_s⁻¹ J_sᵀ)_dr on every linear row d of both sides (as numbers: ±0 alike, which
+    /// an update cannot tell apart, [`apply`]). Where it does not (a body whose M⁻¹ is not a
+    /// rigid body's), the solve must not use the groups (`PgsWorkspace::prepare` lays the
+    /// contacts out one at a time instead).
+    pub(super) fn set_lane(
+        &mut self,
+        l: usize,
+        k: usize,
+        e: &Entry<D, R>,
+        moving: &[bool],
+        inverse_mass: [f64; 2],
+    ) -> bool {
+        let linear = linear_components(D);
+        let angular = D - linear;
+        let mut whole = true;
         self.contact[l] = k;
         for s in 0..2 {
             // The static world's side is zero (its Δu is zero and never written).
@@ -91,14 +123,24 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
             self.body[s][l] = body.unwrap_or(0);
             self.present[s].assign(l, body.is_some());
             self.moving[s][l] = body.is_some_and(|b| moving[b]);
-            let (j, mj) = match body {
-                Some(_) => (e.jacobian_t[s], e.inverse_mass_jacobian_t[s]),
-                None => (SMatrix::zeros(), SMatrix::zeros()),
+            let (j, mj, m) = match body {
+                Some(_) => (
+                    e.jacobian_t[s],
+                    e.inverse_mass_jacobian_t[s],
+                    inverse_mass[s],
+                ),
+                None => (SMatrix::zeros(), SMatrix::zeros(), 0.0),
             };
+            self.inverse_mass[s].0[l] = m;
             for r in 0..R {
                 for d in 0..D {
                     self.jacobian_t[s][r][d].0[l] = j[(d, r)];
-                    self.inverse_mass_jacobian_t[s][r][d].0[l] = mj[(d, r)];
+                    if d < linear {
+                        whole &= m * j[(d, r)] == mj[(d, r)];
+                    } else {
+                        self.angular_inverse_mass_jacobian_t[r][s * angular + d - linear].0[l] =
+                            mj[(d, r)];
+                    }
                 }
             }
         }
@@ -109,6 +151,7 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
         self.tangent_rho.0[l] = e.law.tangent_rho;
         self.mu.0[l] = e.law.mu;
         self.compliance.0[l] = e.law.compliance;
+        whole
     }
 
     /// The contact in lane `l` (its index in the problem).
@@ -150,19 +193,17 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
 
     /// M_s⁻¹ J_sᵀ of lane `l` (D × R).
     pub(super) fn inverse_mass_jacobian_t(&self, l: usize, s: usize) -> SMatrix<f64, D, R> {
-        SMatrix::from_fn(|d, r| self.inverse_mass_jacobian_t[s][r][d].0[l])
+        SMatrix::from_fn(|d, r| inverse_mass_jacobian_t(self, s, r, d).0[l])
     }
 
-    /// Sets M_s⁻¹ J_sᵀ of lane `l` (shock propagation holds a side fixed with zero).
-    pub(super) fn set_inverse_mass_jacobian_t(
-        &mut self,
-        l: usize,
-        s: usize,
-        m: &SMatrix<f64, D, R>,
-    ) {
+    /// Holds side `s` of lane `l` fixed (shock propagation): its M_s⁻¹ J_sᵀ zero, so that an
+    /// update does not move it.
+    pub(super) fn hold_side_fixed(&mut self, l: usize, s: usize) {
+        let angular = D - linear_components(D);
+        self.inverse_mass[s].0[l] = 0.0;
         for r in 0..R {
-            for d in 0..D {
-                self.inverse_mass_jacobian_t[s][r][d].0[l] = m[(d, r)];
+            for a in 0..angular {
+                self.angular_inverse_mass_jacobian_t[r][s * angular + a].0[l] = 0.0;
             }
         }
     }
@@ -188,7 +229,7 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
         for s in 0..2 {
             if self.present[s].lane(l) {
                 let column =
-                    SVector::<f64, D>::from_fn(|d, _| self.inverse_mass_jacobian_t[s][r][d].0[l]);
+                    SVector::<f64, D>::from_fn(|d, _| inverse_mass_jacobian_t(self, s, r, d).0[l]);
                 u[s].axpy(delta, &column, 1.0);
             }
         }
@@ -239,10 +280,29 @@ fn velocity<const D: usize, const R: usize>(
     w
 }
 
+/// (M_s⁻¹ J_sᵀ)_dr per lane: m_s⁻¹ (J_sᵀ)_dr on a linear row d (the same bits as the entry's
+/// product, up to the sign of a zero: `LaneGroup::set_lane` checks it), else the angular rows
+/// kept.
+#[inline(always)]
+fn inverse_mass_jacobian_t<const D: usize, const R: usize>(
+    g: &LaneGroup<D, R>,
+    s: usize,
+    r: usize,
+    d: usize,
+) -> Wide {
+    let linear = linear_components(D);
+    if d < linear {
+        g.inverse_mass[s] * g.jacobian_t[s][r][d]
+    } else {
+        g.angular_inverse_mass_jacobian_t[r][s * (D - linear) + d - linear]
+    }
+}
+
 /// λ_r changes by `delta` per lane: Δu_s += (M_s⁻¹ J_sᵀ)_r δ per side. A lane whose row does not
 /// move passes δ = +0, which changes nothing: 0 · x is ±0 and Δu is never −0 (it starts at +0
 /// and a sum is −0 only when both terms are), so Δu + (±0) is Δu to the bit; and the static
-/// world's side is zero and never written back.
+/// world's side is zero and never written back. For the same reason a column entry of −0
+/// where the entry had +0 (m⁻¹ J on a linear row) changes nothing either.
 #[inline(always)]
 fn apply<const D: usize, const R: usize>(
     g: &LaneGroup<D, R>,
@@ -252,7 +312,7 @@ fn apply<const D: usize, const R: usize>(
 ) {
     for s in 0..2 {
         for d in 0..D {
-            u[s][d] += delta * g.inverse_mass_jacobian_t[s][r][d];
+            u[s][d] += delta * inverse_mass_jacobian_t(g, s, r, d);
         }
     }
 }
@@ -425,5 +485,19 @@ const PREFETCH_AHEAD: usize = 2;
 fn prefetch_group_ahead<const D: usize, const R: usize>(groups: &[LaneGroup<D, R>], i: usize) {
     if let Some(ahead) = groups.get(i + PREFETCH_AHEAD) {
         prefetch_object(ahead);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LaneGroup;
+
+    /// The sizes docs/contact.md §"Four contacts per lane", "One inverse mass a side", gives
+    /// (and the cache arithmetic of "Loaded ahead" uses): 3D, 2D with friction, 2D normal rows.
+    #[test]
+    fn a_group_takes_the_bytes_the_docs_give() {
+        assert_eq!(std::mem::size_of::<LaneGroup<6, 3>>(), 2272);
+        assert_eq!(std::mem::size_of::<LaneGroup<3, 2>>(), 1056);
+        assert_eq!(std::mem::size_of::<LaneGroup<3, 1>>(), 704);
     }
 }

@@ -163,16 +163,18 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// with the entry's own M⁻¹Jᵀ (docs/contact.md §"Warm starting": problem order, so the same
     /// sums as a warm start applied after the set-up), except a start that moves nothing
     /// ([`moves_nothing`]).
+    ///
+    /// Returns whether the sweeps take four contacts at a time: `lanes`, unless a body's M⁻¹ is
+    /// not a rigid body's, so that the groups cannot hold its contacts' M⁻¹Jᵀ
+    /// ([`LaneGroup::set_lane`]); then every contact is laid out one at a time and the entries
+    /// are built again.
     pub(super) fn prepare(
         &mut self,
         problem: &ContactProblem<D, R>,
         order: ContactOrder,
         lanes: bool,
         lambda: &mut Vec<SVector<f64, R>>,
-    ) {
-        self.delta_velocity.clear();
-        self.delta_velocity
-            .resize(problem.bodies.len(), SVector::zeros());
+    ) -> bool {
         self.entry_contact.clear();
         self.order.clear();
         self.colour_starts.clear();
@@ -193,6 +195,20 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.slot.resize(count, Slot::One(0));
         self.finite_columns.resize(count, false);
         self.lay_out(lanes);
+        if self.build(problem, lambda) || !lanes {
+            return lanes;
+        }
+        self.entry_contact.clear();
+        self.group_starts.clear();
+        self.lay_out(false);
+        self.build(problem, lambda);
+        false
+    }
+
+    /// The entries built where [`Self::lay_out`] placed them, in problem order, and the warm
+    /// start applied as they are (see [`Self::prepare`]), Δu and `lambda` from the start.
+    /// Returns whether every lane holds its contact's entry whole ([`LaneGroup::set_lane`]).
+    fn build(&mut self, problem: &ContactProblem<D, R>, lambda: &mut Vec<SVector<f64, R>>) -> bool {
         let skip_zero_starts = self.skip_zero_starts;
         let PgsWorkspace {
             entries,
@@ -204,7 +220,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             delta_velocity,
             ..
         } = self;
+        delta_velocity.clear();
+        delta_velocity.resize(problem.bodies.len(), SVector::zeros());
         lambda.clear();
+        let mut whole = true;
         for (k, c) in problem.contacts.iter().enumerate() {
             let entry = build_entry(problem, k, &mut scales[k]);
             finite_columns[k] = columns_finite(&entry);
@@ -220,15 +239,27 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             }
             match slot[k] {
                 Slot::One(i) => entries[i] = entry,
-                Slot::Lane(i) => groups[i / LANES].set_lane(i % LANES, k, &entry, moving),
+                Slot::Lane(i) => {
+                    let inverse_mass = |s: usize| {
+                        c.bodies[s].map_or(0.0, |b| problem.bodies[b].inverse_mass[(0, 0)])
+                    };
+                    whole &= groups[i / LANES].set_lane(
+                        i % LANES,
+                        k,
+                        &entry,
+                        moving,
+                        [inverse_mass(0), inverse_mass(1)],
+                    );
+                }
             }
         }
+        whole
     }
 
     /// Each contact's place in visiting order (`slot`, `entry_contact`, the groups' extent;
     /// see [`Self::prepare`]), the entries not yet built. `entries` and `groups` keep the last
     /// solve's where there are as many (each is written whole by `prepare`), so that a solve
-    /// neither clears nor zeroes them again: about 2.7 kB per group of four in 3D.
+    /// neither clears nor zeroes them again: about 2.3 kB per group of four in 3D.
     fn lay_out(&mut self, lanes: bool) {
         let PgsWorkspace {
             entries,
@@ -303,9 +334,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     pub(super) fn hold_side_fixed(&mut self, k: usize, s: usize) {
         match self.slot[k] {
             Slot::One(i) => self.entries[i].inverse_mass_jacobian_t[s] = SMatrix::zeros(),
-            Slot::Lane(i) => {
-                self.groups[i / LANES].set_inverse_mass_jacobian_t(i % LANES, s, &SMatrix::zeros())
-            }
+            Slot::Lane(i) => self.groups[i / LANES].hold_side_fixed(i % LANES, s),
         }
     }
 
