@@ -38,8 +38,8 @@ pub(super) struct LaneGroup<const D: usize, const R: usize> {
     /// J_sᵀ: [side][row][component], lane by lane.
     jacobian_t: [[[Wide; D]; R]; 2],
     /// m_s⁻¹ per side, kg⁻¹: M_s⁻¹ J_sᵀ's linear rows (the first [`linear_components`]) are
-    /// m_s⁻¹ J_sᵀ's, to the bit (`set_lane` checks it); 0 for the static world and a side held
-    /// fixed.
+    /// m_s⁻¹ J_sᵀ's, equal as numbers (`set_lane` checks it; a zero's sign may differ, which no
+    /// update can tell); 0 for the static world and a side held fixed.
     inverse_mass: [Wide; 2],
     /// M_s⁻¹ J_sᵀ's angular rows, both sides in one row of D: [row][s · A + a] is component
     /// L + a of side s (L = [`linear_components`], A = D − L, and 2A ≤ D), lane by lane.
