@@ -121,7 +121,12 @@ impl Overrides {
                 )));
             }
             if unknown {
-                return Err(SceneError(format!("--set {key}: not a key of {what}")));
+                let hint = other_systems_name(key)
+                    .map(|(system, name)| format!(" (its {system} name is `{name}`)"))
+                    .unwrap_or_default();
+                return Err(SceneError(format!(
+                    "--set {key}: not a key of {what}{hint}"
+                )));
             }
         }
         Ok(())
@@ -133,4 +138,28 @@ impl Overrides {
             target.insert(key.clone(), value.clone());
         }
     }
+}
+
+/// The keys the two systems name differently for the same setting, 3D first, 2D second: so that
+/// `--set pgs_order=…` on a 2D scene, or `--set order=…` on a 3D one, says what to write
+/// instead.
+const NAMES_3D_2D: [(&str, &str); 5] = [
+    ("pgs_order", "order"),
+    ("pgs_seed", "seed"),
+    ("pgs_iterations", "iterations"),
+    ("dt", "step"),
+    ("stabilization_slop", "slop"),
+];
+
+/// For a key of one system, the system and name of the same setting in the other.
+fn other_systems_name(key: &str) -> Option<(&'static str, &'static str)> {
+    NAMES_3D_2D.iter().find_map(|&(three, two)| {
+        if key == three {
+            Some(("2D", two))
+        } else if key == two {
+            Some(("3D", three))
+        } else {
+            None
+        }
+    })
 }

@@ -678,6 +678,16 @@ fn set_overrides_scene_parameters_in_both_systems_and_is_checked_like_the_file()
             "nonsense=2",
             "--set nonsense: not a key of a 2D scene's parameters",
         ),
+        (
+            &image,
+            "pgs_order=coloured",
+            "--set pgs_order: not a key of a 2D scene's parameters (its 2D name is `order`)",
+        ),
+        (
+            &scene3,
+            "order=coloured",
+            "--set order: not a key of sim_parameters (its 3D name is `pgs_order`)",
+        ),
     ] {
         let out = rigidref(
             &[
