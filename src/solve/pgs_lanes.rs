@@ -100,9 +100,9 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
     /// inverse mass is not zero; `inverse_mass[s]`: side s's body's m⁻¹ (M⁻¹'s first diagonal
     /// entry; anything for the static world).
     ///
-    /// Returns whether the lane holds the entry whole: whether m_s⁻¹ (J_sᵀ)_dr equals the
-    /// entry's (M_s⁻¹ J_sᵀ)_dr on every linear row d of both sides (as numbers: ±0 alike, which
-    /// an update cannot tell apart, [`apply`]). Where it does not (a body whose M⁻¹ is not a
+    /// Returns whether the lane holds the entry whole: whether (J_sᵀ)_dr is finite and
+    /// m_s⁻¹ (J_sᵀ)_dr equals the entry's (M_s⁻¹ J_sᵀ)_dr on every linear row d of both sides
+    /// (as numbers: ±0 alike, which an update cannot tell apart, [`apply`]). Where it does not (a body whose M⁻¹ is not a
     /// rigid body's), the solve must not use the groups (`PgsWorkspace::prepare` lays the
     /// contacts out one at a time instead).
     pub(super) fn set_lane(
@@ -136,7 +136,8 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
                 for d in 0..D {
                     self.jacobian_t[s][r][d].0[l] = j[(d, r)];
                     if d < linear {
-                        whole &= m * j[(d, r)] == mj[(d, r)];
+                        // J finite too, so that a side held fixed (m = 0) has 0 · J = ±0.
+                        whole &= j[(d, r)].is_finite() && m * j[(d, r)] == mj[(d, r)];
                     } else {
                         self.angular_inverse_mass_jacobian_t[r][s * angular + d - linear].0[l] =
                             mj[(d, r)];
