@@ -88,24 +88,31 @@ pub fn colour_contacts_in(
         colours = colours.max(colour + 1);
         colour_of[k] = colour;
     }
-    // Counting sort by colour, stable: problem order within a colour.
+    // Problem order within a colour.
+    sort_by_key(colour_of, colours, order, starts);
+}
+
+/// Counting sort of the contacts by `key` (per contact, problem index, each below `keys`),
+/// stable: writes the contacts key by key, in problem order within a key, to `order`, and
+/// where each key starts in it to `starts` (with the end appended).
+pub fn sort_by_key(key: &[usize], keys: usize, order: &mut Vec<usize>, starts: &mut Vec<usize>) {
     starts.clear();
-    starts.resize(colours + 1, 0);
-    for &c in colour_of.iter() {
+    starts.resize(keys + 1, 0);
+    for &c in key.iter() {
         starts[c + 1] += 1;
     }
-    for c in 0..colours {
+    for c in 0..keys {
         starts[c + 1] += starts[c];
     }
-    // Place each contact at its colour's next free slot; `starts[c]` runs ahead as it fills and
-    // is then moved back by one colour.
+    // Place each contact at its key's next free slot; `starts[c]` runs ahead as it fills and
+    // is then moved back by one key.
     order.clear();
-    order.resize(colour_of.len(), 0);
-    for (k, &c) in colour_of.iter().enumerate() {
+    order.resize(key.len(), 0);
+    for (k, &c) in key.iter().enumerate() {
         order[starts[c]] = k;
         starts[c] += 1;
     }
-    for c in (1..=colours).rev() {
+    for c in (1..=keys).rev() {
         starts[c] = starts[c - 1];
     }
     starts[0] = 0;

@@ -22,6 +22,7 @@
 pub mod auto;
 pub mod colour;
 pub mod criteria;
+mod islands;
 pub mod local;
 pub mod newton;
 pub mod pgs;

@@ -15,7 +15,7 @@
 
 use super::local::LocalSolve;
 pub use super::pgs_settings::{ContactOrder, Lanes, MIN_CONTACTS_PER_THREAD, PgsSettings};
-pub use super::pgs_workspace::PgsWorkspace;
+pub use super::pgs_workspace::{BATCH_CONTACTS, PgsWorkspace};
 use crate::problem::{ContactProblem, FrictionModel, RowBounds, SolveReport};
 use nalgebra::SVector;
 
@@ -46,7 +46,10 @@ pub fn solve_pgs<const D: usize, const R: usize>(
         && !joint
         && super::pgs_lanes::dimensions_fit::<D, R>();
     // The entries, and the warm start applied in problem order as they are built.
-    let lanes = workspace.prepare(problem, settings.order, lanes, lambda);
+    // Island by island where every sweep runs on one thread: the same bits, one batch of
+    // islands in the cache at a time (docs/contact.md §"Island by island").
+    let batched = settings.tolerance.is_none() && workspace.threads == 1;
+    let lanes = workspace.prepare(problem, settings.order, lanes, batched, lambda);
     workspace.draw_sweep_colours(settings.order, settings.max_iterations);
     let mut iterations = 0;
     let mut converged = false;
@@ -63,8 +66,16 @@ pub fn solve_pgs<const D: usize, const R: usize>(
     if threaded {
         (iterations, converged) = workspace.sweep_in_threads(problem, settings, lanes, lambda);
     }
-    while !threaded && iterations < settings.max_iterations {
-        workspace.sweep(problem, settings, iterations as usize, lanes, lambda);
+    if workspace.batches > 1 {
+        for batch in 0..workspace.batches {
+            for sweep in 0..settings.max_iterations {
+                workspace.sweep(problem, settings, batch, sweep as usize, lanes, lambda);
+            }
+        }
+        iterations = settings.max_iterations;
+    }
+    while !threaded && workspace.batches == 1 && iterations < settings.max_iterations {
+        workspace.sweep(problem, settings, 0, iterations as usize, lanes, lambda);
         iterations += 1;
         if let Some(tolerance) = settings.tolerance
             && workspace.residual(problem, lambda) <= tolerance

@@ -16,20 +16,22 @@ use nalgebra::SVector;
 use rand::seq::SliceRandom;
 
 impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
-    /// Coloured sweep number `sweep` with the contacts four at a time: per colour (in the
-    /// sweep's order of the colours) its groups, then the rest of the colour one at a time
-    /// (docs/contact.md §"Four contacts per lane").
+    /// Coloured sweep number `sweep` of batch `batch` with the contacts four at a time: per
+    /// colour (in the sweep's order of the colours) the batch's groups, then the rest of the
+    /// batch's colour one at a time (docs/contact.md §"Four contacts per lane").
     pub(super) fn sweep_in_lanes(
         &mut self,
         problem: &ContactProblem<D, R>,
+        batch: usize,
         sweep: usize,
         lambda: &mut [SVector<f64, R>],
     ) {
-        for i in 0..self.colours() {
-            let colour = self.colour_at(sweep, i);
-            let (a, b) = (self.colour_starts[colour], self.colour_starts[colour + 1]);
+        let colours = self.colours();
+        for i in 0..colours {
+            let segment = batch * colours + self.colour_at(sweep, i);
+            let (a, b) = (self.colour_starts[segment], self.colour_starts[segment + 1]);
             let grouped = super::pgs_lanes::grouped(b - a);
-            let groups = &self.groups[self.group_starts[colour]..self.group_starts[colour + 1]];
+            let groups = &self.groups[self.group_starts[segment]..self.group_starts[segment + 1]];
             let shared = Shared {
                 delta_velocity: self.delta_velocity.as_mut_ptr(),
                 lambda: lambda.as_mut_ptr(),
@@ -55,7 +57,8 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// colour with a barrier between colours (src/solve/pgs_threads.rs), four at a time where
     /// `lanes` (the groups laid out): at most `settings.max_iterations` sweeps, stopping at the
     /// tolerance. Returns the sweeps run and whether the tolerance was reached. Bit for bit the
-    /// one-thread sweeps (docs/contact.md §"Coloured order").
+    /// one-thread sweeps (docs/contact.md §"Coloured order"). The islands are not batched
+    /// here: the threads meet after every colour of the whole problem.
     pub(super) fn sweep_in_threads(
         &mut self,
         problem: &ContactProblem<D, R>,
@@ -63,6 +66,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         lanes: bool,
         lambda: &mut [SVector<f64, R>],
     ) -> (u32, bool) {
+        debug_assert_eq!(self.batches, 1, "threads sweep the islands in one batch");
         let lanes_setting = self.lanes;
         let PgsWorkspace {
             entries,
@@ -148,14 +152,16 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         )
     }
 
-    /// Sweep number `sweep` on one thread: every contact visited once in the workspace's order
-    /// (a fresh permutation first for the random order; colour by colour in the sweep's order
-    /// of the colours for the random coloured order), a coloured order's groups four at a time
-    /// where `lanes` (the groups laid out).
+    /// Sweep number `sweep` of batch `batch` on one thread: every contact of the batch
+    /// visited once in the workspace's order (a fresh permutation first for the random order;
+    /// colour by colour in the sweep's order of the colours for the random coloured order), a
+    /// coloured order's groups four at a time where `lanes` (the groups laid out). Batch 0 is
+    /// every contact where the islands are not batched (docs/contact.md §"Island by island").
     pub(super) fn sweep(
         &mut self,
         problem: &ContactProblem<D, R>,
         settings: &PgsSettings,
+        batch: usize,
         sweep: usize,
         lanes: bool,
         lambda: &mut [SVector<f64, R>],
@@ -165,20 +171,27 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             order.shuffle(rng);
         }
         if lanes {
-            self.sweep_in_lanes(problem, sweep, lambda);
+            self.sweep_in_lanes(problem, batch, sweep, lambda);
         } else if settings.order == ContactOrder::RandomColoured {
             for i in 0..self.colours() {
                 let colour = self.colour_at(sweep, i);
-                for position in self.colour_starts[colour]..self.colour_starts[colour + 1] {
+                for position in self.segment(batch, colour) {
                     let k = self.order[position];
                     visit(problem, settings.local, self, k, &mut lambda[k]);
                 }
             }
         } else {
-            for i in 0..problem.contacts.len() {
+            // The batch's colours in turn (problem order: every contact).
+            let colours = self.colours();
+            let positions = if settings.order.is_coloured() && colours > 0 {
+                self.colour_starts[batch * colours]..self.colour_starts[(batch + 1) * colours]
+            } else {
+                0..problem.contacts.len()
+            };
+            for i in positions.clone() {
                 let k = self.order[i];
-                if let Some(&next) = self.order.get(i + 2) {
-                    self.prefetch(next);
+                if i + 2 < positions.end {
+                    self.prefetch(self.order[i + 2]);
                 }
                 visit(problem, settings.local, self, k, &mut lambda[k]);
             }

@@ -21,6 +21,12 @@ use rand::SeedableRng;
 use rand::seq::SliceRandom;
 use rand_chacha::ChaCha8Rng;
 
+/// The most contacts a batch of islands takes by default ([`PgsWorkspace::set_batch_contacts`]):
+/// about 1.2 MB of groups in 3D (568 bytes a contact), so that a batch's groups, its bodies' Δu
+/// and its λ stay in a 2 MB second-level cache over its sweeps (docs/contact.md §"Island by
+/// island").
+pub const BATCH_CONTACTS: usize = 2048;
+
 /// Buffers PGS reuses from solve to solve, so that a solve does not allocate once they have
 /// grown to the problem's size; also the random generator, so a run's orders are reproducible.
 #[derive(Clone, Debug)]
@@ -38,11 +44,25 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     pub(super) order: Vec<usize>,
     /// Where each contact's entry is: in `entries` or in a lane of `groups`.
     pub(super) slot: Vec<Slot>,
-    /// With the coloured order: where each colour starts in `order` (the end appended), and
-    /// the colouring's scratch.
+    /// With the coloured order: where each segment starts in `order` (the end appended),
+    /// segment `b · colours + c` holding batch b's contacts of colour c (one batch where the
+    /// islands are not batched, so that the segments are the colours), and the colouring's
+    /// scratch.
     pub(super) colour_starts: Vec<usize>,
     pub(super) colour_masks: Vec<u64>,
     pub(super) colour_of: Vec<usize>,
+    /// The batches of whole islands the last solve swept one after another (1: all the
+    /// contacts at once; docs/contact.md §"Island by island").
+    pub(super) batches: usize,
+    /// The most contacts a batch of islands takes ([`PgsWorkspace::set_batch_contacts`]);
+    /// `None`: the islands are not batched.
+    pub(super) batch_contacts: Option<usize>,
+    /// The batching's scratch: per body its island's parent, its island's contacts and its
+    /// island's batch; per contact its batch.
+    pub(super) island_parent: Vec<usize>,
+    pub(super) island_size: Vec<usize>,
+    pub(super) island_batch: Vec<usize>,
+    pub(super) batch_of: Vec<usize>,
     /// Per body: whether its inverse mass is not zero (a pinned body's Δu never changes).
     pub(super) moving: Vec<bool>,
     /// Threads a coloured sweep runs on ([`PgsWorkspace::set_threads`]; 1 by default).
@@ -122,6 +142,12 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
             colour_starts: Vec::new(),
             colour_masks: Vec::new(),
             colour_of: Vec::new(),
+            batches: 1,
+            batch_contacts: Some(BATCH_CONTACTS),
+            island_parent: Vec::new(),
+            island_size: Vec::new(),
+            island_batch: Vec::new(),
+            batch_of: Vec::new(),
             moving: Vec::new(),
             threads: 1,
             last_threads: 1,
@@ -164,6 +190,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// sums as a warm start applied after the set-up), except a start that moves nothing
     /// ([`moves_nothing`]).
     ///
+    /// With `batched` (a coloured order, every sweep run, one thread) and batching on
+    /// ([`Self::set_batch_contacts`]), each colour is split by batch of islands
+    /// ([`Self::batch_islands`]), for sweeps that go batch by batch.
+    ///
     /// Returns whether the sweeps take four contacts at a time: `lanes`, unless a body's M⁻¹ is
     /// not a rigid body's, so that the groups cannot hold its contacts' M⁻¹Jᵀ
     /// ([`LaneGroup::set_lane`]); then every contact is laid out one at a time and the entries
@@ -173,6 +203,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         problem: &ContactProblem<D, R>,
         order: ContactOrder,
         lanes: bool,
+        batched: bool,
         lambda: &mut Vec<SVector<f64, R>>,
     ) -> bool {
         self.entry_contact.clear();
@@ -181,9 +212,13 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         self.sweep_colours.clear();
         self.group_starts.clear();
         self.local_fallbacks = 0;
+        self.batches = 1;
         let count = problem.contacts.len();
         if order.is_coloured() {
             self.colour(problem, order);
+            if let (true, Some(budget)) = (batched, self.batch_contacts) {
+                self.batch_islands(budget);
+            }
         } else {
             self.order.extend(0..count);
         }
@@ -390,6 +425,51 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         );
     }
 
+    /// Splits each colour of the coloured order into batches of whole islands of at most
+    /// `budget` contacts each (an island larger is a batch of its own; src/solve/islands.rs):
+    /// `order` batch by batch, colour by colour within a batch, problem order within a colour.
+    /// Where the islands make one batch, the order is left as the colouring wrote it.
+    fn batch_islands(&mut self, budget: usize) {
+        let PgsWorkspace {
+            order,
+            colour_starts,
+            colour_of,
+            moving,
+            contact_bodies,
+            island_parent,
+            island_size,
+            island_batch,
+            batch_of,
+            batches,
+            ..
+        } = self;
+        *batches = super::islands::batch_islands(
+            colour_of.len(),
+            |k| contact_bodies[k],
+            moving,
+            budget,
+            island_parent,
+            island_size,
+            island_batch,
+            batch_of,
+        );
+        if *batches == 1 {
+            return;
+        }
+        let colours = colour_starts.len() - 1;
+        for (c, &b) in colour_of.iter_mut().zip(batch_of.iter()) {
+            *c += b * colours;
+        }
+        super::colour::sort_by_key(colour_of, *batches * colours, order, colour_starts);
+    }
+
+    /// The contacts of batch `batch`'s colour `colour`: a range of `order`.
+    #[inline(always)]
+    pub(super) fn segment(&self, batch: usize, colour: usize) -> std::ops::Range<usize> {
+        let s = batch * self.colours() + colour;
+        self.colour_starts[s]..self.colour_starts[s + 1]
+    }
+
     /// With the random coloured order, draws each of `sweeps` sweeps' order of the colours
     /// from the workspace's generator (before the sweeps, so that the orders do not depend on
     /// the threads); otherwise every sweep takes the colours in turn.
@@ -414,7 +494,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// The contacts in the order the last solve's sweep `sweep` visited them, colour by colour
     /// (one list for the problem and random orders; the random order's is its last sweep's,
-    /// drawn afresh each sweep). For checking an order, not for a hot loop: it allocates.
+    /// drawn afresh each sweep). Where the sweeps went batch by batch of islands, a colour
+    /// lists its contacts of every batch, in problem order (each batch visits its own in that
+    /// order, and two batches share nothing a visit reads: docs/contact.md §"Island by
+    /// island"). For checking an order, not for a hot loop: it allocates.
     pub fn sweep_colours(&self, sweep: usize) -> Vec<Vec<usize>> {
         if self.colour_starts.is_empty() {
             return vec![self.order.clone()];
@@ -422,9 +505,30 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         (0..self.colours())
             .map(|i| {
                 let c = self.colour_at(sweep, i);
-                self.order[self.colour_starts[c]..self.colour_starts[c + 1]].to_vec()
+                let mut colour: Vec<usize> = (0..self.batches)
+                    .flat_map(|b| self.order[self.segment(b, c)].iter().copied())
+                    .collect();
+                if self.batches > 1 {
+                    colour.sort_unstable();
+                }
+                colour
             })
             .collect()
+    }
+
+    /// Whether and how a coloured solve that runs every sweep (no tolerance) on one thread
+    /// goes island by island: in batches of whole islands of at most `contacts` contacts each,
+    /// every sweep of a batch before the next batch (an island larger is a batch of its own);
+    /// `None`: all the contacts every sweep. The same bits either way (docs/contact.md
+    /// §"Island by island"); [`BATCH_CONTACTS`] by default.
+    pub fn set_batch_contacts(&mut self, contacts: Option<usize>) {
+        self.batch_contacts = contacts.map(|n| n.max(1));
+    }
+
+    /// The batches of islands the last solve swept one after another (1 unless it went island
+    /// by island).
+    pub fn last_batches(&self) -> usize {
+        self.batches
     }
 
     /// Runs the sweeps of coloured solves on `threads` threads (at least 1): bit for bit the
@@ -463,7 +567,7 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// The number of colours of the last coloured solve.
     pub fn colours(&self) -> usize {
-        self.colour_starts.len().saturating_sub(1)
+        self.colour_starts.len().saturating_sub(1) / self.batches
     }
 
     /// Asks the processor to start loading the entry of contact `k` (a visit two ahead, in a

@@ -9,7 +9,7 @@ use rigidref::solve::LocalSolve;
 use rigidref::solve::pgs::Lanes;
 
 /// splitmix64: a small seeded generator, so the problems are the same on every run.
-struct Numbers(u64);
+pub(super) struct Numbers(pub(super) u64);
 
 impl Numbers {
     fn next(&mut self) -> u64 {
@@ -41,7 +41,7 @@ impl Numbers {
 /// start on most, its friction outside the bound on some, its normal impulse −0 on some; some
 /// rows all zero (a zero diagonal: the row cannot move anything); b in [−2, 2] m/s, −0 on some
 /// rows.
-fn random_problem<const D: usize, const R: usize>(
+pub(super) fn random_problem<const D: usize, const R: usize>(
     numbers: &mut Numbers,
     bodies: usize,
     contacts: usize,

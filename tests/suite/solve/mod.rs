@@ -4,6 +4,7 @@ mod coloured;
 mod coulomb;
 mod criteria;
 mod derivations;
+mod islands;
 mod lanes;
 mod local_form;
 mod local_solve;
