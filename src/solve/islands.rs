@@ -3,11 +3,12 @@
 //! a batch before the next batch. docs/contact.md §"Island by island".
 //!
 //! A contact's visit reads and writes only its own λ and its moving bodies' Δu (a pinned body's
-//! Δu is never written: it stays +0). Two islands share neither, so the visits of one island
-//! never see the other's. The updates an island's contacts get, and their order, are then the
-//! same whether the sweeps go over all the contacts, colour by colour, or over one batch of
-//! islands at a time: the same bits, for a fixed number of sweeps. What changes is only what
-//! the processor keeps in its caches: one batch's groups instead of the whole problem's.
+//! Δu stays +0: adding M⁻¹Jᵀδ = 0 to it leaves it +0). Two islands share neither, so the
+//! visits of one island never see the other's. The updates an island's contacts get, and their
+//! order, are then the same whether the sweeps go over all the contacts, colour by colour, or
+//! over one batch of islands at a time: the same bits, for a fixed number of sweeps. What
+//! changes is only what the processor keeps in its caches: one batch's groups instead of the
+//! whole problem's.
 
 /// Gives each contact its batch in `batch_of` (problem index) and returns the number of
 /// batches (at least 1). `sides(k)` gives contact k's two bodies (`None`: the static world); a
