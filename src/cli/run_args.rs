@@ -44,8 +44,9 @@ SCENE FILES (the 3D assignment's JSON, read as it is; docs/scene-format.md):
     pgs_tolerance     stop PGS when its residual ≤ this, m/s           (none: all sweeps)
     pgs_order         \"sequential\" (problem order; also \"found\"), \"random\" (seeded
                       shuffle each sweep) or \"coloured\" (contacts grouped so no two
-                      of a group share a moving body, four at a time; different last
-                      bits, same bits on any `threads`; docs/contact.md)  sequential
+                      of a group share a moving body, four at a time, island by
+                      island on one thread; different last bits, same bits on any
+                      `threads`; docs/contact.md)  sequential
     threads           threads of the coloured sweeps (same bits for any N)  1
     pgs_seed          seed of the random order                        0
     pgs_local_solve   how a PGS visit updates its contact: \"rows\" (normal row, then
