@@ -34,8 +34,8 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Δu per body: the velocity change the current λ causes.
     pub(super) delta_velocity: Vec<SVector<f64, D>>,
     /// What a sweep reads of the contacts it visits one at a time, in visiting order (every
-    /// contact where the sweeps go one at a time; else the rest of each colour after its
-    /// groups); `entry_contact[i]` is entry i's contact.
+    /// contact where the sweeps go one at a time; else the rest of each segment, a batch's
+    /// colour, after its groups); `entry_contact[i]` is entry i's contact.
     pub(super) entries: Vec<Entry<D, R>>,
     pub(super) entry_contact: Vec<usize>,
     /// Row scales per contact (the full block, for the exact local solve and the residuals).
@@ -72,8 +72,8 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Whether a coloured sweep, row by row, takes its colours' contacts four at a time
     /// ([`PgsWorkspace::set_lanes`]; natively by default).
     pub(super) lanes: Lanes,
-    /// With four contacts at a time: the groups, colour by colour, colour c's being
-    /// `groups[group_starts[c]..group_starts[c + 1]]`, each holding the entries of its four
+    /// With four contacts at a time: the groups, segment by segment (a batch's colour; see
+    /// `colour_starts`), segment s's being `groups[group_starts[s]..group_starts[s + 1]]`, each holding the entries of its four
     /// contacts (built there, not copied from `entries`); empty when the last solve went one
     /// contact at a time.
     pub(super) groups: Vec<LaneGroup<D, R>>,
@@ -90,9 +90,10 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// Whether the warm start skips the contacts whose start moves nothing (on by default;
     /// [`PgsWorkspace::set_zero_starts_skipped`]).
     pub(super) skip_zero_starts: bool,
-    /// With the random coloured order: each contact's two bodies gathered in problem order
-    /// once per solve, so that the colouring, which takes the contacts in a random order, reads
-    /// them from a small array instead of from all over the problem.
+    /// With a coloured order: each contact's two bodies gathered in problem order once per
+    /// solve, so that the colouring (which, in the random coloured order, takes the contacts in
+    /// a random order) and the batching of islands read them from a small array instead of
+    /// from all over the problem.
     pub(super) contact_bodies: Vec<[Option<usize>; 2]>,
     /// Exact visits of the current solve that took the local solve's best candidate because no
     /// case was exact to round-off ([`super::local::solve_local`]).
@@ -179,8 +180,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
 
     /// Builds the entries for `problem`, once, where the sweeps read them, and applies the warm
     /// start. With a coloured order the contacts are coloured first and the entries laid out in
-    /// visiting order: with `lanes`, each colour's first ⌊n / 4⌋ × 4 contacts in its groups of
-    /// four, lane by lane, and the rest of the colour in `entries`; else all in `entries`.
+    /// visiting order: with `lanes`, each segment's (a colour, or a batch's colour) first
+    /// ⌊n / 4⌋ × 4 contacts in its groups of four, lane by lane, and the rest of the segment in
+    /// `entries`; else all in `entries`.
     /// Otherwise in problem order. `slot[k]` is contact k's place.
     ///
     /// The entries are then built in problem order, each written to its place (the problem is
@@ -190,9 +192,9 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
     /// sums as a warm start applied after the set-up), except a start that moves nothing
     /// ([`moves_nothing`]).
     ///
-    /// With `batched` (a coloured order, every sweep run, one thread) and batching on
-    /// ([`Self::set_batch_contacts`]), each colour is split by batch of islands
-    /// ([`Self::batch_islands`]), for sweeps that go batch by batch.
+    /// With `batched` (a coloured order, every sweep run, `threads` 1), batching on
+    /// ([`Self::set_batch_contacts`]) and more contacts than a batch takes, each colour is
+    /// split by batch of islands ([`Self::batch_islands`]), for sweeps that go batch by batch.
     ///
     /// Returns whether the sweeps take four contacts at a time: `lanes`, unless a body's M⁻¹ is
     /// not a rigid body's, so that the groups cannot hold its contacts' M⁻¹Jᵀ
@@ -216,7 +218,10 @@ impl<const D: usize, const R: usize> PgsWorkspace<D, R> {
         let count = problem.contacts.len();
         if order.is_coloured() {
             self.colour(problem, order);
-            if let (true, Some(budget)) = (batched, self.batch_contacts) {
+            // More contacts than a batch takes, or the islands make one batch anyway.
+            if let (true, Some(budget)) = (batched, self.batch_contacts)
+                && count > budget
+            {
                 self.batch_islands(budget);
             }
         } else {

@@ -7,9 +7,10 @@ use rigidref::problem::{ContactProblem, FrictionModel, SolveReport};
 use rigidref::solve::pgs::Lanes;
 use rigidref::solve::{ContactOrder, LocalSolve, PgsSettings, PgsWorkspace};
 
-/// `copies` copies of `problem`, each with its own bodies, their contacts interleaved (copy c's
-/// contact i at position i · copies + c), so that the islands' contacts alternate in problem
-/// order instead of following one another.
+/// `copies` copies of `problem`, each with its own moving bodies but all sharing the first
+/// copy's pinned bodies (which join no islands, so that islands of different batches share
+/// them), their contacts interleaved (copy c's contact i at position i · copies + c), so that
+/// the islands' contacts alternate in problem order instead of following one another.
 fn interleaved<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     copies: usize,
@@ -23,7 +24,10 @@ fn interleaved<const D: usize, const R: usize>(
         .flat_map(|c| {
             (0..copies).map(move |copy| {
                 let mut c = c.clone();
-                c.bodies = c.bodies.map(|b| b.map(|b| b + copy * n));
+                let pinned = |b: usize| problem.bodies[b].inverse_mass.iter().all(|&m| m == 0.0);
+                c.bodies = c
+                    .bodies
+                    .map(|b| b.map(|b| if pinned(b) { b } else { b + copy * n }));
                 c
             })
         })
@@ -31,7 +35,7 @@ fn interleaved<const D: usize, const R: usize>(
     out
 }
 
-/// λ, Δu, the report and the batches of a one-thread solve of 12 sweeps, no tolerance, batches
+/// λ, Δu, the report, the batches and the groups of four of a one-thread solve of 12 sweeps, no tolerance, batches
 /// of at most `batch` contacts (`None`: not batched).
 fn solve<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
@@ -39,7 +43,7 @@ fn solve<const D: usize, const R: usize>(
     local: LocalSolve,
     lanes: Lanes,
     batch: Option<usize>,
-) -> (Vec<[u64; R]>, Vec<[u64; D]>, SolveReport, usize) {
+) -> (Vec<[u64; R]>, Vec<[u64; D]>, SolveReport, usize, usize) {
     let mut workspace = PgsWorkspace::new(5);
     workspace.set_lanes(lanes);
     workspace.set_batch_contacts(batch);
@@ -60,6 +64,7 @@ fn solve<const D: usize, const R: usize>(
         du,
         report,
         workspace.last_batches(),
+        workspace.last_groups(),
     )
 }
 
@@ -80,12 +85,20 @@ fn same_bits_island_by_island<const D: usize, const R: usize>(seed: u64) {
                         for batch in [1, 90] {
                             let batched = solve(&problem, order, local, lanes, Some(batch));
                             assert!(batched.3 >= 3, "{what}, {batch}: {} batches", batched.3);
+                            // Row by row with lanes on, most contacts go in groups of four.
+                            let grouped = lanes == Lanes::Native && local == LocalSolve::Rows;
+                            assert_eq!(batched.4 > 0, grouped, "{what}, {batch}: groups");
                             assert!(batched.0 == whole.0, "{what}, {batch}: λ differs");
                             assert!(batched.1 == whole.1, "{what}, {batch}: Δu differs");
                             assert_eq!(batched.2.iterations, whole.2.iterations, "{what}");
                             assert_eq!(
                                 batched.2.residual.to_bits(),
                                 whole.2.residual.to_bits(),
+                                "{what}"
+                            );
+                            assert_eq!(
+                                batched.2.coulomb_residual.map(f64::to_bits),
+                                whole.2.coulomb_residual.map(f64::to_bits),
                                 "{what}"
                             );
                         }
@@ -96,9 +109,9 @@ fn same_bits_island_by_island<const D: usize, const R: usize>(seed: u64) {
     }
 }
 
-/// A problem of six interleaved copies of a random problem (each copy one or more islands:
-/// its pinned bodies do not join them), solved in batches of one island and in batches of about
-/// two copies: λ, every body's Δu and the report are those of the sweeps over every contact, to
+/// A problem of six interleaved copies of a random problem (each copy one or more islands: its
+/// pinned bodies, shared by all the copies, do not join them), solved in batches of one island and in batches of about
+/// two copies: λ, every body's Δu and the report (both residuals) are those of the sweeps over every contact, to
 /// the bit (tolerance zero: an island's visits read nothing of another island, so they are the
 /// same arithmetic on the same values), for both coloured orders, row by row and with the exact
 /// local solve, four at a time and one at a time, box and cone, 3D and 2D.
