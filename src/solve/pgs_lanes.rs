@@ -102,9 +102,9 @@ impl<const D: usize, const R: usize> LaneGroup<D, R> {
     ///
     /// Returns whether the lane holds the entry whole: whether (J_sᵀ)_dr is finite and
     /// m_s⁻¹ (J_sᵀ)_dr equals the entry's (M_s⁻¹ J_sᵀ)_dr on every linear row d of both sides
-    /// (as numbers: ±0 alike, which an update cannot tell apart, [`apply`]). Where it does not (a body whose M⁻¹ is not a
-    /// rigid body's), the solve must not use the groups (`PgsWorkspace::prepare` lays the
-    /// contacts out one at a time instead).
+    /// (as numbers: ±0 alike, which an update cannot tell apart, [`apply`]). Where it does not
+    /// (a body whose M⁻¹ is not a rigid body's), the solve must not use the groups
+    /// (`PgsWorkspace::prepare` lays the contacts out one at a time instead).
     pub(super) fn set_lane(
         &mut self,
         l: usize,
