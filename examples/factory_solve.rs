@@ -1,4 +1,5 @@
-//! Times PGS on contact-problem files of the 2D factory (rigidref JSON, 3 dof, 1 or 2 rows):
+//! Times PGS on contact-problem files of the 2D factory (rigidref JSON, 3 dof, 1 or 2 rows) or
+//! of a 3D run (6 dof, 3 rows; `rigidref run --dump-problems`):
 //! the factory's settings (20 sweeps, no tolerance, rows), each order, one and two threads,
 //! median of ROUNDS solves; also the set-up alone (0 sweeps). docs/performance.md §"Issue 49:
 //! the factory's velocity solve".
@@ -13,8 +14,8 @@ use std::time::Instant;
 
 const ROUNDS: usize = 21;
 
-fn time<const R: usize>(
-    p: &ContactProblem<3, R>,
+fn time<const D: usize, const R: usize>(
+    p: &ContactProblem<D, R>,
     order: ContactOrder,
     sweeps: u32,
     threads: usize,
@@ -25,7 +26,7 @@ fn time<const R: usize>(
         order,
         local: LocalSolve::Rows,
     };
-    let mut ws = PgsWorkspace::<3, R>::new(7);
+    let mut ws = PgsWorkspace::<D, R>::new(7);
     ws.set_threads(threads);
     let mut lambda = Vec::new();
     solve_pgs(p, &settings, &mut ws, &mut lambda);
@@ -40,7 +41,7 @@ fn time<const R: usize>(
     (t[0], t[ROUNDS / 2])
 }
 
-fn report<const R: usize>(name: &str, p: &ContactProblem<3, R>) {
+fn report<const D: usize, const R: usize>(name: &str, p: &ContactProblem<D, R>) {
     println!(
         "{name}: {} bodies, {} contacts, {R} rows",
         p.bodies.len(),
@@ -82,8 +83,9 @@ fn main() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     for path in &args {
         let file = ProblemFile::read(std::path::Path::new(path))?;
-        match file.rows_per_contact {
-            1 => report(path, &file.to_problem::<3, 1>()?),
+        match (file.dof_per_body, file.rows_per_contact) {
+            (6, _) => report(path, &file.to_problem::<6, 3>()?),
+            (_, 1) => report(path, &file.to_problem::<3, 1>()?),
             _ => report(path, &file.to_problem::<3, 2>()?),
         }
     }
