@@ -73,9 +73,9 @@ pub struct PgsWorkspace<const D: usize, const R: usize> {
     /// ([`PgsWorkspace::set_lanes`]; natively by default).
     pub(super) lanes: Lanes,
     /// With four contacts at a time: the groups, segment by segment (a batch's colour; see
-    /// `colour_starts`), segment s's being `groups[group_starts[s]..group_starts[s + 1]]`, each holding the entries of its four
-    /// contacts (built there, not copied from `entries`); empty when the last solve went one
-    /// contact at a time.
+    /// `colour_starts`), segment s's being `groups[group_starts[s]..group_starts[s + 1]]`,
+    /// each holding the entries of its four contacts (built there, not copied from `entries`);
+    /// empty when the last solve went one contact at a time.
     pub(super) groups: Vec<LaneGroup<D, R>>,
     pub(super) group_starts: Vec<usize>,
     pub(super) rng: ChaCha8Rng,

@@ -35,8 +35,8 @@ fn interleaved<const D: usize, const R: usize>(
     out
 }
 
-/// λ, Δu, the report, the batches and the groups of four of a one-thread solve of 12 sweeps, no tolerance, batches
-/// of at most `batch` contacts (`None`: not batched).
+/// λ, Δu, the report, the batches and the groups of four of a one-thread solve of 12 sweeps,
+/// no tolerance, batches of at most `batch` contacts (`None`: not batched).
 fn solve<const D: usize, const R: usize>(
     problem: &ContactProblem<D, R>,
     order: ContactOrder,
@@ -110,11 +110,12 @@ fn same_bits_island_by_island<const D: usize, const R: usize>(seed: u64) {
 }
 
 /// A problem of six interleaved copies of a random problem (each copy one or more islands: its
-/// pinned bodies, shared by all the copies, do not join them), solved in batches of one island and in batches of about
-/// two copies: λ, every body's Δu and the report (both residuals) are those of the sweeps over every contact, to
-/// the bit (tolerance zero: an island's visits read nothing of another island, so they are the
-/// same arithmetic on the same values), for both coloured orders, row by row and with the exact
-/// local solve, four at a time and one at a time, box and cone, 3D and 2D.
+/// pinned bodies, shared by all the copies, do not join them), solved in batches of one island
+/// and in batches of about two copies: λ, every body's Δu and the report (both residuals) are
+/// those of the sweeps over every contact, to the bit (tolerance zero: an island's visits read
+/// nothing of another island, so they are the same arithmetic on the same values), for both
+/// coloured orders, row by row and with the exact local solve, four at a time and one at a
+/// time, box and cone, 3D and 2D.
 #[test]
 fn sweeping_island_by_island_gives_the_bits_of_sweeping_every_contact() {
     same_bits_island_by_island::<6, 3>(0x1514);
